@@ -1,0 +1,19 @@
+//! tensorglyph: ray-cast glyphs for 3D symmetric tensor fields.
+//!
+//! Data flows one way:
+//! file → [`field::TensorField`] → [`glyph::GlyphSet`] → [`render::gpu_data::GpuGlyph`] instances → image.
+//! The exact f64 CPU ray caster in [`reference`] renders the very same instances and is the
+//! accuracy truth for every GPU method.
+
+pub mod camera;
+pub mod error;
+pub mod field;
+pub mod glyph;
+pub mod image_out;
+pub mod metrics;
+pub mod reference;
+pub mod render;
+pub mod scene;
+pub mod tensor;
+
+pub use error::{LoadError, RenderError};

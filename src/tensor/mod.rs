@@ -1,0 +1,4 @@
+//! Per-tensor mathematics: eigendecomposition and shape measures.
+
+pub mod eigen;
+pub mod shape;
