@@ -1,1 +1,382 @@
-//! TODO
+//! One camera for the GPU and the CPU reference alike: view, projection, viewport and pixel rays.
+//!
+//! Conventions (see `shared/math/README.md`): right-handed, the camera looks down −Z with +Y up in
+//! view space; glam `look_at_rh`, `perspective_rh` / `orthographic_rh`; WebGPU depth in [0, 1].
+//! Everything is f64 here. The GPU gets f32 matrices built *relative to a scene origin* near the
+//! glyphs, so fields far from the world origin keep their precision.
+
+use glam::dcamera::rh::{proj::directx as proj, view};
+use glam::{DMat4, DVec3};
+
+/// How the camera projects.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// Vertical field of view in radians.
+    Perspective { fov_y: f64 },
+    /// Height of the view volume in world units.
+    Orthographic { height: f64 },
+}
+
+/// A camera with its viewport.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub eye: DVec3,
+    pub target: DVec3,
+    pub up: DVec3,
+    pub projection: Projection,
+    pub near: f64,
+    pub far: f64,
+    pub width: u32,
+    pub height: u32,
+}
+
+/// A pixel's viewing ray in world space (unit direction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Ray {
+    pub origin: DVec3,
+    pub dir: DVec3,
+}
+
+/// The axis-aligned view presets, named like ParaView's "set view direction" buttons.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum ViewPreset {
+    /// Looking at the field from the (+x, −y, +z) octant, +z up.
+    #[default]
+    Iso,
+    #[value(name = "+x")]
+    PosX,
+    #[value(name = "-x")]
+    NegX,
+    #[value(name = "+y")]
+    PosY,
+    #[value(name = "-y")]
+    NegY,
+    #[value(name = "+z")]
+    PosZ,
+    #[value(name = "-z")]
+    NegZ,
+}
+
+impl ViewPreset {
+    /// (view direction, up), both unit: the camera looks along the direction.
+    pub fn direction_up(self) -> (DVec3, DVec3) {
+        match self {
+            ViewPreset::Iso => (DVec3::new(-1.0, 1.0, -1.0).normalize(), DVec3::Z),
+            ViewPreset::PosX => (DVec3::X, DVec3::Z),
+            ViewPreset::NegX => (DVec3::NEG_X, DVec3::Z),
+            ViewPreset::PosY => (DVec3::Y, DVec3::Z),
+            ViewPreset::NegY => (DVec3::NEG_Y, DVec3::Z),
+            ViewPreset::PosZ => (DVec3::Z, DVec3::Y),
+            ViewPreset::NegZ => (DVec3::NEG_Z, DVec3::Y),
+        }
+    }
+}
+
+/// How to frame a scene: the user's camera options.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Framing {
+    pub view: ViewPreset,
+    /// Degrees about the up axis, applied after the preset (as ParaView's Azimuth).
+    pub azimuth: f64,
+    /// Degrees about the camera's right axis (as ParaView's Elevation).
+    pub elevation: f64,
+    /// > 1 moves closer.
+    pub zoom: f64,
+    /// Vertical field of view in degrees (perspective).
+    pub fov_deg: f64,
+    pub ortho: bool,
+}
+
+impl Default for Framing {
+    fn default() -> Self {
+        Self {
+            view: ViewPreset::Iso,
+            azimuth: 0.0,
+            elevation: 0.0,
+            zoom: 1.0,
+            fov_deg: 30.0,
+            ortho: false,
+        }
+    }
+}
+
+impl Camera {
+    /// A camera that shows the whole bounding sphere (`centre`, `radius`) of a scene.
+    pub fn frame(framing: &Framing, centre: DVec3, radius: f64, width: u32, height: u32) -> Self {
+        let radius = if radius.is_finite() && radius > 0.0 {
+            radius
+        } else {
+            1.0
+        };
+        let (mut dir, mut up) = framing.view.direction_up();
+        let az = glam::DQuat::from_axis_angle(up, framing.azimuth.to_radians());
+        dir = az * dir;
+        let right = dir.cross(up).normalize();
+        let el = glam::DQuat::from_axis_angle(right, framing.elevation.to_radians());
+        dir = el * dir;
+        up = el * up;
+        let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
+        let zoom = if framing.zoom > 0.0 {
+            framing.zoom
+        } else {
+            1.0
+        };
+        let fov_y = framing.fov_deg.to_radians().clamp(1e-3, 3.1);
+        // The narrower of the two fields of view decides the fit.
+        let half_min = (fov_y / 2.0).tan().min((fov_y / 2.0).tan() * aspect).atan();
+        let distance = radius / half_min.sin() / zoom;
+        let eye = centre - dir * distance;
+        let projection = if framing.ortho {
+            let fit_h = 2.0 * radius * (1.0f64).max(1.0 / aspect);
+            Projection::Orthographic {
+                height: fit_h / zoom,
+            }
+        } else {
+            Projection::Perspective { fov_y }
+        };
+        let mut cam = Self {
+            eye,
+            target: centre,
+            up,
+            projection,
+            near: 0.0,
+            far: 0.0,
+            width,
+            height,
+        };
+        cam.fit_depth_range(centre, radius);
+        cam
+    }
+
+    /// Near and far planes tight around a bounding sphere, so depth keeps its resolution.
+    /// An eye inside the sphere gets a near plane of 1e-4 of the radius (glyphs cut by it are
+    /// clipped, as in any rasteriser).
+    pub fn fit_depth_range(&mut self, centre: DVec3, radius: f64) {
+        let d = (centre - self.eye).dot(self.forward());
+        match self.projection {
+            Projection::Perspective { .. } => {
+                self.far = (d + radius).max(radius * 1e-3) * 1.01;
+                self.near = (d - radius).max(radius * 1e-4).min(self.far * 0.5);
+            }
+            Projection::Orthographic { .. } => {
+                // Rays start on the camera plane; move it back if the scene reaches behind it.
+                let behind = (radius - d).max(0.0);
+                self.eye -= self.forward() * (behind + radius * 0.01);
+                let d = (centre - self.eye).dot(self.forward());
+                self.near = (d - radius).max(0.0);
+                self.far = d + radius * 1.01;
+            }
+        }
+    }
+
+    pub fn forward(&self) -> DVec3 {
+        (self.target - self.eye).normalize()
+    }
+
+    pub fn aspect(&self) -> f64 {
+        f64::from(self.width.max(1)) / f64::from(self.height.max(1))
+    }
+
+    pub fn is_ortho(&self) -> bool {
+        matches!(self.projection, Projection::Orthographic { .. })
+    }
+
+    /// View matrix with `origin` moved to (0, 0, 0): world points must be given relative to it.
+    pub fn view(&self, origin: DVec3) -> DMat4 {
+        view::look_at_mat4(self.eye - origin, self.target - origin, self.up)
+    }
+
+    pub fn projection_matrix(&self) -> DMat4 {
+        match self.projection {
+            Projection::Perspective { fov_y } => {
+                proj::perspective(fov_y, self.aspect(), self.near, self.far)
+            }
+            Projection::Orthographic { height } => {
+                let h = height / 2.0;
+                let w = h * self.aspect();
+                proj::orthographic(-w, w, -h, h, self.near, self.far)
+            }
+        }
+    }
+
+    /// NDC of a framebuffer position (pixel centres at +0.5).
+    pub fn pixel_to_ndc(&self, px: f64, py: f64) -> (f64, f64) {
+        (
+            2.0 * px / f64::from(self.width) - 1.0,
+            1.0 - 2.0 * py / f64::from(self.height),
+        )
+    }
+
+    /// The ray through NDC (x, y), in world space.
+    pub fn ray_ndc(&self, x: f64, y: f64) -> Ray {
+        let f = self.forward();
+        let s = f.cross(self.up).normalize();
+        let u = s.cross(f);
+        match self.projection {
+            Projection::Perspective { fov_y } => {
+                let t = (fov_y / 2.0).tan();
+                let dir = (f + s * (x * t * self.aspect()) + u * (y * t)).normalize();
+                Ray {
+                    origin: self.eye,
+                    dir,
+                }
+            }
+            Projection::Orthographic { height } => {
+                let h = height / 2.0;
+                Ray {
+                    origin: self.eye + s * (x * h * self.aspect()) + u * (y * h),
+                    dir: f,
+                }
+            }
+        }
+    }
+
+    /// The ray through the centre of pixel (i, j), (0, 0) top-left.
+    pub fn pixel_ray(&self, i: u32, j: u32) -> Ray {
+        let (x, y) = self.pixel_to_ndc(f64::from(i) + 0.5, f64::from(j) + 0.5);
+        self.ray_ndc(x, y)
+    }
+
+    /// Standard-Z depth of a point at view distance `d` (perspective) or view depth `d` (ortho).
+    pub fn ndc_depth(&self, d: f64) -> f64 {
+        match self.projection {
+            Projection::Perspective { .. } => {
+                self.far * (d - self.near) / (d * (self.far - self.near))
+            }
+            Projection::Orthographic { .. } => (d - self.near) / (self.far - self.near),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn load_cases() -> serde_json::Value {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/math/test-vectors.json"
+        ))
+        .expect("shared/math/test-vectors.json beside the repository");
+        serde_json::from_str(&text).unwrap()
+    }
+
+    fn v3(v: &serde_json::Value) -> DVec3 {
+        DVec3::new(
+            v[0].as_f64().unwrap(),
+            v[1].as_f64().unwrap(),
+            v[2].as_f64().unwrap(),
+        )
+    }
+
+    /// Build the test vector's camera exactly (no framing) at a 1000-pixel-high viewport.
+    pub(crate) fn camera_of(case: &serde_json::Value) -> Camera {
+        let c = &case["camera"];
+        let aspect = c["aspect"].as_f64().unwrap_or_else(|| {
+            (c["right"].as_f64().unwrap() - c["left"].as_f64().unwrap())
+                / (c["top"].as_f64().unwrap() - c["bottom"].as_f64().unwrap())
+        });
+        // 1800 rows make every aspect of the vectors a whole number of columns.
+        let height = 1800u32;
+        let width = (aspect * f64::from(height)).round() as u32;
+        let projection = if c["projection"] == "orthographic" {
+            let t = c["top"].as_f64().unwrap();
+            let b = c["bottom"].as_f64().unwrap();
+            Projection::Orthographic { height: t - b }
+        } else {
+            Projection::Perspective {
+                fov_y: c["fov_y_deg"].as_f64().unwrap().to_radians(),
+            }
+        };
+        Camera {
+            eye: v3(&c["eye"]),
+            target: v3(&c["target"]),
+            up: v3(&c["up"]),
+            projection,
+            near: c["near"].as_f64().unwrap(),
+            far: c["far"].as_f64().unwrap(),
+            width,
+            height,
+        }
+    }
+
+    #[test]
+    fn matrices_and_rays_match_the_test_vectors() {
+        let all = load_cases();
+        for case in all["cases"].as_array().unwrap() {
+            let id = case["id"].as_str().unwrap();
+            let cam = camera_of(case);
+            let e = &case["expected"];
+            let view = cam.view(DVec3::ZERO).to_cols_array();
+            let proj = cam.projection_matrix().to_cols_array();
+            for (k, x) in e["view_cols"].as_array().unwrap().iter().enumerate() {
+                assert!(
+                    (view[k] - x.as_f64().unwrap()).abs() < 1e-12,
+                    "{id}: view[{k}]"
+                );
+            }
+            for (k, x) in e["proj_cols"].as_array().unwrap().iter().enumerate() {
+                let want = x.as_f64().unwrap();
+                assert!(
+                    (proj[k] - want).abs() <= 1e-9 * want.abs().max(1.0),
+                    "{id}: proj[{k}] {} vs {want}",
+                    proj[k]
+                );
+            }
+            let p = &case["pixel_ndc"];
+            let ray = cam.ray_ndc(p[0].as_f64().unwrap(), p[1].as_f64().unwrap());
+            assert!(
+                (ray.origin - v3(&e["ray"]["origin"])).length() < 1e-9,
+                "{id}: origin"
+            );
+            let err = (ray.dir - v3(&e["ray"]["dir"])).length();
+            // 1e-9: the vectors build rays from (P View)⁻¹, which near = 1e-6 conditions badly.
+            assert!(err < 1e-9, "{id}: dir error {err}");
+        }
+    }
+
+    #[test]
+    fn framing_shows_the_whole_sphere() {
+        for view in [ViewPreset::Iso, ViewPreset::PosX, ViewPreset::NegZ] {
+            for ortho in [false, true] {
+                let framing = Framing {
+                    view,
+                    ortho,
+                    azimuth: 20.0,
+                    elevation: -10.0,
+                    ..Framing::default()
+                };
+                let c = DVec3::new(5.0, -3.0, 2.0);
+                let cam = Camera::frame(&framing, c, 2.0, 640, 480);
+                let vp = cam.projection_matrix() * cam.view(DVec3::ZERO);
+                // Points on the sphere project inside the viewport and the depth range.
+                for k in 0..200 {
+                    let a = f64::from(k) * 0.7;
+                    let b = f64::from(k) * 1.3;
+                    let d = DVec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos());
+                    let p = vp * (c + d * 2.0).extend(1.0);
+                    let ndc = p.truncate() / p.w;
+                    assert!(
+                        ndc.x.abs() <= 1.0 + 1e-9 && ndc.y.abs() <= 1.0 + 1e-9,
+                        "{ndc}"
+                    );
+                    assert!(
+                        (0.0..=1.0).contains(&ndc.z),
+                        "{view:?} {ortho} depth {}",
+                        ndc.z
+                    );
+                }
+            }
+        }
+    }
+}
+
+impl Camera {
+    /// Height of the orthographic view volume, or the height of the view at unit distance.
+    pub fn projection_height(&self) -> f64 {
+        match self.projection {
+            Projection::Perspective { fov_y } => 2.0 * (fov_y / 2.0).tan(),
+            Projection::Orthographic { height } => height,
+        }
+    }
+}

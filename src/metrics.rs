@@ -1,1 +1,173 @@
-//! TODO
+//! How far a rendered frame is from the reference: coverage, glyph identity, depth, normal and
+//! colour, on the pixels where each comparison means something.
+
+use serde::Serialize;
+
+use crate::render::headless::Frame;
+use crate::scene::Scene;
+
+/// The accuracy report of `--reference-check`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
+pub struct Accuracy {
+    /// Fraction of all pixels where one frame shows a glyph and the other background.
+    pub coverage_mismatch: f64,
+    /// Fraction of pixels covered in both whose front-most glyph differs.
+    pub id_mismatch: f64,
+    /// |z_view − z_ref| / (that glyph's largest radius), on pixels showing the same glyph.
+    pub depth_err_rel_p99: f64,
+    pub depth_err_rel_max: f64,
+    /// Angle between normals in degrees, on pixels showing the same glyph.
+    pub normal_err_deg_p99: f64,
+    pub normal_err_deg_max: f64,
+    /// PSNR of the RGB images (∞ for identical images is reported as 99).
+    pub color_psnr_db: f64,
+    /// Pixels compared for depth and normal.
+    pub same_glyph_pixels: usize,
+}
+
+/// Compare `frame` with `reference` (same size; both need aux data for depth and normal).
+pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
+    assert_eq!(
+        (frame.width, frame.height),
+        (reference.width, reference.height)
+    );
+    let n = frame.ids.len();
+    let mut coverage = 0usize;
+    let mut both = 0usize;
+    let mut id_diff = 0usize;
+    let mut depth = Vec::new();
+    let mut normal = Vec::new();
+    let radius: Vec<f64> = scene
+        .instances
+        .iter()
+        .map(|g| f64::from(g.radii.iter().copied().fold(0.0f32, f32::max)))
+        .collect();
+    for k in 0..n {
+        let (a, b) = (frame.ids[k], reference.ids[k]);
+        if (a != 0) != (b != 0) {
+            coverage += 1;
+        }
+        if a != 0 && b != 0 {
+            both += 1;
+            if a != b {
+                id_diff += 1;
+            } else if let (Some(fa), Some(ra)) = (&frame.aux, &reference.aux) {
+                let (p, q) = (fa[k], ra[k]);
+                let r = radius.get(a as usize - 1).copied().unwrap_or(1.0);
+                depth.push((f64::from(p[3]) - f64::from(q[3])).abs() / r);
+                let dot = f64::from(p[0]) * f64::from(q[0])
+                    + f64::from(p[1]) * f64::from(q[1])
+                    + f64::from(p[2]) * f64::from(q[2]);
+                let len = (f64::from(p[0]).powi(2)
+                    + f64::from(p[1]).powi(2)
+                    + f64::from(p[2]).powi(2))
+                .sqrt()
+                    * (f64::from(q[0]).powi(2) + f64::from(q[1]).powi(2) + f64::from(q[2]).powi(2))
+                        .sqrt();
+                let angle = if len > 0.0 && (dot / len).is_finite() {
+                    (dot / len).clamp(-1.0, 1.0).acos().to_degrees()
+                } else {
+                    180.0
+                };
+                normal.push(angle);
+            }
+        }
+    }
+    let same = depth.len();
+    let (depth_p99, depth_max) = p99_max(&mut depth);
+    let (normal_p99, normal_max) = p99_max(&mut normal);
+    Accuracy {
+        coverage_mismatch: ratio(coverage, n),
+        id_mismatch: ratio(id_diff, both),
+        depth_err_rel_p99: depth_p99,
+        depth_err_rel_max: depth_max,
+        normal_err_deg_p99: normal_p99,
+        normal_err_deg_max: normal_max,
+        color_psnr_db: psnr(&frame.color, &reference.color),
+        same_glyph_pixels: same,
+    }
+}
+
+fn ratio(a: usize, b: usize) -> f64 {
+    if b == 0 { 0.0 } else { a as f64 / b as f64 }
+}
+
+/// 99th percentile (nearest rank) and maximum; NaN counts as the worst error.
+fn p99_max(v: &mut [f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (0.0, 0.0);
+    }
+    for x in v.iter_mut() {
+        if x.is_nan() {
+            *x = f64::INFINITY;
+        }
+    }
+    v.sort_by(f64::total_cmp);
+    let rank = ((0.99 * v.len() as f64).ceil() as usize).clamp(1, v.len());
+    (v[rank - 1], v[v.len() - 1])
+}
+
+/// PSNR over the RGB channels of two RGBA8 images.
+pub fn psnr(a: &[u8], b: &[u8]) -> f64 {
+    let mut se = 0.0f64;
+    let mut count = 0usize;
+    for (pa, pb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for c in 0..3 {
+            let d = f64::from(pa[c]) - f64::from(pb[c]);
+            se += d * d;
+            count += 1;
+        }
+    }
+    if count == 0 || se == 0.0 {
+        return 99.0;
+    }
+    let mse = se / count as f64;
+    (10.0 * (255.0f64 * 255.0 / mse).log10()).min(99.0)
+}
+
+/// A picture of where two frames differ: red = coverage differs, yellow = another glyph in
+/// front, blue shades = colour difference, grey = agreement.
+pub fn diff_image(frame: &Frame, reference: &Frame) -> Vec<u8> {
+    let mut out = Vec::with_capacity(frame.color.len());
+    for k in 0..frame.ids.len() {
+        let (a, b) = (frame.ids[k], reference.ids[k]);
+        let px = if (a != 0) != (b != 0) {
+            [255, 0, 0, 255]
+        } else if a != b {
+            [255, 200, 0, 255]
+        } else {
+            let d: u32 = (0..3)
+                .map(|c| u32::from(frame.color[4 * k + c].abs_diff(reference.color[4 * k + c])))
+                .sum();
+            if d > 6 {
+                [0, 0, (64 + d * 4).min(255) as u8, 255]
+            } else {
+                let g = reference.color[4 * k..4 * k + 3]
+                    .iter()
+                    .map(|&c| u32::from(c))
+                    .sum::<u32>()
+                    / 6;
+                [g as u8, g as u8, g as u8, 255]
+            }
+        };
+        out.extend_from_slice(&px);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentile_and_psnr() {
+        let mut v: Vec<f64> = (1..=200).map(f64::from).collect();
+        assert_eq!(p99_max(&mut v), (198.0, 200.0));
+        let a = [10u8, 20, 30, 255];
+        assert_eq!(psnr(&a, &a), 99.0);
+        // One channel off by 255 of three: MSE = 255²/3 → PSNR = 10 log10(3).
+        let b = [255u8, 20, 30, 255];
+        let want = 10.0 * 3.0f64.log10();
+        assert!((psnr(&[0, 20, 30, 255], &b) - want).abs() < 1e-12);
+    }
+}

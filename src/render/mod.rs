@@ -1,1 +1,13 @@
-//! GPU renderers.
+//! GPU renderers. CPU preparation (scene, instances) lives in [`crate::scene`]; this module
+//! uploads and draws.
+
+pub mod context;
+pub mod gpu_data;
+pub mod gumhold;
+pub mod headless;
+pub mod pipeline;
+pub mod shaders;
+pub mod targets;
+
+pub use context::GpuContext;
+pub use headless::{Frame, FrameRequest, GpuRenderer};

@@ -1,0 +1,81 @@
+//! Adapter and device: CPU adapters (lavapipe) are welcome; optional features are taken where
+//! the adapter has them.
+
+use crate::error::RenderError;
+
+/// A wgpu device with what we learned about its adapter.
+pub struct GpuContext {
+    pub device: wgpu::Device,
+    pub queue: wgpu::Queue,
+    pub adapter_name: String,
+    pub backend: String,
+    pub limits: wgpu::Limits,
+    /// Fragment- and vertex-shader invocation counts can be queried.
+    pub pipeline_statistics: bool,
+    pub timestamps: bool,
+    pub early_depth_test: bool,
+}
+
+impl GpuContext {
+    /// The first adapter wgpu offers (a real GPU if present, else a CPU one), or
+    /// [`RenderError::NoAdapter`].
+    pub fn new() -> Result<Self, RenderError> {
+        pollster::block_on(Self::new_async())
+    }
+
+    async fn new_async() -> Result<Self, RenderError> {
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
+        desc.backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
+        let instance = wgpu::Instance::new(desc);
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                apply_limit_buckets: false,
+            })
+            .await
+            .map_err(|_| RenderError::NoAdapter)?;
+        Self::from_adapter(adapter).await
+    }
+
+    pub async fn from_adapter(adapter: wgpu::Adapter) -> Result<Self, RenderError> {
+        let info = adapter.get_info();
+        let available = adapter.features();
+        let wanted = wgpu::Features::PIPELINE_STATISTICS_QUERY
+            | wgpu::Features::TIMESTAMP_QUERY
+            | wgpu::Features::SHADER_EARLY_DEPTH_TEST;
+        let features = available & wanted;
+        let limits = adapter.limits();
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("tensorglyph"),
+                required_features: features,
+                required_limits: limits.clone(),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| RenderError::Gpu(format!("cannot open device: {e}")))?;
+        Ok(Self {
+            device,
+            queue,
+            adapter_name: info.name.clone(),
+            backend: format!("{:?}", info.backend).to_lowercase(),
+            limits,
+            pipeline_statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
+            timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+        })
+    }
+
+    /// Wait for all submitted work. lavapipe can take many seconds on large frames.
+    pub fn wait(&self) -> Result<(), RenderError> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: Some(std::time::Duration::from_secs(600)),
+            })
+            .map(|_| ())
+            .map_err(|e| RenderError::Gpu(format!("waiting for the GPU: {e}")))
+    }
+}

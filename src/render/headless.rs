@@ -1,0 +1,357 @@
+//! Off-screen frames: upload a scene, draw it with one method, time it, count its fragments and
+//! read the targets back.
+
+use std::time::Instant;
+
+use wgpu::util::DeviceExt;
+
+use crate::camera::Camera;
+use crate::error::RenderError;
+use crate::render::context::GpuContext;
+use crate::render::gpu_data::{CameraUniform, GpuGlyph, Lighting};
+use crate::render::gumhold::GumholdRenderer;
+use crate::render::pipeline::{Variant, glyph_bind_group_layout};
+use crate::render::targets::{Readback, Targets};
+use crate::scene::Scene;
+
+/// What to draw and what to read back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRequest {
+    pub depth_correction: bool,
+    /// Read back view normals and view z (for `--reference-check`).
+    pub aux: bool,
+    /// Linear RGBA in [0, 1].
+    pub background: [f64; 4],
+    /// Frames to render and time (the targets of the last one are read back).
+    pub frames: u32,
+    pub lighting: Lighting,
+}
+
+impl Default for FrameRequest {
+    fn default() -> Self {
+        Self {
+            depth_correction: true,
+            aux: false,
+            background: [1.0, 1.0, 1.0, 1.0],
+            frames: 1,
+            lighting: Lighting::default(),
+        }
+    }
+}
+
+/// A rendered frame, as the GPU or the reference produced it.
+#[derive(Debug, Clone, Default)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    /// RGBA8, row-major from the top-left.
+    pub color: Vec<u8>,
+    /// Instance index + 1 of the front-most glyph, 0 for background.
+    pub ids: Vec<u32>,
+    /// View-space normal and view z per pixel (where `ids` is non-zero).
+    pub aux: Option<Vec<[f32; 4]>>,
+    /// Wall-clock time of each frame, submit to completion.
+    pub frame_ms: Vec<f64>,
+    /// Fragment-shader invocations of one frame (pipeline statistics), where available.
+    pub fragments: Option<u64>,
+    /// Vertex-shader invocations of one frame.
+    pub vertices: Option<u64>,
+}
+
+impl Frame {
+    pub fn median_ms(&self) -> f64 {
+        let mut t = self.frame_ms.clone();
+        t.sort_by(f64::total_cmp);
+        if t.is_empty() { 0.0 } else { t[t.len() / 2] }
+    }
+
+    pub fn covered_pixels(&self) -> usize {
+        self.ids.iter().filter(|&&i| i != 0).count()
+    }
+}
+
+/// Long-lived GPU state: device, shared layout and every method's pipelines.
+pub struct GpuRenderer {
+    pub ctx: GpuContext,
+    bind_group_layout: wgpu::BindGroupLayout,
+    gumhold: GumholdRenderer,
+}
+
+impl GpuRenderer {
+    pub fn new(ctx: GpuContext) -> Result<Self, RenderError> {
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let bind_group_layout = glyph_bind_group_layout(&ctx);
+        let layout = ctx
+            .device
+            .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("glyphs"),
+                bind_group_layouts: &[Some(&bind_group_layout)],
+                immediate_size: 0,
+            });
+        let gumhold = GumholdRenderer::new(&ctx, &layout);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(format!("creating pipelines: {e}")));
+        }
+        Ok(Self {
+            ctx,
+            bind_group_layout,
+            gumhold,
+        })
+    }
+
+    pub fn adapter_name(&self) -> &str {
+        &self.ctx.adapter_name
+    }
+
+    /// Render `scene` seen by `camera` with Gumhold's method.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<Frame, RenderError> {
+        let ctx = &self.ctx;
+        let targets = Targets::new(ctx, camera.width, camera.height, req.aux)?;
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let result = self.render_into(scene, camera, req, &targets);
+        let oom = pollster::block_on(oom.pop());
+        let invalid = pollster::block_on(scope.pop());
+        if let Some(e) = oom.or(invalid) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        result
+    }
+
+    fn render_into(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        req: &FrameRequest,
+        targets: &Targets,
+    ) -> Result<Frame, RenderError> {
+        let ctx = &self.ctx;
+        let device = &ctx.device;
+        let count = scene.instances.len() as u32;
+        // A binding may not be empty: pad with one unused instance.
+        let pad = [GpuGlyph::zeroed_instance()];
+        let data: &[GpuGlyph] = if scene.instances.is_empty() {
+            &pad
+        } else {
+            &scene.instances
+        };
+        let glyph_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("glyph instances"),
+            contents: bytemuck::cast_slice(data),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let uniform = CameraUniform::new(camera, scene.origin, &req.lighting);
+        let camera_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("camera"),
+            contents: bytemuck::bytes_of(&uniform),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("glyphs"),
+            layout: &self.bind_group_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: glyph_buffer.as_entire_binding(),
+                },
+            ],
+        });
+        let stats = ctx.pipeline_statistics.then(|| StatsQuery::new(ctx));
+        let variant = Variant {
+            depth_correction: req.depth_correction,
+            aux: req.aux,
+        };
+        let views = TargetViews::new(targets);
+        let frames = req.frames.max(1);
+        let mut frame_ms = Vec::with_capacity(frames as usize);
+        let mut readbacks = None;
+        let mut counts = None;
+        for f in 0..frames {
+            let last = f + 1 == frames;
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = views.begin_pass(&mut encoder, req.background);
+                if let (Some(s), true) = (&stats, f == 0) {
+                    pass.begin_pipeline_statistics_query(&s.set, 0);
+                }
+                pass.set_bind_group(0, &bind_group, &[]);
+                self.gumhold.draw(&mut pass, variant, count);
+                if let (Some(_), true) = (&stats, f == 0) {
+                    pass.end_pipeline_statistics_query();
+                }
+            }
+            if let (Some(s), true) = (&stats, f == 0) {
+                s.resolve(&mut encoder);
+            }
+            if last {
+                readbacks = Some((
+                    Readback::record(ctx, &mut encoder, &targets.color, 4),
+                    Readback::record(ctx, &mut encoder, &targets.id, 4),
+                    targets
+                        .aux
+                        .as_ref()
+                        .map(|t| Readback::record(ctx, &mut encoder, t, 16)),
+                ));
+            }
+            let start = Instant::now();
+            ctx.queue.submit([encoder.finish()]);
+            ctx.wait()?;
+            frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            if let (Some(s), true) = (&stats, f == 0) {
+                counts = Some(s.read(ctx)?);
+            }
+        }
+        let (color_rb, id_rb, aux_rb) = readbacks.expect("at least one frame");
+        let color = color_rb.read(ctx)?;
+        let ids: Vec<u32> = bytemuck::pod_collect_to_vec(&id_rb.read(ctx)?);
+        let aux = match aux_rb {
+            Some(rb) => Some(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&rb.read(ctx)?)),
+            None => None,
+        };
+        Ok(Frame {
+            width: targets.width,
+            height: targets.height,
+            color,
+            ids,
+            aux,
+            frame_ms,
+            fragments: counts.map(|c: [u64; 2]| c[1]),
+            vertices: counts.map(|c| c[0]),
+        })
+    }
+}
+
+impl GpuGlyph {
+    fn zeroed_instance() -> Self {
+        bytemuck::Zeroable::zeroed()
+    }
+}
+
+struct TargetViews {
+    color: wgpu::TextureView,
+    id: wgpu::TextureView,
+    aux: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+}
+
+impl TargetViews {
+    fn new(t: &Targets) -> Self {
+        let v = |t: &wgpu::Texture| t.create_view(&Default::default());
+        Self {
+            color: v(&t.color),
+            id: v(&t.id),
+            aux: t.aux.as_ref().map(v),
+            depth: v(&t.depth),
+        }
+    }
+
+    fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        background: [f64; 4],
+    ) -> wgpu::RenderPass<'e> {
+        let clear = |c: wgpu::Color, view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(c),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let [r, g, b, a] = background;
+        let mut attachments = vec![
+            clear(wgpu::Color { r, g, b, a }, &self.color),
+            clear(wgpu::Color::TRANSPARENT, &self.id),
+        ];
+        if let Some(aux) = &self.aux {
+            attachments.push(clear(wgpu::Color::TRANSPARENT, aux));
+        }
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("glyphs"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
+
+/// Vertex- and fragment-shader invocation counts of one pass.
+struct StatsQuery {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+impl StatsQuery {
+    fn new(ctx: &GpuContext) -> Self {
+        let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("pipeline statistics"),
+            ty: wgpu::QueryType::PipelineStatistics(
+                wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
+                    | wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS,
+            ),
+            count: 1,
+        });
+        let buf = |usage| {
+            ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pipeline statistics"),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            set,
+            resolve: buf(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            readback: buf(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
+        }
+    }
+
+    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.set, 0..1, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 16);
+    }
+
+    /// [vertex invocations, fragment invocations] (ordered by flag bit).
+    fn read(&self, ctx: &GpuContext) -> Result<[u64; 2], RenderError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        ctx.wait()?;
+        rx.recv()
+            .map_err(|_| RenderError::Gpu("query readback dropped".into()))?
+            .map_err(|e| RenderError::Gpu(format!("query readback: {e}")))?;
+        let out = {
+            let data = self
+                .readback
+                .get_mapped_range(..)
+                .map_err(|e| RenderError::Gpu(format!("query readback: {e}")))?;
+            let v: [u64; 2] = bytemuck::pod_read_unaligned(&data[..16]);
+            v
+        };
+        self.readback.unmap();
+        Ok(out)
+    }
+}

@@ -1,0 +1,57 @@
+//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl` followed by its
+//! own file; [`tests::all_shaders_validate`] runs naga's validator over each composition.
+
+pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
+const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/gumhold_ellipsoid.wgsl");
+
+/// A method's complete shader source.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ShaderSource {
+    GumholdEllipsoid,
+}
+
+impl ShaderSource {
+    pub const ALL: [ShaderSource; 1] = [ShaderSource::GumholdEllipsoid];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ShaderSource::GumholdEllipsoid => "gumhold_ellipsoid.wgsl",
+        }
+    }
+
+    pub fn text(self) -> String {
+        let body = match self {
+            ShaderSource::GumholdEllipsoid => GUMHOLD_ELLIPSOID,
+        };
+        format!("{COMMON}\n{body}")
+    }
+}
+
+/// Parse WGSL with naga (the same front end wgpu uses).
+pub fn parse(text: &str) -> Result<wgpu::naga::Module, String> {
+    wgpu::naga::front::wgsl::parse_str(text).map_err(|e| e.emit_to_string(text))
+}
+
+/// Parse and validate with every capability wgpu may use.
+pub fn validate(text: &str) -> Result<(), String> {
+    use wgpu::naga::valid::{Capabilities, ValidationFlags, Validator};
+    let module = parse(text)?;
+    Validator::new(ValidationFlags::all(), Capabilities::all())
+        .validate(&module)
+        .map(|_| ())
+        .map_err(|e| e.emit_to_string(text))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn all_shaders_validate() {
+        for s in ShaderSource::ALL {
+            if let Err(e) = validate(&s.text()) {
+                panic!("{} does not validate:\n{e}", s.name());
+            }
+        }
+    }
+}

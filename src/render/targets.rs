@@ -1,0 +1,141 @@
+//! Offscreen render targets and their readback (rows padded to 256 bytes for copies).
+
+use crate::error::RenderError;
+use crate::render::context::GpuContext;
+
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+pub const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Colour, glyph id (0 = background, else instance + 1), optional aux (view normal, view z) and
+/// depth, all the same size.
+pub struct Targets {
+    pub width: u32,
+    pub height: u32,
+    pub color: wgpu::Texture,
+    pub id: wgpu::Texture,
+    pub aux: Option<wgpu::Texture>,
+    pub depth: wgpu::Texture,
+}
+
+impl Targets {
+    pub fn new(ctx: &GpuContext, width: u32, height: u32, aux: bool) -> Result<Self, RenderError> {
+        let max = ctx.limits.max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(RenderError::BadSize {
+                width,
+                height,
+                reason: format!("each side must be between 1 and {max} (this adapter's limit)"),
+            });
+        }
+        let make = |label: &str, format: wgpu::TextureFormat| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            })
+        };
+        Ok(Self {
+            width,
+            height,
+            color: make("color", COLOR_FORMAT),
+            id: make("id", ID_FORMAT),
+            aux: aux.then(|| make("aux", AUX_FORMAT)),
+            depth: make("depth", DEPTH_FORMAT),
+        })
+    }
+
+    pub fn has_aux(&self) -> bool {
+        self.aux.is_some()
+    }
+}
+
+/// A texture copied into a mappable buffer, to be read after the submission completes.
+pub struct Readback {
+    buffer: wgpu::Buffer,
+    padded_row: u32,
+    row: u32,
+    height: u32,
+}
+
+impl Readback {
+    /// Record the copy of a whole single-aspect texture.
+    pub fn record(
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+        bytes_per_pixel: u32,
+    ) -> Self {
+        let (width, height) = (texture.width(), texture.height());
+        let row = width * bytes_per_pixel;
+        let padded_row =
+            row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: u64::from(padded_row) * u64::from(height),
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded_row),
+                    rows_per_image: Some(height),
+                },
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        Self {
+            buffer,
+            padded_row,
+            row,
+            height,
+        }
+    }
+
+    /// Map and unpad. Call after the copy was submitted.
+    pub fn read(self, ctx: &GpuContext) -> Result<Vec<u8>, RenderError> {
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        ctx.wait()?;
+        rx.recv()
+            .map_err(|_| RenderError::Gpu("readback was dropped".into()))?
+            .map_err(|e| RenderError::Gpu(format!("readback failed: {e}")))?;
+        let data = self
+            .buffer
+            .get_mapped_range(..)
+            .map_err(|e| RenderError::Gpu(format!("readback failed: {e}")))?;
+        let mut out = Vec::with_capacity((self.row * self.height) as usize);
+        for r in 0..self.height as usize {
+            let start = r * self.padded_row as usize;
+            out.extend_from_slice(&data[start..start + self.row as usize]);
+        }
+        drop(data);
+        self.buffer.unmap();
+        Ok(out)
+    }
+}
