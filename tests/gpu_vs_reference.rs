@@ -90,3 +90,130 @@ fn rotated_cigar() {
         assert_tight("cigar", &a);
     }
 }
+
+#[test]
+fn thin_pancake() {
+    // 1 : 1 : 0.01 seen obliquely: the normal varies fastest near the rim.
+    let scene = Scene::from_specs(&[spec(
+        [0.0, 0.0, 0.0],
+        [1.0, 0.2, 0.1],
+        0.7,
+        [1.0, 1.0, 0.01],
+        [0, 255, 0, 255],
+    )]);
+    let cam = framed(&scene, Framing::default());
+    if let Some(a) = check("pancake", &scene, &cam, true) {
+        assert_tight("pancake", &a);
+    }
+}
+
+/// Two glyphs that cut into each other: only per-pixel depth gets the intersection curve right.
+fn intersecting() -> Scene {
+    Scene::from_specs(&[
+        spec(
+            [0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            0.3,
+            [1.0, 0.4, 0.4],
+            [255, 0, 0, 255],
+        ),
+        spec(
+            [0.5, 0.0, 0.1],
+            [1.0, 0.0, 0.0],
+            0.8,
+            [0.3, 0.9, 0.5],
+            [0, 0, 255, 255],
+        ),
+    ])
+}
+
+#[test]
+fn intersecting_glyphs_need_depth_correction() {
+    let scene = intersecting();
+    let cam = framed(&scene, Framing::default());
+    let Some(with) = check("intersecting", &scene, &cam, true) else {
+        return;
+    };
+    assert_tight("intersecting", &with);
+    let without = check("intersecting flat", &scene, &cam, false).unwrap();
+    // Without correction the quads' own depths decide who is in front: the curve moves.
+    assert!(
+        without.id_mismatch > 10.0 * with.id_mismatch.max(1e-4),
+        "depth correction should matter: {with:?} vs {without:?}"
+    );
+}
+
+#[test]
+fn glyph_in_the_corner_of_a_wide_view() {
+    // A 100° field of view with the glyph near the image corner: strong perspective distortion
+    // of the quad, where an orthographic-style bounding box would clip the silhouette.
+    let mut specs = vec![spec(
+        [0.0; 3],
+        [0.0, 0.0, 1.0],
+        0.0,
+        [0.05; 3],
+        [90, 90, 90, 255],
+    )];
+    specs.push(spec(
+        [2.2, -1.6, 0.3],
+        [0.4, 1.0, 0.0],
+        0.9,
+        [0.6, 0.25, 0.15],
+        [255, 0, 255, 255],
+    ));
+    let scene = Scene::from_specs(&specs);
+    let mut cam = Camera::frame(
+        &Framing {
+            view: ViewPreset::NegZ,
+            fov_deg: 100.0,
+            ..Framing::default()
+        },
+        DVec3::new(0.0, 0.0, 0.0),
+        0.5,
+        256,
+        192,
+    );
+    cam.near = 0.05;
+    cam.far = 20.0;
+    if let Some(a) = check("corner", &scene, &cam, true) {
+        assert_tight("corner", &a);
+    }
+}
+
+#[test]
+fn orthographic_view() {
+    let scene = intersecting();
+    let cam = framed(
+        &scene,
+        Framing {
+            ortho: true,
+            azimuth: 30.0,
+            ..Framing::default()
+        },
+    );
+    if let Some(a) = check("ortho", &scene, &cam, true) {
+        assert_tight("ortho", &a);
+    }
+}
+
+#[test]
+fn orthographic_view_along_an_eigenvector() {
+    let scene = Scene::from_specs(&[spec(
+        [0.0; 3],
+        [0.0, 0.0, 1.0],
+        0.0,
+        [1.0, 0.5, 0.2],
+        [200, 200, 0, 255],
+    )]);
+    let cam = framed(
+        &scene,
+        Framing {
+            ortho: true,
+            view: ViewPreset::PosZ,
+            ..Framing::default()
+        },
+    );
+    if let Some(a) = check("ortho axis", &scene, &cam, true) {
+        assert_tight("ortho axis", &a);
+    }
+}

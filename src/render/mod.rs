@@ -4,6 +4,7 @@
 pub mod context;
 pub mod gpu_data;
 pub mod gumhold;
+pub mod gumhold_math;
 pub mod headless;
 pub mod pipeline;
 pub mod shaders;

@@ -1,0 +1,330 @@
+//! The CPU twin of shaders/gumhold_ellipsoid.wgsl, in f64, with the notes' names. It exists so
+//! the shader's formulas can be checked against shared/math/test-vectors.json without a GPU
+//! (the GPU path itself is checked against the reference in tests/gpu_vs_reference.rs).
+
+use glam::{DMat3, DMat4, DVec2, DVec3};
+
+/// Per-glyph quad set-up (the vertex stage before the corner is chosen).
+#[derive(Debug, Clone, Copy)]
+pub struct QuadSetup {
+    /// Perspective: e~ = T⁻¹(e − c); orthographic: d~ = T⁻¹ d.
+    pub e_t: DVec3,
+    /// E = |e~| (perspective) or |d~| (orthographic).
+    pub e_norm: f64,
+    /// u~ = 1/E (perspective) or 1/|d~| (orthographic), the flat varying `u`.
+    pub u: f64,
+    pub m_t: DVec3,
+    pub r_t: f64,
+    pub x_hat: DVec3,
+    pub y_hat: DVec3,
+    pub z_hat: DVec3,
+}
+
+/// `orthonormal_pair` in common.wgsl (Duff et al.; glam `any_orthonormal_pair`).
+pub fn orthonormal_pair(z: DVec3) -> (DVec3, DVec3) {
+    let s = if z.z >= 0.0 { 1.0 } else { -1.0 };
+    let a = -1.0 / (s + z.z);
+    let b = z.x * z.y * a;
+    (
+        DVec3::new(1.0 + s * z.x * z.x * a, s * b, -s * z.x),
+        DVec3::new(b, s + z.y * z.y * a, -z.y),
+    )
+}
+
+/// `None` when the eye is inside or on the glyph (the shader culls it).
+pub fn setup_perspective(t_inv: &DMat3, c: DVec3, eye: DVec3) -> Option<QuadSetup> {
+    let e_t = *t_inv * (eye - c);
+    let e2 = e_t.length_squared();
+    if !(e2 > crate::reference::EYE_INSIDE_E2) {
+        return None;
+    }
+    let e = e2.sqrt();
+    let z_hat = -e_t / e;
+    let (x_hat, y_hat) = orthonormal_pair(z_hat);
+    Some(QuadSetup {
+        e_t,
+        e_norm: e,
+        u: 1.0 / e,
+        m_t: e_t / e2,
+        r_t: ((e2 - 1.0) / e2).sqrt(),
+        x_hat,
+        y_hat,
+        z_hat,
+    })
+}
+
+pub fn setup_orthographic(t_inv: &DMat3, forward: DVec3) -> QuadSetup {
+    let d_t = *t_inv * forward;
+    let len = d_t.length();
+    let z_hat = d_t / len;
+    let (x_hat, y_hat) = orthonormal_pair(z_hat);
+    QuadSetup {
+        e_t: d_t,
+        e_norm: len,
+        u: 1.0 / len,
+        m_t: DVec3::ZERO,
+        r_t: 1.0,
+        x_hat,
+        y_hat,
+        z_hat,
+    }
+}
+
+impl QuadSetup {
+    /// V~ for the quad point with attribute q (a corner when q = (±1, ±1)).
+    pub fn quad_point_t(&self, q: DVec2) -> DVec3 {
+        self.m_t + self.r_t * (q.x * self.x_hat + q.y * self.y_hat)
+    }
+
+    /// The ray attribute `vt_ray`: v~ = V~ − e~ (perspective) or z^ (orthographic).
+    pub fn ray_t(&self, vt_quad: DVec3, ortho: bool) -> DVec3 {
+        if ortho {
+            self.z_hat
+        } else {
+            vt_quad + self.z_hat / self.u
+        }
+    }
+
+    /// The attribute q where a world ray (parameter-space origin `o_t`, direction `d_t`) meets
+    /// the quad's plane: what rasterisation interpolates at that pixel.
+    pub fn q_of_ray(&self, o_t: DVec3, d_t: DVec3) -> DVec2 {
+        // The plane p~ · z^ = m~ · z^ (−1/E in perspective, 0 orthographic).
+        let s = (self.m_t.dot(self.z_hat) - o_t.dot(self.z_hat)) / d_t.dot(self.z_hat);
+        let p = o_t + s * d_t - self.m_t;
+        DVec2::new(p.dot(self.x_hat), p.dot(self.y_hat)) / self.r_t
+    }
+}
+
+/// What the fragment stage computes.
+#[derive(Debug, Clone, Copy)]
+pub struct FragmentResult {
+    pub kappa: f64,
+    pub p_t: DVec3,
+    /// World hit point (perspective: V − κ v; orthographic: V + τ d).
+    pub point: DVec3,
+    /// Unit world normal T⁻¹ p~.
+    pub normal: DVec3,
+    /// Standard-Z depth via the compact update of gumhold-ellipsoid.md §6 / §9.
+    pub depth: f64,
+}
+
+/// The per-frame constants the fragment stage reads from the camera uniform.
+#[derive(Debug, Clone, Copy)]
+pub struct FrameConstants {
+    pub view_proj: DMat4,
+    /// World-space eye (perspective) and unit view direction.
+    pub eye: DVec3,
+    pub forward: DVec3,
+    /// B = P[2][3] and P[2][2] of the projection.
+    pub b: f64,
+    pub p22: f64,
+    pub ortho: bool,
+}
+
+impl FrameConstants {
+    pub fn new(view: &DMat4, proj: &DMat4, eye: DVec3, forward: DVec3, ortho: bool) -> Self {
+        Self {
+            view_proj: *proj * *view,
+            eye,
+            forward,
+            b: proj.w_axis.z,
+            p22: proj.z_axis.z,
+            ortho,
+        }
+    }
+}
+
+/// `ray_cast` in the shader for attribute q; `None` where the shader discards (q~² > 1).
+pub fn fragment(
+    setup: &QuadSetup,
+    t: &DMat3,
+    t_inv: &DMat3,
+    c: DVec3,
+    k: &FrameConstants,
+    q: DVec2,
+) -> Option<FragmentResult> {
+    let q2 = q.length_squared();
+    if q2 > 1.0 {
+        return None;
+    }
+    let alpha = (1.0 - q2).sqrt();
+    let vt_quad = setup.quad_point_t(q);
+    let vt_ray = setup.ray_t(vt_quad, k.ortho);
+    let v = c + *t * vt_quad;
+    let clip = k.view_proj * v.extend(1.0);
+    let depth_v = clip.z / clip.w;
+    let (kappa, point, depth) = if k.ortho {
+        // p = V + τ d, τ = −α/|d~|: the view depth grows by α/|d~|.
+        let tau = -alpha * setup.u;
+        (
+            alpha,
+            v + tau * k.forward,
+            depth_v + k.p22 * alpha * setup.u,
+        )
+    } else {
+        // κ = β/(1 + β); depth(p) = depth(V) + β B / w_V.
+        let beta = setup.u * alpha;
+        let kappa = beta / (1.0 + beta);
+        (
+            kappa,
+            v - kappa * (v - k.eye),
+            depth_v + beta * k.b / clip.w,
+        )
+    };
+    let p_t = vt_quad - kappa * vt_ray;
+    Some(FragmentResult {
+        kappa,
+        p_t,
+        point,
+        normal: (*t_inv * p_t).normalize(),
+        depth,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::Value;
+
+    fn v3(v: &Value) -> DVec3 {
+        DVec3::new(
+            v[0].as_f64().unwrap(),
+            v[1].as_f64().unwrap(),
+            v[2].as_f64().unwrap(),
+        )
+    }
+
+    fn m3(v: &Value) -> DMat3 {
+        DMat3::from_cols(v3(&v[0]), v3(&v[1]), v3(&v[2])).transpose()
+    }
+
+    fn m4(v: &Value) -> DMat4 {
+        let a: Vec<f64> = v
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        DMat4::from_cols_slice(&a)
+    }
+
+    fn close(a: DVec3, b: DVec3, tol: f64, what: &str) {
+        assert!((a - b).length() <= tol, "{what}: {a} vs {b}");
+    }
+
+    /// Every ellipsoid case of the shared vectors, through the same steps as the shader:
+    /// set-up, corners (world and NDC), the pixel's q, κ, hit point, normal and depth.
+    #[test]
+    fn shader_math_matches_the_test_vectors() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/math/test-vectors.json"
+        ))
+        .unwrap();
+        let all: Value = serde_json::from_str(&text).unwrap();
+        let mut checked = 0;
+        for case in all["cases"].as_array().unwrap() {
+            if case["kind"] != "ellipsoid" {
+                continue;
+            }
+            let id = case["id"].as_str().unwrap();
+            let e = &case["expected"];
+            let gh = &e["gumhold"];
+            let t = m3(&case["glyph"]["T"]);
+            let c = v3(&case["glyph"]["c"]);
+            let t_inv = t.inverse();
+            let size = (0..3)
+                .map(|i| case["glyph"]["radii"][i].as_f64().unwrap())
+                .fold(0.0, f64::max);
+            let cam = &case["camera"];
+            let ortho = cam["projection"] == "orthographic";
+            let eye = v3(&cam["eye"]);
+            let forward = (v3(&cam["target"]) - eye).normalize();
+            let k = FrameConstants::new(
+                &m4(&e["view_cols"]),
+                &m4(&e["proj_cols"]),
+                eye,
+                forward,
+                ortho,
+            );
+            let setup = if ortho {
+                setup_orthographic(&t_inv, forward)
+            } else {
+                match setup_perspective(&t_inv, c, eye) {
+                    Some(s) => s,
+                    None => {
+                        assert_eq!(gh["applicable"], false, "{id}: culled but applicable");
+                        checked += 1;
+                        continue;
+                    }
+                }
+            };
+            let tol = 1e-9;
+            if ortho {
+                close(setup.e_t, v3(&gh["d_tilde"]), tol, id);
+            } else {
+                close(setup.e_t, v3(&gh["e_tilde"]), tol * setup.e_norm, id);
+                assert!(
+                    (setup.u - gh["u_tilde"].as_f64().unwrap()).abs() <= tol,
+                    "{id}: u"
+                );
+                close(setup.m_t, v3(&gh["m_tilde"]), tol, id);
+                assert!(
+                    (setup.r_t - gh["r_tilde"].as_f64().unwrap()).abs() <= tol,
+                    "{id}: r"
+                );
+            }
+            close(setup.x_hat, v3(&gh["x_hat"]), tol, id);
+            close(setup.y_hat, v3(&gh["y_hat"]), tol, id);
+            close(setup.z_hat, v3(&gh["z_hat"]), tol, id);
+            for (name, sx, sy) in [
+                ("mm", -1.0, -1.0),
+                ("pm", 1.0, -1.0),
+                ("mp", -1.0, 1.0),
+                ("pp", 1.0, 1.0),
+            ] {
+                let v = c + t * setup.quad_point_t(DVec2::new(sx, sy));
+                close(v - c, v3(&gh["corners"][name]) - c, tol * size, id);
+                let clip = k.view_proj * v.extend(1.0);
+                close(
+                    clip.truncate() / clip.w,
+                    v3(&gh["corners_ndc"][name]),
+                    tol,
+                    id,
+                );
+            }
+            // The pixel's q: where its ray meets the quad plane.
+            let o = v3(&e["ray"]["origin"]);
+            let d = v3(&e["ray"]["dir"]);
+            let q = setup.q_of_ray(t_inv * (o - c), t_inv * d);
+            let want_q = DVec2::new(gh["q"][0].as_f64().unwrap(), gh["q"][1].as_f64().unwrap());
+            assert!((q - want_q).length() <= 1e-8, "{id}: q {q} vs {want_q}");
+            // Near the rim α = √(1 − q²) amplifies the rounding in q, so the fragment is fed the
+            // vectors' q (the q check above covers the interpolation).
+            let f = fragment(&setup, &t, &t_inv, c, &k, want_q);
+            assert_eq!(f.is_some(), e["hit"].as_bool().unwrap(), "{id}: hit");
+            let Some(f) = f else {
+                checked += 1;
+                continue;
+            };
+            if !ortho {
+                let kappa = gh["kappa"].as_f64().unwrap();
+                assert!(
+                    (f.kappa - kappa).abs() <= 1e-8 * kappa,
+                    "{id}: kappa {} vs {kappa}",
+                    f.kappa
+                );
+            }
+            close(f.point - c, v3(&e["point"]) - c, 1e-8 * size, id);
+            close(f.normal, v3(&e["normal"]), 1e-8, id);
+            let depth = e["ndc_depth"].as_f64().unwrap();
+            assert!(
+                (f.depth - depth).abs() <= 1e-9,
+                "{id}: depth {} vs {depth}",
+                f.depth
+            );
+            checked += 1;
+        }
+        assert_eq!(checked, 10, "every ellipsoid case");
+    }
+}
