@@ -4,6 +4,8 @@
 struct Camera {
     view_proj: mat4x4<f32>,
     view: mat4x4<f32>,
+    // World (relative to the scene origin) from clip space: rays for viewport-covering proxies.
+    inv_view_proj: mat4x4<f32>,
     // xyz: eye relative to the scene origin; w: 1 for orthographic, 0 for perspective.
     eye: vec4<f32>,
     // xyz: unit view direction (world); w unused.
@@ -65,6 +67,14 @@ fn orthonormal_pair(z: vec3<f32>) -> array<vec3<f32>, 2> {
         vec3<f32>(1.0 + s * z.x * z.x * a, s * b, -s * z.x),
         vec3<f32>(b, s + z.y * z.y * a, -z.y),
     );
+}
+
+// Corner k (0..3, strip order (-,-), (+,-), (-,+), (+,+)) of the near plane in world space,
+// with its NDC: a proxy that covers the whole viewport, for glyphs the eye is too close to.
+fn near_plane_corner(k: u32) -> vec3<f32> {
+    let ndc = vec2<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u));
+    let h = camera.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
+    return h.xyz / h.w;
 }
 
 // Blinn-Phong with a headlight: the light sits at the eye, so L = H = direction to the eye.

@@ -1,6 +1,6 @@
 // Gumhold's ellipsoid glyph: one perspective-correct silhouette quad per glyph, built here from
 // the vertex and instance index, and the incremental ray–ellipsoid intersection per fragment.
-// Math and names: shared/math/gumhold-ellipsoid.md. Prepended by common.wgsl.
+// Math and names: shared/math/gumhold-ellipsoid.md. Composed as common.wgsl + this + outputs.wgsl.
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -109,38 +109,4 @@ fn ray_cast(in: VsOut) -> Hit {
     hit.z_view = p_view.z;
     hit.depth = in.position.z + delta_depth;
     return hit;
-}
-
-fn corrected(in: VsOut) -> Hit {
-    let hit = ray_cast(in);
-    // frag_depth is clamped, not clipped: a hit in front of the near plane is not drawn.
-    if !(hit.depth >= 0.0 && hit.depth <= 1.0) {
-        discard;
-    }
-    return hit;
-}
-
-@fragment
-fn fs_depth(in: VsOut) -> OutDepth {
-    let hit = corrected(in);
-    return OutDepth(hit.color, in.id, hit.depth);
-}
-
-@fragment
-fn fs_depth_aux(in: VsOut) -> OutDepthAux {
-    let hit = corrected(in);
-    return OutDepthAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_view), hit.depth);
-}
-
-@fragment
-fn fs_flat(in: VsOut) -> OutFlat {
-    let hit = ray_cast(in);
-    return OutFlat(hit.color, in.id);
-}
-
-@fragment
-fn fs_flat_aux(in: VsOut) -> OutFlatAux {
-    let hit = ray_cast(in);
-    // The depth buffer holds the quad's depth, so report the quad's view z.
-    return OutFlatAux(hit.color, in.id, vec4<f32>(hit.n_view, in.v_view.z));
 }

@@ -248,6 +248,16 @@ impl Camera {
     }
 }
 
+impl Camera {
+    /// Height of the orthographic view volume, or the height of the view at unit distance.
+    pub fn projection_height(&self) -> f64 {
+        match self.projection {
+            Projection::Perspective { fov_y } => 2.0 * (fov_y / 2.0).tan(),
+            Projection::Orthographic { height } => height,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -367,16 +377,6 @@ mod tests {
                     );
                 }
             }
-        }
-    }
-}
-
-impl Camera {
-    /// Height of the orthographic view volume, or the height of the view at unit distance.
-    pub fn projection_height(&self) -> f64 {
-        match self.projection {
-            Projection::Perspective { fov_y } => 2.0 * (fov_y / 2.0).tan(),
-            Projection::Orthographic { height } => height,
         }
     }
 }

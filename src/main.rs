@@ -1,1 +1,44 @@
-fn main() {}
+//! The `tensorglyph` command line: demo, info, render.
+
+mod commands;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "tensorglyph",
+    version,
+    about = "Ray-cast glyphs for 3D symmetric tensor fields"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render the built-in 40³ demo field (64,000 glyphs) to a PNG.
+    Demo(commands::render::DemoArgs),
+    /// Summarise a tensor field: counts, eigenvalue ranges, FA, shape classes, samples.
+    Info(commands::info::InfoArgs),
+    /// Render a field headless to a PNG.
+    Render(commands::render::RenderArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(a) => commands::render::demo(a),
+        Command::Info(a) => commands::info::run(a),
+        Command::Render(a) => commands::render::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

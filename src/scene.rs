@@ -4,6 +4,7 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use crate::render::gpu_data::GpuGlyph;
+use crate::render::method::GlyphKind;
 
 /// Glyph instances relative to `origin`, plus a bounding sphere in world space.
 #[derive(Debug, Clone, Default)]
@@ -144,4 +145,113 @@ impl Scene {
     pub fn geometry(&self, instance: usize) -> GlyphGeometry {
         GlyphGeometry::of(&self.instances[instance])
     }
+}
+
+impl Scene {
+    /// Instances for every glyph of `set`, sized and coloured by `style`, around the centre of
+    /// the glyph centres' bounding box (camera-relative precision).
+    pub fn build(
+        set: &crate::glyph::GlyphSet,
+        style: &crate::glyph::ResolvedStyle,
+        glyph: GlyphKind,
+    ) -> Self {
+        use rayon::prelude::*;
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for g in &set.glyphs {
+            let c = DVec3::from(g.centre);
+            lo = lo.min(c);
+            hi = hi.max(c);
+        }
+        let origin = if set.glyphs.is_empty() {
+            DVec3::ZERO
+        } else {
+            (lo + hi) / 2.0
+        };
+        let instances = set
+            .glyphs
+            .par_iter()
+            .enumerate()
+            .map(|(k, g)| {
+                let c = DVec3::from(g.centre) - origin;
+                let (rotation, radii) = match glyph {
+                    GlyphKind::Ellipsoid => (g.rotation, style.radii(g)),
+                    GlyphKind::Cylinder => cylinder_frame(g.rotation, style.radii(g)),
+                };
+                GpuGlyph {
+                    centre: [c.x as f32, c.y as f32, c.z as f32],
+                    color: GpuGlyph::pack_color(style.color(g)),
+                    rotation,
+                    radii,
+                    glyph: k as u32,
+                }
+            })
+            .collect();
+        Self::from_instances(origin, instances)
+    }
+
+    /// How many glyphs the camera cannot draw: eye inside or on them (Gumhold's quad does not
+    /// exist there) and entirely behind the near plane.
+    pub fn visibility(&self, camera: &crate::camera::Camera) -> Visibility {
+        let eye = camera.eye - self.origin;
+        let f = camera.forward();
+        let mut v = Visibility::default();
+        for g in &self.instances {
+            let geo = GlyphGeometry::of(g);
+            let r = geo.max_radius();
+            if (geo.centre - eye).dot(f) + r < camera.near {
+                v.behind_camera += 1;
+            } else if !camera.is_ortho()
+                && (geo.t_inv() * (eye - geo.centre)).length_squared()
+                    <= crate::reference::EYE_INSIDE_E2
+            {
+                v.eye_inside += 1;
+            }
+        }
+        v
+    }
+}
+
+/// Glyphs that are not drawn for a camera, and why.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct Visibility {
+    pub eye_inside: usize,
+    pub behind_camera: usize,
+}
+
+/// Reorder an eigen frame for a cylinder glyph (cylinder-capsule.md §6): the axis (first column)
+/// is the direction of the largest radius, or of the smallest for planar shapes (cp > cl, a
+/// disc), so the axis does not jump between neighbours whose two largest radii are close.
+/// The frame stays right-handed.
+pub fn cylinder_frame(rotation: [f32; 4], radii: [f32; 3]) -> ([f32; 4], [f32; 3]) {
+    let q = DQuat::from_xyzw(
+        f64::from(rotation[0]),
+        f64::from(rotation[1]),
+        f64::from(rotation[2]),
+        f64::from(rotation[3]),
+    )
+    .normalize();
+    let m = DMat3::from_quat(q);
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]));
+    let [a, b, c] = order.map(|i| f64::from(radii[i]));
+    let (cl, cp) = if a > 0.0 {
+        ((a - b) / a, (b - c) / a)
+    } else {
+        (0.0, 0.0)
+    };
+    let cols = if cp > cl {
+        [order[2], order[0], order[1]]
+    } else {
+        [order[0], order[1], order[2]]
+    };
+    let mut f = DMat3::from_cols(m.col(cols[0]), m.col(cols[1]), m.col(cols[2]));
+    if f.determinant() < 0.0 {
+        f.z_axis = -f.z_axis;
+    }
+    let q = DQuat::from_mat3(&f).normalize();
+    (
+        [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+        cols.map(|i| radii[i]),
+    )
 }

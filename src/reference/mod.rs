@@ -3,10 +3,11 @@
 //! (shared/math/sigg-quadric.md §4: glyph-near origin, stable roots), a BVH, rayon.
 //!
 //! It follows the GPU's documented rules so that differences are rendering error only: glyphs
-//! with the eye inside or on them (E² ≤ [`EYE_INSIDE_E2`]) are not drawn, and a hit in front of
-//! the near plane (or beyond the far plane) is not drawn.
+//! with the eye inside or on them (ellipsoids: E² ≤ [`EYE_INSIDE_E2`]) are not drawn, and a hit
+//! in front of the near plane (or beyond the far plane) is not drawn.
 
 pub mod bvh;
+pub mod intersect;
 pub mod shading;
 
 use glam::{DMat3, DMat4, DVec3};
@@ -14,18 +15,41 @@ use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::render::headless::{Frame, FrameRequest};
+use crate::render::method::GlyphKind;
 use crate::scene::{GlyphGeometry, Scene};
 use bvh::{Aabb, Bvh};
+use intersect::{Cylinder, RayHit};
 
 /// Same constant as `EYE_INSIDE_E2` in shaders/gumhold_ellipsoid.wgsl.
 pub const EYE_INSIDE_E2: f64 = 1.00001;
 
+/// One image row: colour, ids, aux.
+type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>);
+
 /// One glyph prepared for ray casting (all relative to the scene origin).
 struct Prepared {
-    centre: DVec3,
-    t_inv: DMat3,
+    shape: Shape,
     base: DVec3,
     drawn: bool,
+}
+
+enum Shape {
+    Ellipsoid { centre: DVec3, t_inv: DMat3 },
+    Cylinder(Cylinder),
+}
+
+impl Shape {
+    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
+        match self {
+            Shape::Ellipsoid { centre, t_inv } => {
+                intersect::ellipsoid(o, d, *centre, t_inv).map(|(t, p_t)| RayHit {
+                    t,
+                    normal: (*t_inv * p_t).normalize(),
+                })
+            }
+            Shape::Cylinder(c) => c.intersect(o, d),
+        }
+    }
 }
 
 /// A ray's front-most hit.
@@ -49,7 +73,7 @@ pub struct ReferenceScene<'a> {
 }
 
 impl<'a> ReferenceScene<'a> {
-    pub fn new(scene: &'a Scene, camera: &Camera) -> Self {
+    pub fn new(scene: &'a Scene, camera: &Camera, glyph: GlyphKind) -> Self {
         let eye = camera.eye - scene.origin;
         let ortho = camera.is_ortho();
         let (glyphs, boxes): (Vec<Prepared>, Vec<Aabb>) = scene
@@ -57,16 +81,31 @@ impl<'a> ReferenceScene<'a> {
             .par_iter()
             .map(|g| {
                 let geo = GlyphGeometry::of(g);
-                let t_inv = geo.t_inv();
-                let e2 = (t_inv * (eye - geo.centre)).length_squared();
                 let [r, gg, b, _] = g.color_rgba();
-                let h = geo.half_extents();
+                let (shape, h, eye_inside) = match glyph {
+                    GlyphKind::Ellipsoid => {
+                        let t_inv = geo.t_inv();
+                        let e2 = (t_inv * (eye - geo.centre)).length_squared();
+                        let shape = Shape::Ellipsoid {
+                            centre: geo.centre,
+                            t_inv,
+                        };
+                        (shape, geo.half_extents(), e2 <= EYE_INSIDE_E2)
+                    }
+                    GlyphKind::Cylinder => {
+                        let c = Cylinder {
+                            c: geo.centre,
+                            frame: geo.frame,
+                            radii: geo.radii,
+                        };
+                        (Shape::Cylinder(c), c.half_extents(), c.contains(eye))
+                    }
+                };
                 (
                     Prepared {
-                        centre: geo.centre,
-                        t_inv,
+                        shape,
                         base: DVec3::new(f64::from(r), f64::from(gg), f64::from(b)) / 255.0,
-                        drawn: ortho || e2 > EYE_INSIDE_E2,
+                        drawn: ortho || !eye_inside,
                     },
                     Aabb {
                         lo: geo.centre - h,
@@ -102,7 +141,7 @@ impl<'a> ReferenceScene<'a> {
             if !g.drawn {
                 return None;
             }
-            let (t, p_t) = intersect_ellipsoid(origin, dir, g.centre, &g.t_inv)?;
+            let RayHit { t, normal } = g.shape.intersect(origin, dir)?;
             // Depth range: the GPU discards hits outside [near, far].
             let dist = if self.camera.is_ortho() {
                 t
@@ -116,7 +155,7 @@ impl<'a> ReferenceScene<'a> {
                 best = Some(Hit {
                     instance: i,
                     point: origin + dir * t,
-                    normal: (g.t_inv * p_t).normalize(),
+                    normal,
                     t,
                 });
             }
@@ -131,7 +170,7 @@ impl<'a> ReferenceScene<'a> {
         let ortho = self.camera.is_ortho();
         let bg = req.background.map(shading::to_unorm8);
         let start = std::time::Instant::now();
-        let rows: Vec<(Vec<u8>, Vec<u32>, Vec<[f32; 4]>)> = (0..h)
+        let rows: Vec<Row> = (0..h)
             .into_par_iter()
             .map(|j| {
                 let mut color = Vec::with_capacity(w * 4);
@@ -184,102 +223,5 @@ impl<'a> ReferenceScene<'a> {
         }
         frame.aux = req.aux.then_some(aux);
         frame
-    }
-}
-
-/// Front intersection of the ray `o + t d` (d unit) with the ellipsoid |T⁻¹(p − c)| = 1:
-/// `(t, p~)`. The origin is first moved next to the glyph so nothing cancels for distant glyphs.
-/// An origin inside gives the exit point (the only forward hit).
-pub fn intersect_ellipsoid(o: DVec3, d: DVec3, c: DVec3, t_inv: &DMat3) -> Option<(f64, DVec3)> {
-    let t0 = (c - o).dot(d);
-    let o_t = *t_inv * ((o - c) + d * t0);
-    let v_t = *t_inv * d;
-    let alpha = v_t.length_squared();
-    let beta = o_t.dot(v_t);
-    let gamma = o_t.length_squared() - 1.0;
-    let disc = beta * beta - alpha * gamma;
-    if !(disc >= 0.0) || alpha <= 0.0 {
-        return None;
-    }
-    let q = -(beta + beta.signum() * disc.sqrt());
-    let (r1, r2) = if q == 0.0 {
-        (0.0, 0.0)
-    } else {
-        (q / alpha, gamma / q)
-    };
-    let (near, far) = (r1.min(r2), r1.max(r2));
-    let tp = if t0 + near > 0.0 {
-        near
-    } else if t0 + far > 0.0 {
-        far
-    } else {
-        return None;
-    };
-    Some((t0 + tp, o_t + v_t * tp))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn v3(v: &serde_json::Value) -> DVec3 {
-        DVec3::new(
-            v[0].as_f64().unwrap(),
-            v[1].as_f64().unwrap(),
-            v[2].as_f64().unwrap(),
-        )
-    }
-
-    fn m3(v: &serde_json::Value) -> DMat3 {
-        DMat3::from_cols(v3(&v[0]), v3(&v[1]), v3(&v[2])).transpose()
-    }
-
-    #[test]
-    fn ellipsoid_hits_match_the_test_vectors() {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/math/test-vectors.json"
-        ))
-        .unwrap();
-        let all: serde_json::Value = serde_json::from_str(&text).unwrap();
-        let mut checked = 0;
-        for case in all["cases"].as_array().unwrap() {
-            if case["kind"] != "ellipsoid" {
-                continue;
-            }
-            let id = case["id"].as_str().unwrap();
-            let e = &case["expected"];
-            let t = m3(&case["glyph"]["T"]);
-            let c = v3(&case["glyph"]["c"]);
-            let t_inv = t.inverse();
-            let o = v3(&e["ray"]["origin"]);
-            let d = v3(&e["ray"]["dir"]);
-            let hit = intersect_ellipsoid(o, d, c, &t_inv);
-            assert_eq!(hit.is_some(), e["hit"].as_bool().unwrap(), "{id}");
-            let Some((tt, p_t)) = hit else { continue };
-            let size = case["glyph"]["radii"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|x| x.as_f64().unwrap())
-                .fold(0.0, f64::max);
-            let point = o + d * tt;
-            // 1e-9 glyph sizes relative to the centre, as test-vectors.md suggests.
-            assert!(
-                ((point - c) - (v3(&e["point"]) - c)).length() <= 1e-9 * size,
-                "{id}: point {point} vs {}",
-                v3(&e["point"])
-            );
-            let n = (t_inv * p_t).normalize();
-            let want_n = v3(&e["normal"]);
-            let front = e["front_facing"].as_bool().unwrap();
-            // For the eye-inside case the vectors give the outward normal of the inner surface.
-            assert!(
-                (n - want_n).length() <= 1e-9,
-                "{id}: normal {n} vs {want_n} ({front})"
-            );
-            checked += 1;
-        }
-        assert!(checked >= 9, "only {checked} ellipsoid cases");
     }
 }

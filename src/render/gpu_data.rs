@@ -62,6 +62,8 @@ impl Default for Lighting {
 pub struct CameraUniform {
     pub view_proj: [[f32; 4]; 4],
     pub view: [[f32; 4]; 4],
+    /// Inverse of view_proj (formed in f64).
+    pub inv_view_proj: [[f32; 4]; 4],
     /// xyz: eye relative to the scene origin; w: 1 orthographic, 0 perspective.
     pub eye: [f32; 4],
     /// xyz: unit view direction.
@@ -74,7 +76,7 @@ pub struct CameraUniform {
     pub light: [f32; 4],
 }
 
-pub const CAMERA_UNIFORM_SIZE: usize = 208;
+pub const CAMERA_UNIFORM_SIZE: usize = 272;
 const _: () = assert!(std::mem::size_of::<CameraUniform>() == CAMERA_UNIFORM_SIZE);
 
 impl CameraUniform {
@@ -87,6 +89,7 @@ impl CameraUniform {
         let m = |m: DMat4| m.as_mat4().to_cols_array_2d();
         Self {
             view_proj: m(proj * view),
+            inv_view_proj: m((proj * view).inverse()),
             view: m(view),
             eye: [
                 eye.x as f32,

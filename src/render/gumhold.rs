@@ -1,7 +1,10 @@
-//! Gumhold's ellipsoid method: a long-lived set of pipelines (one per output variant) that draws
-//! 4-vertex strips, one instance per glyph, with no vertex buffer.
+//! Gumhold's method: a long-lived set of pipelines (one per output variant) that draws 4-vertex
+//! strips, one instance per glyph, with no vertex buffer. Ellipsoids use the glyph's own
+//! silhouette quad; cylinders the quad of their bounding ellipsoid.
 
 use crate::render::context::GpuContext;
+use crate::render::headless::Drawer;
+use crate::render::method::GlyphKind;
 use crate::render::pipeline::{Variant, glyph_pipeline};
 use crate::render::shaders::ShaderSource;
 
@@ -10,12 +13,16 @@ pub struct GumholdRenderer {
 }
 
 impl GumholdRenderer {
-    pub fn new(ctx: &GpuContext, layout: &wgpu::PipelineLayout) -> Self {
-        let text = ShaderSource::GumholdEllipsoid.text();
+    pub fn new(ctx: &GpuContext, layout: &wgpu::PipelineLayout, glyph: GlyphKind) -> Self {
+        let source = match glyph {
+            GlyphKind::Ellipsoid => ShaderSource::GumholdEllipsoid,
+            GlyphKind::Cylinder => ShaderSource::GumholdCylinder,
+        };
+        let text = source.text();
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(ShaderSource::GumholdEllipsoid.name()),
+                label: Some(source.name()),
                 source: wgpu::ShaderSource::Wgsl(text.into()),
             });
         let mut pipelines: Vec<Option<wgpu::RenderPipeline>> = vec![None, None, None, None];
@@ -24,7 +31,7 @@ impl GumholdRenderer {
                 ctx,
                 layout,
                 &module,
-                "gumhold ellipsoid",
+                source.name(),
                 wgpu::PrimitiveTopology::TriangleStrip,
                 v,
             ));
@@ -33,15 +40,11 @@ impl GumholdRenderer {
             pipelines: pipelines.into_iter().flatten().collect(),
         }
     }
+}
 
-    /// Record the draw: the bind group (camera + glyphs) must already be set.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
+impl Drawer for GumholdRenderer {
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
         pass.set_pipeline(&self.pipelines[variant.index()]);
         pass.draw(0..4, 0..instances);
-    }
-
-    /// Vertex-shader invocations a draw of `instances` glyphs makes.
-    pub fn vertices_per_instance() -> u32 {
-        4
     }
 }

@@ -1,6 +1,8 @@
 //! Off-screen frames: upload a scene, draw it with one method, time it, count its fragments and
 //! read the targets back.
 
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 use wgpu::util::DeviceExt;
@@ -10,6 +12,7 @@ use crate::error::RenderError;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{CameraUniform, GpuGlyph, Lighting};
 use crate::render::gumhold::GumholdRenderer;
+use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
 use crate::render::targets::{Readback, Targets};
 use crate::scene::Scene;
@@ -17,6 +20,8 @@ use crate::scene::Scene;
 /// What to draw and what to read back.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameRequest {
+    pub method: Method,
+    pub glyph: GlyphKind,
     pub depth_correction: bool,
     /// Read back view normals and view z (for `--reference-check`).
     pub aux: bool,
@@ -30,6 +35,8 @@ pub struct FrameRequest {
 impl Default for FrameRequest {
     fn default() -> Self {
         Self {
+            method: Method::Gumhold,
+            glyph: GlyphKind::Ellipsoid,
             depth_correction: true,
             aux: false,
             background: [1.0, 1.0, 1.0, 1.0],
@@ -70,11 +77,21 @@ impl Frame {
     }
 }
 
-/// Long-lived GPU state: device, shared layout and every method's pipelines.
+/// A GPU method's long-lived pipelines for one glyph shape.
+pub trait Drawer: Send + Sync {
+    /// Record the draw of `instances` glyphs; bind group 0 (camera + glyphs) is already set.
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32);
+}
+
+type DrawerKey = (Method, GlyphKind);
+
+/// Long-lived GPU state: device, shared layout and every method's pipelines (built on first use:
+/// lavapipe compiles a pipeline in tens of milliseconds).
 pub struct GpuRenderer {
     pub ctx: GpuContext,
     bind_group_layout: wgpu::BindGroupLayout,
-    gumhold: GumholdRenderer,
+    pipeline_layout: wgpu::PipelineLayout,
+    drawers: Mutex<HashMap<DrawerKey, Arc<dyn Drawer>>>,
 }
 
 impl GpuRenderer {
@@ -88,22 +105,52 @@ impl GpuRenderer {
                 bind_group_layouts: &[Some(&bind_group_layout)],
                 immediate_size: 0,
             });
-        let gumhold = GumholdRenderer::new(&ctx, &layout);
         if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RenderError::Gpu(format!("creating pipelines: {e}")));
+            return Err(RenderError::Gpu(format!(
+                "creating the pipeline layout: {e}"
+            )));
         }
         Ok(Self {
             ctx,
             bind_group_layout,
-            gumhold,
+            pipeline_layout: layout,
+            drawers: Mutex::new(HashMap::new()),
         })
+    }
+
+    /// The drawer of a method and shape, built on first use.
+    fn drawer(&self, method: Method, glyph: GlyphKind) -> Result<Arc<dyn Drawer>, RenderError> {
+        let mut map = self.drawers.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(d) = map.get(&(method, glyph)) {
+            return Ok(d.clone());
+        }
+        let scope = self
+            .ctx
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let layout = &self.pipeline_layout;
+        let drawer: Arc<dyn Drawer> = match (method, glyph) {
+            (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(&self.ctx, layout, glyph)),
+            (Method::Reference, _) => {
+                return Err(RenderError::Unsupported(
+                    "the reference is a CPU method; use ReferenceScene".into(),
+                ));
+            }
+        };
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(format!(
+                "creating {method} pipelines for {glyph}: {e}"
+            )));
+        }
+        map.insert((method, glyph), drawer.clone());
+        Ok(drawer)
     }
 
     pub fn adapter_name(&self) -> &str {
         &self.ctx.adapter_name
     }
 
-    /// Render `scene` seen by `camera` with Gumhold's method.
+    /// Render `scene` seen by `camera` with the request's method and glyph shape.
     pub fn render(
         &self,
         scene: &Scene,
@@ -132,6 +179,7 @@ impl GpuRenderer {
     ) -> Result<Frame, RenderError> {
         let ctx = &self.ctx;
         let device = &ctx.device;
+        let drawer = self.drawer(req.method, req.glyph)?;
         let count = scene.instances.len() as u32;
         // A binding may not be empty: pad with one unused instance.
         let pad = [GpuGlyph::zeroed_instance()];
@@ -184,7 +232,7 @@ impl GpuRenderer {
                     pass.begin_pipeline_statistics_query(&s.set, 0);
                 }
                 pass.set_bind_group(0, &bind_group, &[]);
-                self.gumhold.draw(&mut pass, variant, count);
+                drawer.draw(&mut pass, variant, count);
                 if let (Some(_), true) = (&stats, f == 0) {
                     pass.end_pipeline_statistics_query();
                 }

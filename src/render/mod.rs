@@ -6,9 +6,11 @@ pub mod gpu_data;
 pub mod gumhold;
 pub mod gumhold_math;
 pub mod headless;
+pub mod method;
 pub mod pipeline;
 pub mod shaders;
 pub mod targets;
 
 pub use context::GpuContext;
 pub use headless::{Frame, FrameRequest, GpuRenderer};
+pub use method::{GlyphKind, Method};

@@ -1,29 +1,38 @@
-//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl` followed by its
-//! own file; [`tests::all_shaders_validate`] runs naga's validator over each composition.
+//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, its own file
+//! and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`] runs
+//! naga's validator over each composition.
 
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
+const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
 const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/gumhold_ellipsoid.wgsl");
+const GUMHOLD_CYLINDER: &str = include_str!("../../shaders/gumhold_cylinder.wgsl");
 
 /// A method's complete shader source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShaderSource {
     GumholdEllipsoid,
+    GumholdCylinder,
 }
 
 impl ShaderSource {
-    pub const ALL: [ShaderSource; 1] = [ShaderSource::GumholdEllipsoid];
+    pub const ALL: [ShaderSource; 2] = [
+        ShaderSource::GumholdEllipsoid,
+        ShaderSource::GumholdCylinder,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
             ShaderSource::GumholdEllipsoid => "gumhold_ellipsoid.wgsl",
+            ShaderSource::GumholdCylinder => "gumhold_cylinder.wgsl",
         }
     }
 
     pub fn text(self) -> String {
         let body = match self {
             ShaderSource::GumholdEllipsoid => GUMHOLD_ELLIPSOID,
+            ShaderSource::GumholdCylinder => GUMHOLD_CYLINDER,
         };
-        format!("{COMMON}\n{body}")
+        format!("{COMMON}\n{body}\n{OUTPUTS}")
     }
 }
 

@@ -1,0 +1,36 @@
+// The fragment entry points every method shares. A method's file defines `VsOut` (with
+// `position`, `v_view` = the proxy point in view space, and flat `id`) and `ray_cast(in) -> Hit`.
+
+fn corrected(in: VsOut) -> Hit {
+    let hit = ray_cast(in);
+    // frag_depth is clamped, not clipped: a hit in front of the near plane is not drawn.
+    if !(hit.depth >= 0.0 && hit.depth <= 1.0) {
+        discard;
+    }
+    return hit;
+}
+
+@fragment
+fn fs_depth(in: VsOut) -> OutDepth {
+    let hit = corrected(in);
+    return OutDepth(hit.color, in.id, hit.depth);
+}
+
+@fragment
+fn fs_depth_aux(in: VsOut) -> OutDepthAux {
+    let hit = corrected(in);
+    return OutDepthAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_view), hit.depth);
+}
+
+@fragment
+fn fs_flat(in: VsOut) -> OutFlat {
+    let hit = ray_cast(in);
+    return OutFlat(hit.color, in.id);
+}
+
+@fragment
+fn fs_flat_aux(in: VsOut) -> OutFlatAux {
+    let hit = ray_cast(in);
+    // The depth buffer holds the proxy's depth, so report the proxy's view z.
+    return OutFlatAux(hit.color, in.id, vec4<f32>(hit.n_view, in.v_view.z));
+}

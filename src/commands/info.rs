@@ -1,0 +1,39 @@
+//! `tensorglyph info`: what is in a tensor file.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use super::scene::{SceneArgs, load, source};
+use tensorglyph::load::Demo;
+
+#[derive(Args, Debug)]
+pub struct InfoArgs {
+    /// A VTK file (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti).
+    pub file: Option<PathBuf>,
+    /// A built-in field instead of a file: grid40 or grid:N.
+    #[arg(long)]
+    pub demo: Option<Demo>,
+    /// One JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Also report tensor I (file order, points or cells); repeatable.
+    #[arg(long = "sample", value_name = "I")]
+    pub samples: Vec<usize>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+}
+
+pub fn run(args: InfoArgs) -> Result<()> {
+    let src = source(args.file, args.demo)?;
+    let (field, set) = load(&src, &args.scene)?;
+    let report =
+        tensorglyph::info::info_report(&field, &set, &args.samples).map_err(anyhow::Error::msg)?;
+    if args.json {
+        println!("{}", serde_json::to_string(&report)?);
+    } else {
+        print!("{}", tensorglyph::info::human_summary(&report));
+    }
+    Ok(())
+}

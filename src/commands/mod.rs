@@ -1,0 +1,5 @@
+//! One module per subcommand; `scene` holds the options they share.
+
+pub mod info;
+pub mod render;
+pub mod scene;
