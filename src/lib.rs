@@ -5,6 +5,7 @@
 //! The exact f64 CPU ray caster in [`reference`] renders the very same instances and is the
 //! accuracy truth for every GPU method.
 
+pub mod bench;
 pub mod camera;
 pub mod error;
 pub mod field;

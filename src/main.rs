@@ -1,4 +1,4 @@
-//! The `tensorglyph` command line: demo, info, render.
+//! The `tensorglyph` command line: demo, info, render, bench.
 
 mod commands;
 
@@ -25,6 +25,8 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// Render a field headless to a PNG.
     Render(commands::render::RenderArgs),
+    /// Time every method on the same scenes and chart speed against accuracy.
+    Bench(commands::bench::BenchArgs),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +35,7 @@ fn main() -> ExitCode {
         Command::Demo(a) => commands::render::demo(a),
         Command::Info(a) => commands::info::run(a),
         Command::Render(a) => commands::render::run(a),
+        Command::Bench(a) => commands::bench::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
 //! One module per subcommand; `scene` holds the options they share.
 
+pub mod bench;
 pub mod info;
 pub mod render;
 pub mod scene;

@@ -98,7 +98,7 @@ pub struct DemoArgs {
     pub scene: SceneArgs,
 }
 
-fn parse_size(s: &str) -> Result<(u32, u32), String> {
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| format!("size '{s}' is not WxH (e.g. 1024x768)"))?;

@@ -69,6 +69,14 @@ impl fmt::Display for GlyphKind {
     }
 }
 
+/// Triangles per glyph of a tessellated method (`None` for impostors, whose cost does not grow
+/// with a level).
+pub fn triangles_per_glyph(method: Method, _glyph: GlyphKind) -> Option<u64> {
+    match method {
+        Method::Gumhold | Method::Reference => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,0 +1,172 @@
+//! Frame time against error, one chart per view: log–log, one colour per method family, mesh
+//! levels joined as a curve, the Pareto front (nothing both faster and more accurate) ringed.
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::Row;
+use crate::render::Method;
+
+/// Errors are plotted on a log axis: exact agreement is drawn at this floor.
+pub const ERROR_FLOOR_DEG: f64 = 1e-4;
+
+static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+fn ensure_font() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        // The bundled font is valid; a failure would only lose labels.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+}
+
+/// Family name for the legend: mesh levels share one curve.
+fn family(m: Method) -> String {
+    let s = m.to_string();
+    match s.split_once(':') {
+        Some((f, _)) => f.to_string(),
+        None => s,
+    }
+}
+
+fn error_of(r: &Row) -> f64 {
+    r.accuracy.normal_err_deg_p99.max(ERROR_FLOOR_DEG)
+}
+
+/// Rows on the Pareto front: no other row is at least as fast and at least as accurate, and
+/// strictly better in one.
+pub fn pareto<'r>(rows: &[&'r Row]) -> Vec<&'r Row> {
+    rows.iter()
+        .copied()
+        .filter(|a| {
+            !rows.iter().any(|b| {
+                let (ta, ea, tb, eb) = (
+                    a.frame_ms_median,
+                    error_of(a),
+                    b.frame_ms_median,
+                    error_of(b),
+                );
+                tb <= ta && eb <= ea && (tb < ta || eb < ea)
+            })
+        })
+        .collect()
+}
+
+const PALETTE: [RGBColor; 8] = [
+    RGBColor(214, 39, 40),
+    RGBColor(31, 119, 180),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(23, 190, 207),
+];
+
+/// Draw the chart of `rows` (one view, measured GPU rows) to a PNG at `path`.
+pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(), String> {
+    ensure_font();
+    let rows: Vec<&Row> = rows
+        .iter()
+        .copied()
+        .filter(|r| r.skipped.is_empty() && r.method.is_gpu() && r.frame_ms_median.is_finite())
+        .collect();
+    if rows.is_empty() {
+        return Err("nothing measured to chart".into());
+    }
+    let (mut tmin, mut tmax) = (f64::INFINITY, 0.0f64);
+    let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
+    for r in &rows {
+        tmin = tmin.min(r.frame_ms_median);
+        tmax = tmax.max(r.frame_ms_median);
+        emin = emin.min(error_of(r));
+        emax = emax.max(error_of(r));
+    }
+    let x_range = (tmin / 1.5).max(1e-3)..(tmax * 1.5).max(tmin * 2.0);
+    let y_range = (emin / 3.0)..(emax * 3.0).max(emin * 10.0);
+    let (w, h) = (1000u32, 700u32);
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(title, ("sans-serif", 26))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(80)
+            .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())
+            .map_err(|e| e.to_string())?;
+        chart
+            .configure_mesh()
+            .x_desc("frame time, ms (median, log scale)")
+            .y_desc("normal error p99, degrees (log scale)")
+            .label_style(("sans-serif", 16))
+            .axis_desc_style(("sans-serif", 18))
+            .draw()
+            .map_err(|e| e.to_string())?;
+        let mut families: Vec<(String, bool, crate::render::GlyphKind)> = Vec::new();
+        for r in &rows {
+            let key = (family(r.method), r.depth_correction, r.glyph);
+            if !families.contains(&key) {
+                families.push(key);
+            }
+        }
+        for (k, (fam, depth, glyph)) in families.iter().enumerate() {
+            let colour = PALETTE[k % PALETTE.len()];
+            let mut pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| {
+                    family(r.method) == *fam && r.depth_correction == *depth && r.glyph == *glyph
+                })
+                .map(|r| (r.frame_ms_median, error_of(r)))
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let label = format!(
+                "{fam} {glyph}{}",
+                if *depth { "" } else { " (no depth corr.)" }
+            );
+            let style = ShapeStyle::from(&colour).stroke_width(2);
+            chart
+                .draw_series(LineSeries::new(pts.clone(), style))
+                .map_err(|e| e.to_string())?
+                .label(label)
+                .legend(move |(x, y)| {
+                    PathElement::new(
+                        vec![(x, y), (x + 20, y)],
+                        ShapeStyle::from(&colour).stroke_width(3),
+                    )
+                });
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .map_err(|e| e.to_string())?;
+        }
+        let front = pareto(&rows);
+        chart
+            .draw_series(front.iter().map(|r| {
+                Circle::new(
+                    (r.frame_ms_median, error_of(r)),
+                    10,
+                    ShapeStyle::from(&BLACK).stroke_width(2),
+                )
+            }))
+            .map_err(|e| e.to_string())?
+            .label("Pareto front")
+            .legend(|(x, y)| Circle::new((x + 10, y), 6, ShapeStyle::from(&BLACK).stroke_width(2)));
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 15))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(|e| e.to_string())?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    let rgba: Vec<u8> = rgb
+        .chunks_exact(3)
+        .flat_map(|p| [p[0], p[1], p[2], 255])
+        .collect();
+    crate::image_out::write_png_atomic(path, w, h, &rgba)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}

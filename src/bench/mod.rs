@@ -1,0 +1,343 @@
+//! Speed against accuracy: every GPU method × glyph × depth setting on the same scenes and
+//! views, timed in one process with the methods interleaved across repetitions (so machine
+//! drift hits all alike), each compared once with the exact reference.
+
+pub mod chart;
+pub mod report;
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::camera::{Camera, Framing};
+use crate::metrics::{Accuracy, compare};
+use crate::reference::ReferenceScene;
+use crate::render::gpu_data::GPU_GLYPH_SIZE;
+use crate::render::{Frame, FrameRequest, GlyphKind, GpuRenderer, Method};
+use crate::scene::Scene;
+
+/// One thing to measure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Config {
+    pub method: Method,
+    pub glyph: GlyphKind,
+    pub depth_correction: bool,
+}
+
+/// A named camera set-up over a scene.
+#[derive(Debug, Clone)]
+pub struct View {
+    pub name: String,
+    pub scene: Scene,
+    pub camera: Camera,
+}
+
+/// The three views of a field: the whole field; `close`, a few large glyphs filling the image
+/// (fill-bound); `far`, the whole field shrunk so glyphs are a pixel or two (setup-bound).
+pub fn standard_views(scene: &Scene, width: u32, height: u32) -> Vec<View> {
+    let whole = Camera::frame(
+        &Framing::default(),
+        scene.centre,
+        scene.radius,
+        width,
+        height,
+    );
+    let far = Camera::frame(
+        &Framing {
+            zoom: 0.125,
+            ..Framing::default()
+        },
+        scene.centre,
+        scene.radius,
+        width,
+        height,
+    );
+    let close_scene = nearest_to_centre(scene, 27);
+    let close = Camera::frame(
+        &Framing::default(),
+        close_scene.centre,
+        close_scene.radius,
+        width,
+        height,
+    );
+    vec![
+        View {
+            name: "default".into(),
+            scene: scene.clone(),
+            camera: whole,
+        },
+        View {
+            name: "close".into(),
+            scene: close_scene,
+            camera: close,
+        },
+        View {
+            name: "far".into(),
+            scene: scene.clone(),
+            camera: far,
+        },
+    ]
+}
+
+/// The `n` glyphs nearest the scene's centre, as a scene of their own.
+pub fn nearest_to_centre(scene: &Scene, n: usize) -> Scene {
+    let c = scene.centre - scene.origin;
+    let mut idx: Vec<usize> = (0..scene.instances.len()).collect();
+    let dist =
+        |i: usize| (DVec3::from(scene.instances[i].centre.map(f64::from)) - c).length_squared();
+    idx.sort_by(|&a, &b| dist(a).total_cmp(&dist(b)));
+    let instances = idx
+        .into_iter()
+        .take(n)
+        .map(|i| scene.instances[i])
+        .collect();
+    Scene::from_instances(scene.origin, instances)
+}
+
+/// A measured configuration: one CSV row.
+#[derive(Debug, Clone, Serialize)]
+pub struct Row {
+    pub scene: String,
+    pub view: String,
+    pub method: Method,
+    pub glyph: GlyphKind,
+    pub depth_correction: bool,
+    pub frame_ms_median: f64,
+    pub frame_ms_min: f64,
+    pub frame_ms_max: f64,
+    pub fragments: Option<u64>,
+    pub vertices: Option<u64>,
+    pub bytes_per_glyph: usize,
+    pub covered_pixels: usize,
+    pub accuracy: Accuracy,
+    /// Empty when measured; else why not.
+    pub skipped: String,
+}
+
+/// Bench settings.
+#[derive(Debug, Clone)]
+pub struct Options {
+    /// Timed repetitions per configuration.
+    pub frames: u32,
+    /// Seconds one frame of a configuration may take; predicted or measured beyond it, the
+    /// configuration is skipped (and listed as skipped).
+    pub budget_s: f64,
+    pub methods: Vec<Method>,
+    pub glyphs: Vec<GlyphKind>,
+}
+
+/// Progress callback: (done, total, what).
+pub type Progress<'a> = &'a (dyn Fn(u64, u64, &str) + Sync);
+
+/// Measure every configuration on every view. Scenes come per glyph kind (a cylinder scene has
+/// its frames reordered), each with the same list of views.
+pub fn run(
+    gpu: &GpuRenderer,
+    scene_name: &str,
+    views_by_glyph: &[(GlyphKind, Vec<View>)],
+    opts: &Options,
+    progress: Progress<'_>,
+) -> Vec<Row> {
+    let configs: Vec<Config> = opts
+        .glyphs
+        .iter()
+        .flat_map(|&glyph| {
+            opts.methods.iter().flat_map(move |&method| {
+                [true, false].map(|depth_correction| Config {
+                    method,
+                    glyph,
+                    depth_correction,
+                })
+            })
+        })
+        .filter(|c| views_by_glyph.iter().any(|(g, _)| *g == c.glyph))
+        .collect();
+    let view_count = views_by_glyph.first().map_or(0, |(_, v)| v.len());
+    let total = (view_count * configs.len() * (opts.frames as usize + 1)) as u64;
+    let mut done = 0u64;
+    let mut rows = Vec::new();
+    for v in 0..view_count {
+        let view_of = |g: GlyphKind| &views_by_glyph.iter().find(|(k, _)| *k == g).unwrap().1[v];
+        let mut states: Vec<(Config, State)> =
+            configs.iter().map(|&c| (c, State::default())).collect();
+        // Untimed pass: the reference once per glyph kind, then one frame with the aux target per
+        // configuration for its accuracy and a first estimate of its time.
+        let mut references: Vec<(GlyphKind, Frame)> = Vec::new();
+        let mut cost = CostModel::default();
+        for (cfg, st) in states.iter_mut() {
+            let view = view_of(cfg.glyph);
+            progress(
+                done,
+                total,
+                &format!("{} {} {}", view.name, cfg.method, cfg.glyph),
+            );
+            done += 1;
+            if let Some(reason) = cost.over_budget(cfg, opts.budget_s) {
+                st.skipped = reason;
+                continue;
+            }
+            if !references.iter().any(|(g, _)| *g == cfg.glyph) {
+                let req = FrameRequest {
+                    method: Method::Reference,
+                    glyph: cfg.glyph,
+                    aux: true,
+                    ..FrameRequest::default()
+                };
+                let f = ReferenceScene::new(&view.scene, &view.camera, cfg.glyph).render(&req);
+                rows.push(reference_row(scene_name, &view.name, cfg.glyph, &f));
+                references.push((cfg.glyph, f));
+            }
+            let reference = &references.iter().find(|(g, _)| *g == cfg.glyph).unwrap().1;
+            let req = FrameRequest {
+                method: cfg.method,
+                glyph: cfg.glyph,
+                depth_correction: cfg.depth_correction,
+                aux: true,
+                ..FrameRequest::default()
+            };
+            match gpu.render(&view.scene, &view.camera, &req) {
+                Ok(f) => {
+                    st.accuracy = compare(&f, reference, &view.scene);
+                    st.covered = f.covered_pixels();
+                    cost.record(cfg, f.median_ms());
+                    if f.median_ms() > opts.budget_s * 1e3 {
+                        st.skipped = format!("over budget: {:.1} s per frame", f.median_ms() / 1e3);
+                    }
+                }
+                Err(e) => st.skipped = format!("failed: {e}"),
+            }
+        }
+        // Timed repetitions, interleaved across configurations.
+        for _ in 0..opts.frames {
+            for (cfg, st) in states.iter_mut() {
+                let view = view_of(cfg.glyph);
+                progress(
+                    done,
+                    total,
+                    &format!("{} {} {}", view.name, cfg.method, cfg.glyph),
+                );
+                done += 1;
+                if !st.skipped.is_empty() {
+                    continue;
+                }
+                let req = FrameRequest {
+                    method: cfg.method,
+                    glyph: cfg.glyph,
+                    depth_correction: cfg.depth_correction,
+                    ..FrameRequest::default()
+                };
+                match gpu.render(&view.scene, &view.camera, &req) {
+                    Ok(f) => {
+                        st.times.extend(&f.frame_ms);
+                        st.fragments = f.fragments.or(st.fragments);
+                        st.vertices = f.vertices.or(st.vertices);
+                    }
+                    Err(e) => st.skipped = format!("failed: {e}"),
+                }
+            }
+        }
+        for (cfg, st) in states {
+            rows.push(st.into_row(scene_name, &view_of(cfg.glyph).name, cfg));
+        }
+    }
+    rows
+}
+
+fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
+    let ms = f.median_ms();
+    Row {
+        scene: scene.into(),
+        view: view.into(),
+        method: Method::Reference,
+        glyph,
+        depth_correction: true,
+        frame_ms_median: ms,
+        frame_ms_min: ms,
+        frame_ms_max: ms,
+        fragments: None,
+        vertices: None,
+        bytes_per_glyph: GPU_GLYPH_SIZE,
+        covered_pixels: f.covered_pixels(),
+        // The reference is the truth it is compared with.
+        accuracy: Accuracy {
+            color_psnr_db: 99.0,
+            ..Accuracy::default()
+        },
+        skipped: String::new(),
+    }
+}
+
+/// Predicts a configuration's frame time from a cheaper one of the same family (mesh levels:
+/// time scales with triangles), so hopeless configurations are skipped before they run.
+#[derive(Default)]
+struct CostModel {
+    /// (glyph, depth_correction) → (triangles per glyph, measured ms) of the last mesh level.
+    measured: Vec<((GlyphKind, bool), (u64, f64))>,
+}
+
+impl CostModel {
+    fn over_budget(&self, cfg: &Config, budget_s: f64) -> Option<String> {
+        let tris = crate::render::method::triangles_per_glyph(cfg.method, cfg.glyph)?;
+        let (_, (t0, ms0)) = self
+            .measured
+            .iter()
+            .find(|(k, _)| *k == (cfg.glyph, cfg.depth_correction))?;
+        let predicted = ms0 * tris as f64 / *t0 as f64;
+        (predicted > budget_s * 1e3).then(|| {
+            format!(
+                "predicted over budget: {:.1} s per frame ({} triangles per glyph)",
+                predicted / 1e3,
+                tris
+            )
+        })
+    }
+
+    fn record(&mut self, cfg: &Config, ms: f64) {
+        let Some(tris) = crate::render::method::triangles_per_glyph(cfg.method, cfg.glyph) else {
+            return;
+        };
+        let key = (cfg.glyph, cfg.depth_correction);
+        self.measured.retain(|(k, _)| *k != key);
+        self.measured.push((key, (tris, ms)));
+    }
+}
+
+#[derive(Default)]
+struct State {
+    times: Vec<f64>,
+    fragments: Option<u64>,
+    vertices: Option<u64>,
+    accuracy: Accuracy,
+    covered: usize,
+    skipped: String,
+}
+
+impl State {
+    fn into_row(mut self, scene: &str, view: &str, cfg: Config) -> Row {
+        self.times.sort_by(f64::total_cmp);
+        let (min, med, max) = if self.times.is_empty() {
+            (f64::NAN, f64::NAN, f64::NAN)
+        } else {
+            (
+                self.times[0],
+                self.times[self.times.len() / 2],
+                self.times[self.times.len() - 1],
+            )
+        };
+        Row {
+            scene: scene.into(),
+            view: view.into(),
+            method: cfg.method,
+            glyph: cfg.glyph,
+            depth_correction: cfg.depth_correction,
+            frame_ms_median: med,
+            frame_ms_min: min,
+            frame_ms_max: max,
+            fragments: self.fragments,
+            vertices: self.vertices,
+            bytes_per_glyph: GPU_GLYPH_SIZE,
+            covered_pixels: self.covered,
+            accuracy: self.accuracy,
+            skipped: self.skipped,
+        }
+    }
+}

@@ -1,0 +1,195 @@
+//! `tensorglyph bench`: every method × glyph × depth setting on the same scenes, timed in one
+//! run, each compared with the exact reference; CSV, charts and a Markdown report.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::render::parse_size;
+use super::scene::{SceneArgs, load};
+use tensorglyph::bench::{self, Options, Row, chart, report};
+use tensorglyph::load::{Demo, Source, field_spacing};
+use tensorglyph::render::{GlyphKind, GpuContext, GpuRenderer, Method};
+use tensorglyph::scene::Scene;
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// Folder for speed_accuracy.csv, the charts and report.md (created if missing).
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    #[arg(long, default_value = "1024x768", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Timed repetitions per configuration.
+    #[arg(long, default_value_t = 5)]
+    pub frames: u32,
+    /// A scene: grid40, grid:N or a VTK file; repeatable (default grid40).
+    #[arg(long = "scene")]
+    pub scenes: Vec<String>,
+    /// Seconds one frame may take; configurations predicted or measured slower are skipped and
+    /// listed as skipped.
+    #[arg(long, default_value_t = 20.0)]
+    pub budget: f64,
+    /// Only these methods (repeatable; default all GPU methods).
+    #[arg(long = "method")]
+    pub methods: Vec<Method>,
+    /// Only these glyphs (repeatable; default all).
+    #[arg(long = "glyph", value_enum)]
+    pub glyphs: Vec<GlyphKind>,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+}
+
+pub fn run(args: BenchArgs) -> Result<()> {
+    if args.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    if args.budget.is_nan() || args.budget <= 0.0 {
+        bail!("--budget must be a positive number of seconds");
+    }
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("{}: cannot create the output folder", args.out.display()))?;
+    let ctx = GpuContext::new().context("bench needs a GPU adapter (lavapipe counts)")?;
+    let adapter = format!("{} ({})", ctx.adapter_name, ctx.backend);
+    let gpu = GpuRenderer::new(ctx)?;
+    let scenes = if args.scenes.is_empty() {
+        vec!["grid40".to_string()]
+    } else {
+        args.scenes.clone()
+    };
+    let glyphs = if args.glyphs.is_empty() {
+        vec![GlyphKind::Ellipsoid, GlyphKind::Cylinder]
+    } else {
+        args.glyphs.clone()
+    };
+    let opts = Options {
+        frames: args.frames,
+        budget_s: args.budget,
+        methods: if args.methods.is_empty() {
+            Method::gpu_methods()
+        } else {
+            args.methods
+                .iter()
+                .copied()
+                .filter(|m| m.is_gpu())
+                .collect()
+        },
+        glyphs: glyphs.clone(),
+    };
+    let style = args.scene.style()?;
+    let (w, h) = args.size;
+    let mut rows: Vec<Row> = Vec::new();
+    for name in &scenes {
+        let source = match name.parse::<Demo>() {
+            Ok(d) => Source::Demo(d),
+            Err(_) => Source::File(PathBuf::from(name)),
+        };
+        let (field, set) = load(&source, &args.scene)?;
+        let resolved = style.resolve(&set, field_spacing(&field));
+        let views: Vec<(GlyphKind, Vec<bench::View>)> = glyphs
+            .iter()
+            .map(|&g| {
+                let scene = Scene::build(&set, &resolved, g);
+                (g, bench::standard_views(&scene, w, h))
+            })
+            .collect();
+        let pb = progress_bar(args.scene.quiet);
+        let report_progress = |done: u64, total: u64, what: &str| {
+            if let Some(pb) = &pb {
+                pb.set_length(total);
+                pb.set_position(done);
+                pb.set_message(format!("{name}: {what}"));
+            }
+        };
+        rows.extend(bench::run(&gpu, name, &views, &opts, &report_progress));
+        if let Some(pb) = pb {
+            pb.finish_and_clear();
+        }
+    }
+    write_outputs(&args, &rows, &adapter)
+}
+
+fn progress_bar(quiet: bool) -> Option<ProgressBar> {
+    use std::io::IsTerminal;
+    if quiet || !std::io::stderr().is_terminal() {
+        return None;
+    }
+    let pb = ProgressBar::new(1);
+    pb.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    Some(pb)
+}
+
+fn chart_name(scene_index: usize, scene: &str, view: &str) -> String {
+    let suffix = if view == "default" {
+        String::new()
+    } else {
+        format!("_{view}")
+    };
+    if scene_index == 0 {
+        format!("speed_accuracy{suffix}.png")
+    } else {
+        let safe: String = scene
+            .chars()
+            .map(|c| if c.is_alphanumeric() { c } else { '_' })
+            .collect();
+        format!("speed_accuracy{suffix}_{safe}.png")
+    }
+}
+
+fn write_outputs(args: &BenchArgs, rows: &[Row], adapter: &str) -> Result<()> {
+    let csv_path = args.out.join("speed_accuracy.csv");
+    report::write_atomic(&csv_path, report::csv(rows).as_bytes())
+        .with_context(|| format!("{}: cannot write", csv_path.display()))?;
+    let mut md = String::new();
+    let _ = writeln!(md, "# tensorglyph bench\n");
+    let _ = writeln!(
+        md,
+        "Adapter: {adapter}. Image {}x{}, {} timed frames per configuration, methods interleaved \
+         across repetitions. Errors against the exact f64 reference of the same glyphs.\n",
+        args.size.0, args.size.1, args.frames
+    );
+    let mut scenes: Vec<&str> = Vec::new();
+    for r in rows {
+        if !scenes.contains(&r.scene.as_str()) {
+            scenes.push(&r.scene);
+        }
+    }
+    for (si, scene) in scenes.iter().enumerate() {
+        let mut views: Vec<&str> = Vec::new();
+        for r in rows.iter().filter(|r| r.scene == *scene) {
+            if !views.contains(&r.view.as_str()) {
+                views.push(&r.view);
+            }
+        }
+        for view in views {
+            let these: Vec<&Row> = rows
+                .iter()
+                .filter(|r| r.scene == *scene && r.view == view)
+                .collect();
+            let file = chart_name(si, scene, view);
+            let title = format!("{scene}, {view} view: frame time against normal error");
+            if let Err(e) = chart::speed_accuracy_png(&args.out.join(&file), &title, &these) {
+                eprintln!("warning: chart {file}: {e}");
+            }
+            let _ = writeln!(md, "## {scene}, {view} view\n\n![{title}]({file})\n");
+            let _ = writeln!(md, "{}", report::table(&these));
+        }
+    }
+    let _ = writeln!(md, "## What this shows\n\n{}", report::findings(rows));
+    let md_path = args.out.join("report.md");
+    report::write_atomic(&md_path, md.as_bytes())
+        .with_context(|| format!("{}: cannot write", md_path.display()))?;
+    if !args.scene.quiet {
+        eprintln!(
+            "wrote {}, charts and {}",
+            csv_path.display(),
+            md_path.display()
+        );
+    }
+    Ok(())
+}
