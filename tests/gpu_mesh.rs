@@ -5,7 +5,7 @@
 mod common;
 
 use glam::{DQuat, DVec3};
-use tensorglyph::camera::{Camera, Framing};
+use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::metrics::{Accuracy, compare};
 use tensorglyph::reference::ReferenceScene;
 use tensorglyph::render::mesh::mesh_stats;
@@ -46,7 +46,11 @@ fn cylinder() -> Scene {
 }
 
 fn camera(scene: &Scene) -> Camera {
-    Camera::frame(&Framing::default(), scene.centre, scene.radius, 256, 192)
+    framed(scene, Framing::default())
+}
+
+fn framed(scene: &Scene, framing: Framing) -> Camera {
+    Camera::frame(&framing, scene.centre, scene.radius, 256, 192)
 }
 
 /// One frame of `method` and the reference, compared.
@@ -57,15 +61,27 @@ fn check(
     method: Method,
     glyph: GlyphKind,
 ) -> (Accuracy, Frame, Frame) {
-    let cam = camera(scene);
+    check_view(gpu, name, scene, &camera(scene), method, glyph, true)
+}
+
+fn check_view(
+    gpu: &GpuRenderer,
+    name: &str,
+    scene: &Scene,
+    cam: &Camera,
+    method: Method,
+    glyph: GlyphKind,
+    depth_correction: bool,
+) -> (Accuracy, Frame, Frame) {
     let req = FrameRequest {
         method,
         glyph,
+        depth_correction,
         aux: true,
         ..FrameRequest::default()
     };
-    let frame = gpu.render(scene, &cam, &req).expect("GPU frame");
-    let reference = ReferenceScene::new(scene, &cam, glyph).render(&req);
+    let frame = gpu.render(scene, cam, &req).expect("GPU frame");
+    let reference = ReferenceScene::new(scene, cam, glyph).render(&req);
     let acc = compare(&frame, &reference, scene);
     let (v, t) = mesh_stats(method, glyph);
     eprintln!(
@@ -171,6 +187,122 @@ fn box_covers_the_glyph() {
             .count();
         assert_eq!(missed, 0, "{name}: the box misses glyph pixels");
         assert!(frame.covered_pixels() > reference.covered_pixels());
+    }
+}
+
+/// Orthographic views and a cylinder seen end-on: back-face culling must keep the front faces
+/// under every projection, and level 4 stays within the same bounds.
+#[test]
+fn orthographic_and_end_on_views() {
+    let Some(gpu) = common::gpu() else {
+        return;
+    };
+    // The axis O e1 = R_y(−90°) x = +z: seen along ∓z only a cap shows.
+    let end_on = Scene::from_specs(&[spec(
+        [0.0, 1.0, 0.0],
+        -std::f64::consts::FRAC_PI_2,
+        [1.0, 0.4, 0.25],
+        [200, 0, 200, 255],
+    )]);
+    for (name, scene, glyph, framing) in [
+        (
+            "ortho cigar",
+            cigar(),
+            GlyphKind::Ellipsoid,
+            Framing {
+                ortho: true,
+                azimuth: 30.0,
+                ..Framing::default()
+            },
+        ),
+        (
+            "ortho cylinder",
+            cylinder(),
+            GlyphKind::Cylinder,
+            Framing {
+                ortho: true,
+                azimuth: 40.0,
+                ..Framing::default()
+            },
+        ),
+        (
+            "end-on cylinder",
+            end_on.clone(),
+            GlyphKind::Cylinder,
+            Framing {
+                view: ViewPreset::NegZ,
+                ..Framing::default()
+            },
+        ),
+        (
+            "ortho end-on cylinder",
+            end_on,
+            GlyphKind::Cylinder,
+            Framing {
+                view: ViewPreset::PosZ,
+                ortho: true,
+                ..Framing::default()
+            },
+        ),
+    ] {
+        let cam = framed(&scene, framing);
+        let (a, _, _) = check_view(&gpu, name, &scene, &cam, Method::Mesh(4), glyph, true);
+        assert_close(name, &a);
+        if name.contains("end-on") {
+            // Only the flat cap shows, and the mesh's cap lies in the cap plane: f32 exact.
+            assert!(a.normal_err_deg_p99 <= 1e-3, "{name}: normal {a:?}");
+            assert!(a.depth_err_rel_p99 <= 1e-5, "{name}: depth {a:?}");
+        }
+    }
+}
+
+/// A mesh's depth is its rasterised depth: with and without "depth correction" the frames of
+/// two intersecting glyphs are the same, and the intersection curve is close to the reference.
+#[test]
+fn intersecting_glyphs_use_the_mesh_depth() {
+    let Some(gpu) = common::gpu() else {
+        return;
+    };
+    let mut b = spec([1.0, 0.0, 0.0], 0.8, [0.3, 0.9, 0.5], [0, 0, 255, 255]);
+    b.centre += DVec3::new(0.5, 0.0, 0.1);
+    let scene = Scene::from_specs(&[
+        spec([0.0, 0.0, 1.0], 0.3, [1.0, 0.4, 0.4], [255, 0, 0, 255]),
+        b,
+    ]);
+    let cam = camera(&scene);
+    let m = Method::Mesh(4);
+    let (with, f1, _) = check_view(&gpu, "meet", &scene, &cam, m, GlyphKind::Ellipsoid, true);
+    let (_, f2, _) = check_view(&gpu, "meet", &scene, &cam, m, GlyphKind::Ellipsoid, false);
+    assert_eq!(f1.ids, f2.ids);
+    assert_eq!(f1.color, f2.color);
+    // The curve where the meshes cut each other moves by the meshes' depth error (~1e-3 of a
+    // radius, up to ~1e-2 on steep parts): a few pixels along it change glyph.
+    assert!(with.id_mismatch <= 2e-3, "meet: id {with:?}");
+}
+
+/// The eye inside a glyph: the reference does not draw it, and neither does the culled mesh
+/// (every face is a back face from inside).
+#[test]
+fn eye_inside_a_glyph_draws_nothing() {
+    let Some(gpu) = common::gpu() else {
+        return;
+    };
+    let scene = sphere();
+    let mut cam = camera(&scene);
+    cam.eye = scene.centre + DVec3::new(0.1, 0.05, 0.0);
+    cam.target = scene.centre + DVec3::new(1.0, 0.0, 0.0);
+    cam.up = DVec3::Z;
+    cam.near = 1e-3;
+    for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        for method in [Method::Mesh(2), Method::Box] {
+            let req = FrameRequest {
+                method,
+                glyph,
+                ..FrameRequest::default()
+            };
+            let frame = gpu.render(&scene, &cam, &req).expect("GPU frame");
+            assert_eq!(frame.covered_pixels(), 0, "{method} {glyph}");
+        }
     }
 }
 
