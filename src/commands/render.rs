@@ -14,7 +14,6 @@ use tensorglyph::image_out::write_png_atomic;
 use tensorglyph::load::{Demo, Source, field_spacing};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::render::gpu_data::GPU_GLYPH_SIZE;
 use tensorglyph::render::{Frame, FrameRequest, GlyphKind, GpuContext, GpuRenderer, Method};
 use tensorglyph::scene::{Scene, Visibility};
 
@@ -24,7 +23,8 @@ pub struct ViewArgs {
     /// Image size.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Rendering method: gumhold (GPU) or reference (exact CPU ray caster).
+    /// Rendering method: gumhold (GPU), reference (exact CPU ray caster), or the triangle-mesh
+    /// baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box (oriented box).
     #[arg(long, default_value = "gumhold")]
     pub method: Method,
     #[arg(long, value_enum, default_value_t = GlyphKind::Ellipsoid)]
@@ -299,7 +299,7 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         glyphs_behind_camera: behind_camera,
         frame_ms: frame.median_ms(),
         fragments: frame.fragments,
-        bytes_per_glyph: GPU_GLYPH_SIZE,
+        bytes_per_glyph: tensorglyph::render::mesh::bytes_per_glyph(method),
         accuracy,
     };
     if view.json {

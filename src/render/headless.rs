@@ -12,6 +12,7 @@ use crate::error::RenderError;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{CameraUniform, GpuGlyph, Lighting};
 use crate::render::gumhold::GumholdRenderer;
+use crate::render::mesh::MeshRenderer;
 use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
 use crate::render::targets::{Readback, Targets};
@@ -131,6 +132,9 @@ impl GpuRenderer {
         let layout = &self.pipeline_layout;
         let drawer: Arc<dyn Drawer> = match (method, glyph) {
             (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(&self.ctx, layout, glyph)),
+            (Method::Mesh(_) | Method::Box, glyph) => Arc::new(
+                MeshRenderer::new(&self.ctx, layout, method, glyph).expect("a mesh method"),
+            ),
             (Method::Reference, _) => {
                 return Err(RenderError::Unsupported(
                     "the reference is a CPU method; use ReferenceScene".into(),

@@ -11,13 +11,23 @@ pub enum Method {
     Gumhold,
     /// The exact f64 CPU ray caster (accuracy truth, and the fallback without a GPU).
     Reference,
+    /// Baseline: an instanced triangle mesh (icosphere / prism subdivided N times, 0..=6).
+    Mesh(u8),
+    /// Baseline: the glyph's oriented box, flat shaded (a "cuboid" glyph).
+    Box,
 }
 
 impl Method {
     /// Every GPU method, in the order reports list them.
     pub fn gpu_methods() -> Vec<Method> {
-        vec![Method::Gumhold]
+        let mut m = vec![Method::Gumhold];
+        m.extend((0..=Method::MAX_MESH_LEVEL).map(Method::Mesh));
+        m.push(Method::Box);
+        m
     }
+
+    /// The finest `mesh:N` level (an icosphere of 81 920 triangles).
+    pub const MAX_MESH_LEVEL: u8 = 6;
 
     pub fn is_gpu(self) -> bool {
         !matches!(self, Method::Reference)
@@ -29,6 +39,8 @@ impl fmt::Display for Method {
         match self {
             Method::Gumhold => write!(f, "gumhold"),
             Method::Reference => write!(f, "reference"),
+            Method::Mesh(n) => write!(f, "mesh:{n}"),
+            Method::Box => write!(f, "box"),
         }
     }
 }
@@ -39,7 +51,22 @@ impl FromStr for Method {
         match s {
             "gumhold" => Ok(Method::Gumhold),
             "reference" => Ok(Method::Reference),
-            _ => Err(format!("unknown method '{s}': use gumhold or reference")),
+            "box" => Ok(Method::Box),
+            _ if s.starts_with("mesh:") => {
+                let max = Method::MAX_MESH_LEVEL;
+                let level = &s["mesh:".len()..];
+                let digits = !level.is_empty() && level.bytes().all(|b| b.is_ascii_digit());
+                match level.parse::<u8>() {
+                    Ok(n) if digits && n <= max => Ok(Method::Mesh(n)),
+                    _ => Err(format!(
+                        "invalid mesh level in '{s}': use mesh:N with N an integer from 0 to {max}"
+                    )),
+                }
+            }
+            _ => Err(format!(
+                "unknown method '{s}': use gumhold, reference, mesh:N (N = 0..={}) or box",
+                Method::MAX_MESH_LEVEL
+            )),
         }
     }
 }
@@ -83,9 +110,16 @@ mod tests {
 
     #[test]
     fn methods_round_trip_through_their_names() {
-        for m in [Method::Gumhold, Method::Reference] {
+        for m in [Method::Gumhold, Method::Reference, Method::Box] {
             assert_eq!(m.to_string().parse::<Method>(), Ok(m));
         }
+        for n in 0..=Method::MAX_MESH_LEVEL {
+            assert_eq!(format!("mesh:{n}").parse::<Method>(), Ok(Method::Mesh(n)));
+        }
         assert!("voodoo".parse::<Method>().unwrap_err().contains("voodoo"));
+        for bad in ["mesh:7", "mesh:x", "mesh:", "mesh:-1", "mesh:+3", "mesh"] {
+            let e = bad.parse::<Method>().unwrap_err();
+            assert!(e.contains(bad) && e.contains("mesh:N"), "{bad}: {e}");
+        }
     }
 }

@@ -6,6 +6,7 @@ pub mod gpu_data;
 pub mod gumhold;
 pub mod gumhold_math;
 pub mod headless;
+pub mod mesh;
 pub mod method;
 pub mod pipeline;
 pub mod shaders;

@@ -78,7 +78,7 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
         })
 }
 
-/// A render pipeline for one method and variant.
+/// A render pipeline for one method and variant (no vertex buffers, no culling).
 pub fn glyph_pipeline(
     ctx: &GpuContext,
     layout: &wgpu::PipelineLayout,
@@ -86,6 +86,35 @@ pub fn glyph_pipeline(
     label: &str,
     topology: wgpu::PrimitiveTopology,
     variant: Variant,
+) -> wgpu::RenderPipeline {
+    glyph_pipeline_with(
+        ctx,
+        layout,
+        module,
+        label,
+        topology,
+        variant,
+        &VertexInput::default(),
+    )
+}
+
+/// Vertex buffers and face culling of methods that draw real geometry (the triangle meshes).
+#[derive(Debug, Clone, Default)]
+pub struct VertexInput<'a> {
+    pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    /// Only for closed, outward-wound (counter-clockwise) meshes.
+    pub cull_mode: Option<wgpu::Face>,
+}
+
+/// [`glyph_pipeline`] with vertex buffers and optional culling.
+pub fn glyph_pipeline_with(
+    ctx: &GpuContext,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    topology: wgpu::PrimitiveTopology,
+    variant: Variant,
+    input: &VertexInput<'_>,
 ) -> wgpu::RenderPipeline {
     let mut targets = vec![
         Some(wgpu::ColorTargetState {
@@ -114,11 +143,11 @@ pub fn glyph_pipeline(
                 module,
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
-                buffers: &[],
+                buffers: input.buffers,
             },
             primitive: wgpu::PrimitiveState {
                 topology,
-                cull_mode: None,
+                cull_mode: input.cull_mode,
                 ..Default::default()
             },
             depth_stencil: Some(wgpu::DepthStencilState {

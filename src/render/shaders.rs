@@ -6,24 +6,29 @@ pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
 const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/gumhold_ellipsoid.wgsl");
 const GUMHOLD_CYLINDER: &str = include_str!("../../shaders/gumhold_cylinder.wgsl");
+const MESH: &str = include_str!("../../shaders/mesh.wgsl");
 
 /// A method's complete shader source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShaderSource {
     GumholdEllipsoid,
     GumholdCylinder,
+    /// The triangle-mesh baselines (`mesh:N`, `box`), every glyph shape.
+    Mesh,
 }
 
 impl ShaderSource {
-    pub const ALL: [ShaderSource; 2] = [
+    pub const ALL: [ShaderSource; 3] = [
         ShaderSource::GumholdEllipsoid,
         ShaderSource::GumholdCylinder,
+        ShaderSource::Mesh,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
             ShaderSource::GumholdEllipsoid => "gumhold_ellipsoid.wgsl",
             ShaderSource::GumholdCylinder => "gumhold_cylinder.wgsl",
+            ShaderSource::Mesh => "mesh.wgsl",
         }
     }
 
@@ -31,6 +36,7 @@ impl ShaderSource {
         let body = match self {
             ShaderSource::GumholdEllipsoid => GUMHOLD_ELLIPSOID,
             ShaderSource::GumholdCylinder => GUMHOLD_CYLINDER,
+            ShaderSource::Mesh => MESH,
         };
         format!("{COMMON}\n{body}\n{OUTPUTS}")
     }

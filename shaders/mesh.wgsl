@@ -1,0 +1,46 @@
+// Triangle-mesh baselines (`mesh:N`, `box`): one shared unit mesh, instanced per glyph. A unit
+// point p maps to c + O diag(r) p, a unit normal n to O diag(1/r) n (the inverse transpose);
+// the fragment shades the interpolated, renormalised normal per pixel. Depth is the rasterised
+// depth of the triangles. Composed as common.wgsl + this + outputs.wgsl; the CPU side is
+// src/render/mesh.rs.
+
+struct VsOut {
+    @builtin(position) position: vec4<f32>,
+    // The mesh point in view space.
+    @location(0) v_view: vec3<f32>,
+    // The interpolated normal in view space (not unit).
+    @location(1) n_view: vec3<f32>,
+    @location(2) @interpolate(flat) id: u32,
+    @location(3) @interpolate(flat) color: u32,
+}
+
+@vertex
+fn vs_main(
+    @location(0) p: vec3<f32>,
+    @location(1) n: vec3<f32>,
+    @builtin(instance_index) ii: u32,
+) -> VsOut {
+    var out: VsOut;
+    let g = glyphs[ii];
+    let o = quat_to_mat3(g.rotation);
+    let v = g.centre + o * (p * g.radii);
+    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
+    out.position = camera.view_proj * vec4<f32>(v, 1.0);
+    out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
+    // Normalised per vertex so that thin glyphs (tiny radii) interpolate in a sane range.
+    out.n_view = normalize(rv * (o * (n / g.radii)));
+    out.id = ii + 1u;
+    out.color = g.color;
+    return out;
+}
+
+// Not a ray cast: the rasterised mesh point, shaded.
+fn ray_cast(in: VsOut) -> Hit {
+    let n_view = normalize(in.n_view);
+    var hit: Hit;
+    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, in.v_view), 1.0);
+    hit.n_view = n_view;
+    hit.z_view = in.v_view.z;
+    hit.depth = in.position.z;
+    return hit;
+}
