@@ -98,9 +98,12 @@ impl fmt::Display for GlyphKind {
 
 /// Triangles per glyph of a tessellated method (`None` for impostors, whose cost does not grow
 /// with a level).
-pub fn triangles_per_glyph(method: Method, _glyph: GlyphKind) -> Option<u64> {
+pub fn triangles_per_glyph(method: Method, glyph: GlyphKind) -> Option<u64> {
     match method {
-        Method::Gumhold | Method::Reference => None,
+        Method::Mesh(_) | Method::Box => {
+            Some(crate::render::mesh::mesh_stats(method, glyph).1 as u64)
+        }
+        _ => None,
     }
 }
 
