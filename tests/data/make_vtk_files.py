@@ -84,10 +84,11 @@ def image(direction):
 def rectilinear():
     g = vtk.vtkRectilinearGrid()
     g.SetDimensions(4, 3, 3)
-    for setter, vals in [(g.SetXCoordinates, [0.0, 0.3, 1.0, 1.2]),
-                         (g.SetYCoordinates, [0.0, 0.5, 0.75]),
-                         (g.SetZCoordinates, [-1.0, 0.0, 2.0])]:
+    for axis, setter, vals in [("x", g.SetXCoordinates, [0.0, 0.3, 1.0, 1.2]),
+                               ("y", g.SetYCoordinates, [0.0, 0.5, 0.75]),
+                               ("z", g.SetZCoordinates, [-1.0, 0.0, 2.0])]:
         a = vtk.vtkFloatArray()
+        a.SetName(axis + "_coordinates")  # unnamed arrays get a pointer-based name
         for v in vals:
             a.InsertNextValue(v)
         setter(a)
@@ -340,7 +341,8 @@ def main():
         path = os.path.join(HERE, name)
         # vtkXMLPImageDataWriter on an in-memory image writes the whole extent into every piece,
         # so cut the pieces with vtkExtractVOI, write each with VTK's serial writer, and write
-        # the small .pvti index the way vtkXMLPImageDataWriter does.
+        # the small .pvti index the way VTK 9.1's vtkXMLPImageDataWriter does (it writes no
+        # Direction attribute, and vtkXMLPImageDataReader ignores the pieces' Direction).
         whole = [0, 4, 0, 3, 0, 2]
         axis = 0 if pieces == 2 else 1
         cuts = [0, 2, 4] if pieces == 2 else [0, 1, 2, 3]
@@ -360,15 +362,13 @@ def main():
             assert w.Write() == 1, src
             extents.append(" ".join(map(str, ext)))
             sources.append(src)
-        d = ds.GetDirectionMatrix()
-        dirs = " ".join("%.17g" % d.GetElement(i, j) for i in range(3) for j in range(3))
         pd_active = ' Tensors="stress"' if pi == 0 else ""
         cd_active = ' Tensors="celldti"' if pi == 1 else ""
         lines = [
             '<?xml version="1.0"?>',
             f'<VTKFile type="PImageData" version="1.0" byte_order="LittleEndian" header_type="UInt{header}">',
             f'  <PImageData WholeExtent="{" ".join(map(str, whole))}" GhostLevel="0" Origin="1 -2 0.5" '
-            f'Spacing="0.5 0.25 1" Direction="{dirs}">',
+            f'Spacing="0.5 0.25 1">',  # VTK 9.1 writes no Direction here
             f'    <PPointData{pd_active}>',
             '      <PDataArray type="Float32" Name="pressure"/>',
             '      <PDataArray type="Float32" Name="stress" NumberOfComponents="9"/>',
