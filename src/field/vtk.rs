@@ -31,8 +31,22 @@ pub struct ReadOptions {
 }
 
 /// Read a tensor field from a VTK file (format detected from the content).
+///
+/// Never panics on bad input: every count is validated before allocation, and as a last line
+/// of defence a panic inside the reader is turned into a [`LoadErrorKind::Other`].
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-    read_inner(path, opts).map_err(|kind| LoadError::new(path, kind))
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| read_inner(path, opts)))
+        .unwrap_or_else(|payload| {
+            let msg = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            Err(LoadErrorKind::Other(format!(
+                "internal reader error (please report this file): {msg}"
+            )))
+        });
+    result.map_err(|kind| LoadError::new(path, kind))
 }
 
 type Res<T> = Result<T, LoadErrorKind>;

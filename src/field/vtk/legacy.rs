@@ -297,6 +297,7 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
     let mut dims: Option<[usize; 3]> = None;
     let mut origin = [0.0; 3];
     let mut spacing = [1.0; 3];
+    let mut direction: Option<[[f64; 3]; 3]> = None;
     let mut points: Option<Vec<[f64; 3]>> = None;
     let mut coords: [Option<Vec<f64>>; 3] = [None, None, None];
     let mut cells: Option<Cells> = None;
@@ -339,6 +340,21 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
             }
             "ORIGIN" => origin = floats3(&t, "ORIGIN")?,
             "SPACING" | "ASPECT_RATIO" => spacing = floats3(&t, "SPACING")?,
+            // Not written by VTK 9.1; newer writers emit the 9 entries of the direction matrix
+            // (vtkMatrix3x3 storage, row-major). Untested against such a file.
+            "DIRECTION" => {
+                let mut d = [[0.0; 3]; 3];
+                for (k, tok) in t[1..].iter().enumerate() {
+                    if k >= 9 {
+                        return Err(malformed("DIRECTION: more than 9 numbers"));
+                    }
+                    d[k / 3][k % 3] = parse_number(tok.as_bytes(), "DIRECTION")?;
+                }
+                if t.len() != 10 {
+                    return Err(malformed("DIRECTION: expected 9 numbers"));
+                }
+                direction = Some(d);
+            }
             "POINTS" => {
                 let n = count(t.get(1), "POINTS")?;
                 let ty = ltype(arg(&t, 2, "POINTS")?)?;
@@ -515,7 +531,7 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
                 extent,
                 origin,
                 spacing,
-                direction: None,
+                direction,
             }
         }
         DatasetKind::RectilinearGrid => {
