@@ -45,8 +45,9 @@ def make_array(name, ncomp, n, salt, special):
     return a
 
 
-def add_arrays(ds, active_point, active_cell, special):
-    """Point arrays: stress (9), dti (6), pressure (1). Cell arrays: cellstress (9), celldti (6)."""
+def add_arrays(ds, active_point, active_cell, special, extra=False):
+    """Point arrays: pressure (1), stress (9), dti (6). Cell arrays: cellstress (9), celldti (6).
+    With `extra`: also an id array (vtkIdType) before the tensors and a Float64 'dti64' (6)."""
     n, m = ds.GetNumberOfPoints(), ds.GetNumberOfCells()
     pd, cd = ds.GetPointData(), ds.GetCellData()
     p = vtk.vtkFloatArray()
@@ -54,12 +55,25 @@ def add_arrays(ds, active_point, active_cell, special):
     for i in range(n):
         p.InsertNextValue(0.5 * i)
     pd.AddArray(p)
+    if extra:
+        ids = vtk.vtkIdTypeArray()
+        ids.SetName("ids")
+        for i in range(n):
+            ids.InsertNextValue(1000 + i)
+        pd.AddArray(ids)
     for name, nc, salt in [("stress", 9, 0.1), ("dti", 6, 0.2)]:
         arr = make_array(name, nc, n, salt, special)
         if active_point == name:
             pd.SetTensors(arr)
         else:
             pd.AddArray(arr)
+    if extra:
+        d = vtk.vtkDoubleArray()
+        d.SetName("dti64")
+        d.SetNumberOfComponents(6)
+        for i in range(n):
+            d.InsertNextTuple([v + 1e-9 * (k + 1) for k, v in enumerate(tensor6(i, 0.5))])
+        pd.AddArray(d)
     if m:
         for name, nc, salt in [("cellstress", 9, 0.3), ("celldti", 6, 0.4)]:
             arr = make_array(name, nc, m, salt, None)
@@ -269,7 +283,7 @@ def main():
         for binary in (False, True):
             for kind, ap, ac, tag in legacy_cases:
                 ds = KINDS[kind]()
-                add_arrays(ds, ap, ac, "nan" if binary else "zero")
+                add_arrays(ds, ap, ac, "nan" if binary else "zero", extra=(tag == "field"))
                 enc = "bin" if binary else "ascii"
                 name = f"legacy{version}_{enc}_{kind}_{tag}.vtk"
                 path = os.path.join(HERE, name)
@@ -319,7 +333,7 @@ def main():
             ds = image(mi % 2 == 1) if kind == "image" else KINDS[kind]()
             # alternate: active point tensors / active cell tensors / plain arrays only
             ap, ac = [("stress", None), (None, "cellstress"), (None, None), ("dti", None)][mi % 4]
-            add_arrays(ds, ap, ac, "zero" if mode == "ascii" else "nan")
+            add_arrays(ds, ap, ac, "zero" if mode == "ascii" else "nan", extra=mi in (0, 2, 6))
             tag = mode if mode != "appended" else ("appb64" if enc else "appraw")
             name = f"xml_{kind}_{tag}_{comp or 'none'}_u{header}.{XML_EXT[kind]}"
             path = os.path.join(HERE, name)
@@ -329,6 +343,21 @@ def main():
             configure(w, mode, enc, comp, header)
             assert w.Write() == 1, name
             expected[name] = describe(path, XML_EXT[kind], DATASET_NAME[kind])
+
+    # Big-endian XML.
+    for kind, mode, enc, comp in [("image", "binary", None, "zlib"), ("ugrid", "appended", False, None)]:
+        ds = image(True) if kind == "image" else KINDS[kind]()
+        add_arrays(ds, "stress", "celldti", "nan", extra=True)
+        tag = mode if mode != "appended" else "appraw"
+        name = f"xml_{kind}_{tag}_{comp or 'none'}_bigendian.{XML_EXT[kind]}"
+        path = os.path.join(HERE, name)
+        w = writers[kind]()
+        w.SetInputData(ds)
+        w.SetFileName(path)
+        configure(w, mode, enc, comp, 64)
+        w.SetByteOrderToBigEndian()
+        assert w.Write() == 1, name
+        expected[name] = describe(path, XML_EXT[kind], DATASET_NAME[kind])
 
     # Parallel image data: 2 or 3 pieces beside the .pvti.
     for pi, (pieces, mode, enc, comp, header, direction) in enumerate([
