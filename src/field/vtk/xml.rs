@@ -588,6 +588,9 @@ fn count_attr(t: &Tag, k: &str) -> Res<usize> {
     }
 }
 
+/// Rows of one piece's array that go, in order, into the merged array: (piece, first row, rows).
+type Segments = Vec<(usize, usize, usize)>;
+
 fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<Parsed<'a>> {
     let (kind, format) = match ty {
         "ImageData" => (DatasetKind::ImageData, "vti"),
@@ -606,35 +609,45 @@ fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<Parsed<'a>>
         .iter()
         .find(|t| t.name == ty)
         .ok_or_else(|| malformed(format!("no <{ty}> element")))?;
-    let pieces: Vec<usize> = doc
+    // Each piece's tags: from its <Piece> to the next one (tags are in document order).
+    let starts: Vec<usize> = doc
         .tags
         .iter()
         .enumerate()
-        .filter(|(_, t)| t.name == "Piece")
+        .filter(|(_, t)| t.name == "Piece" && t.parent() == ty)
         .map(|(i, _)| i)
         .collect();
-    let piece_i = match pieces.as_slice() {
-        [p] => *p,
-        [] => return Err(malformed(format!("<{ty}> has no <Piece>"))),
-        more => {
-            return Err(LoadErrorKind::UnsupportedDataset(format!(
-                "{} pieces in one serial file",
-                more.len()
-            )));
-        }
-    };
-    let piece = &doc.tags[piece_i];
-    let in_piece = |t: &&Tag| t.path.iter().any(|p| p == "Piece");
-    let arrays_in = |section: &str| -> Vec<&Tag> {
-        doc.tags
+    if starts.is_empty() {
+        return Err(malformed(format!("<{ty}> has no <Piece>")));
+    }
+    let structured = matches!(
+        kind,
+        DatasetKind::ImageData | DatasetKind::RectilinearGrid | DatasetKind::StructuredGrid
+    );
+    if structured && starts.len() > 1 {
+        return Err(LoadErrorKind::UnsupportedDataset(format!(
+            "{} pieces in one serial {ty} file",
+            starts.len()
+        )));
+    }
+    let ranges: Vec<(usize, usize)> = starts
+        .iter()
+        .enumerate()
+        .map(|(k, &s)| (s, starts.get(k + 1).copied().unwrap_or(doc.tags.len())))
+        .collect();
+    let slices: Vec<&'a [Tag]> = ranges.iter().map(|&(s, e)| &doc.tags[s + 1..e]).collect();
+    let slices2 = slices.clone();
+    let arrays_in = move |k: usize, section: &str| -> Vec<&'a Tag> {
+        slices[k]
             .iter()
-            .filter(in_piece)
             .filter(|t| t.name == "DataArray" && t.parent() == section)
             .collect()
     };
-    let section = |name: &str| doc.tags.iter().filter(in_piece).find(|t| t.name == name);
+    let section = move |k: usize, name: &str| slices2[k].iter().find(|t| t.name == name);
+    let piece = &doc.tags[starts[0]];
 
-    // Geometry.
+    let mut point_segments: Segments = Vec::new();
+    let mut cell_segments: Segments = Vec::new();
     let geometry = match kind {
         DatasetKind::ImageData => Geometry::Image {
             extent: extent(piece.get("Extent"), "Piece Extent")?,
@@ -645,7 +658,7 @@ fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<Parsed<'a>>
         DatasetKind::RectilinearGrid => {
             let e = extent(piece.get("Extent"), "Piece Extent")?;
             let d = point_dims(&e)?;
-            let c = arrays_in("Coordinates");
+            let c = arrays_in(0, "Coordinates");
             if c.len() != 3 {
                 return Err(malformed(format!(
                     "<Coordinates> has {} arrays, not 3",
@@ -654,135 +667,114 @@ fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<Parsed<'a>>
             }
             let mut coords: [Vec<f64>; 3] = Default::default();
             for a in 0..3 {
-                coords[a] = ctx.values(c[a], &format!("{} coordinates", ["x", "y", "z"][a]))?;
+                let axis = ["x", "y", "z"][a];
+                coords[a] = ctx.values(c[a], &format!("{axis} coordinates"))?;
                 if coords[a].len() != d[a] {
                     return Err(malformed(format!(
-                        "{} coordinates: {} values for extent {e:?}",
-                        ["x", "y", "z"][a],
+                        "{axis} coordinates: {} values for extent {e:?}",
                         coords[a].len()
                     )));
                 }
             }
             Geometry::Rectilinear { coords }
         }
-        _ => {
-            let pts_tag = arrays_in("Points");
-            let pts_tag = pts_tag
-                .first()
-                .ok_or_else(|| malformed("no <Points> array"))?;
-            let v = ctx.values(pts_tag, "Points")?;
-            if v.len() % 3 != 0 {
-                return Err(malformed("Points: not a multiple of 3 values"));
+        DatasetKind::StructuredGrid => {
+            let points = piece_points(ctx, &arrays_in(0, "Points"))?;
+            let d = point_dims(&extent(piece.get("Extent"), "Piece Extent")?)?;
+            if d[0].checked_mul(d[1]).and_then(|v| v.checked_mul(d[2])) != Some(points.len()) {
+                return Err(malformed(format!(
+                    "{} points for point dimensions {d:?}",
+                    points.len()
+                )));
             }
-            let points: Vec<[f64; 3]> = v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
-            let n = points.len();
-            match kind {
-                DatasetKind::StructuredGrid => {
-                    let d = point_dims(&extent(piece.get("Extent"), "Piece Extent")?)?;
-                    if d[0].checked_mul(d[1]).and_then(|v| v.checked_mul(d[2])) != Some(n) {
-                        return Err(malformed(format!("{n} points for point dimensions {d:?}")));
-                    }
-                    Geometry::Points {
-                        points,
-                        dims: Some(d),
-                        cells: None,
-                    }
+            Geometry::Points {
+                points,
+                dims: Some(d),
+                cells: None,
+            }
+        }
+        DatasetKind::UnstructuredGrid | DatasetKind::PolyData => {
+            let mut points: Vec<[f64; 3]> = Vec::new();
+            // Unstructured: one category; polydata: verts, lines, polys, strips, each gathered
+            // over all pieces (the order of VTK's merged output).
+            let ncat = if kind == DatasetKind::PolyData { 4 } else { 1 };
+            let mut cats: Vec<Vec<(usize, usize, Cells)>> = vec![Vec::new(); ncat];
+            for (k, &start) in starts.iter().enumerate() {
+                let p = &doc.tags[start];
+                let pts = piece_points(ctx, &arrays_in(k, "Points"))?;
+                let declared = count_attr(p, "NumberOfPoints")?;
+                if declared != pts.len() {
+                    return Err(malformed(format!(
+                        "piece {k}: NumberOfPoints={declared} but <Points> holds {}",
+                        pts.len()
+                    )));
                 }
-                _ => {
-                    if count_attr(piece, "NumberOfPoints")? != n {
-                        return Err(malformed(format!(
-                            "NumberOfPoints={} but <Points> holds {n}",
-                            count_attr(piece, "NumberOfPoints")?
-                        )));
-                    }
-                    let read_cells = |sec: &str, with_types: bool| -> Res<Option<Cells>> {
-                        if section(sec).is_none() {
-                            return Ok(None);
-                        }
-                        let arr = arrays_in(sec);
-                        let by_name = |nm: &str| arr.iter().find(|t| t.get("Name") == Some(nm));
-                        let (Some(conn), Some(off)) = (by_name("connectivity"), by_name("offsets"))
-                        else {
-                            return Ok(Some(Cells {
-                                offsets: vec![0],
-                                ..Cells::default()
-                            }));
-                        };
-                        let conn = ctx.values(conn, &format!("{sec} connectivity"))?;
-                        let conn = to_indices(&conn, "point id", n)?;
-                        let off = ctx.values(off, &format!("{sec} offsets"))?;
-                        let off = to_indices(&off, "cell offset", conn.len())?;
-                        let mut c = Cells::from_offsets(off, conn)?;
-                        if with_types {
-                            let t = by_name("types")
-                                .ok_or_else(|| malformed("<Cells> without types"))?;
-                            let t = ctx.values(t, "cell types")?;
-                            if t.len() != c.len() {
-                                return Err(malformed(format!(
-                                    "{} cell types for {} cells",
-                                    t.len(),
-                                    c.len()
-                                )));
-                            }
-                            c.types = t.iter().map(|&x| x.clamp(0.0, 255.0) as u8).collect();
-                        }
-                        Ok(Some(c))
-                    };
-                    let cells = if kind == DatasetKind::UnstructuredGrid {
-                        let c = read_cells("Cells", true)?.unwrap_or_default();
-                        if c.len() != count_attr(piece, "NumberOfCells")? {
-                            return Err(malformed(format!(
-                                "NumberOfCells={} but <Cells> holds {}",
-                                count_attr(piece, "NumberOfCells")?,
-                                c.len()
-                            )));
-                        }
-                        c
-                    } else {
-                        let mut all = Cells {
+                let base = points.len();
+                point_segments.push((k, 0, pts.len()));
+                points.extend_from_slice(&pts);
+                let secs: &[(&str, &str)] = if kind == DatasetKind::PolyData {
+                    &[
+                        ("Verts", "NumberOfVerts"),
+                        ("Lines", "NumberOfLines"),
+                        ("Polys", "NumberOfPolys"),
+                        ("Strips", "NumberOfStrips"),
+                    ]
+                } else {
+                    &[("Cells", "NumberOfCells")]
+                };
+                let mut row = 0;
+                for (cat, (sec, attr)) in secs.iter().enumerate() {
+                    let mut c = match section(k, sec) {
+                        None => Cells {
                             offsets: vec![0],
                             ..Cells::default()
-                        };
-                        let secs = [
-                            ("Verts", "NumberOfVerts"),
-                            ("Lines", "NumberOfLines"),
-                            ("Polys", "NumberOfPolys"),
-                            ("Strips", "NumberOfStrips"),
-                        ];
-                        for (k, (sec, attr)) in secs.into_iter().enumerate() {
-                            let c = read_cells(sec, false)?.unwrap_or_else(|| Cells {
-                                offsets: vec![0],
-                                ..Cells::default()
-                            });
-                            if c.len() != count_attr(piece, attr)? {
-                                return Err(malformed(format!(
-                                    "{attr}={} but <{sec}> holds {}",
-                                    count_attr(piece, attr)?,
-                                    c.len()
-                                )));
-                            }
-                            all.append(c, Some(k));
-                        }
-                        all
+                        },
+                        Some(_) => read_cells(ctx, &arrays_in(k, sec), sec, pts.len(), ncat == 1)?,
                     };
-                    Geometry::Points {
-                        points,
-                        dims: None,
-                        cells: Some(cells),
+                    let declared = count_attr(p, attr)?;
+                    if c.len() != declared {
+                        return Err(malformed(format!(
+                            "piece {k}: {attr}={declared} but <{sec}> holds {}",
+                            c.len()
+                        )));
                     }
+                    for id in &mut c.conn {
+                        *id += base;
+                    }
+                    let n = c.len();
+                    cats[cat].push((k, row, c));
+                    row += n;
                 }
+            }
+            let mut all = Cells {
+                offsets: vec![0],
+                ..Cells::default()
+            };
+            for (cat, list) in cats.into_iter().enumerate() {
+                for (k, row, c) in list {
+                    cell_segments.push((k, row, c.len()));
+                    all.append(c, (ncat == 4).then_some(cat));
+                }
+            }
+            Geometry::Points {
+                points,
+                dims: None,
+                cells: Some(all),
             }
         }
     };
+    if structured {
+        point_segments = vec![(0, 0, usize::MAX)];
+        cell_segments = vec![(0, 0, usize::MAX)];
+    }
 
-    // Arrays.
-    let mut tags: Vec<&Tag> = Vec::new();
+    // Arrays, as declared in the first piece.
     let mut arrays = Vec::new();
     for (sec, loc) in [("PointData", Location::Point), ("CellData", Location::Cell)] {
-        let active = section(sec)
+        let active = section(0, sec)
             .and_then(|s| s.get("Tensors"))
             .map(str::to_string);
-        for t in arrays_in(sec) {
+        for t in arrays_in(0, sec) {
             let name = t.get("Name").unwrap_or("").to_string();
             let ncomp = count_attr(t, "NumberOfComponents")?.max(1);
             let declared = t
@@ -796,20 +788,98 @@ fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<Parsed<'a>>
                 ntuples: declared,
                 location: Some(loc),
             });
-            tags.push(t);
         }
     }
-    let load_arrays = arrays.clone();
+    let descs = arrays.clone();
+    let npieces = starts.len();
     Ok(Parsed {
         format,
         kind,
         geometry,
         arrays,
         load: Box::new(move |i| {
-            let d = &load_arrays[i];
-            ctx.values(tags[i], &format!("array '{}'", d.name))
+            let d = &descs[i];
+            let (sec, segments) = match d.location {
+                Some(Location::Cell) => ("CellData", &cell_segments),
+                _ => ("PointData", &point_segments),
+            };
+            let what = format!("array '{}'", d.name);
+            let mut per_piece = Vec::with_capacity(npieces);
+            for k in 0..npieces {
+                let t = arrays_in(k, sec)
+                    .into_iter()
+                    .find(|t| t.get("Name").unwrap_or("") == d.name)
+                    .ok_or_else(|| malformed(format!("piece {k} has no {what}")))?;
+                per_piece.push(ctx.values(t, &what)?);
+            }
+            if npieces == 1 && segments.len() <= 1 {
+                return Ok(per_piece.pop().unwrap_or_default());
+            }
+            let nc = d.ncomp;
+            let mut out = Vec::new();
+            for &(k, row, n) in segments {
+                let v = &per_piece[k];
+                let rows = v.get(row * nc..(row + n) * nc).ok_or_else(|| {
+                    malformed(format!(
+                        "piece {k}: {what} has {} tuples, fewer than its {}s",
+                        v.len() / nc,
+                        sec.trim_end_matches("Data").to_lowercase()
+                    ))
+                })?;
+                out.extend_from_slice(rows);
+            }
+            for (k, v) in per_piece.iter().enumerate() {
+                let used: usize = segments.iter().filter(|s| s.0 == k).map(|s| s.2).sum();
+                if v.len() != used * nc {
+                    return Err(malformed(format!(
+                        "piece {k}: {what} has {} tuples, expected {used}",
+                        v.len() / nc
+                    )));
+                }
+            }
+            Ok(out)
         }),
     })
+}
+
+fn piece_points(ctx: &Ctx, arrays: &[&Tag]) -> Res<Vec<[f64; 3]>> {
+    let t = arrays
+        .first()
+        .ok_or_else(|| malformed("no <Points> array"))?;
+    let v = ctx.values(t, "Points")?;
+    if v.len() % 3 != 0 {
+        return Err(malformed("Points: not a multiple of 3 values"));
+    }
+    Ok(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+}
+
+/// Connectivity and offsets (and types for unstructured grids) of one cell section.
+fn read_cells(ctx: &Ctx, arr: &[&Tag], sec: &str, npoints: usize, with_types: bool) -> Res<Cells> {
+    let by_name = |nm: &str| arr.iter().find(|t| t.get("Name") == Some(nm));
+    let (Some(conn), Some(off)) = (by_name("connectivity"), by_name("offsets")) else {
+        return Ok(Cells {
+            offsets: vec![0],
+            ..Cells::default()
+        });
+    };
+    let conn = ctx.values(conn, &format!("{sec} connectivity"))?;
+    let conn = to_indices(&conn, "point id", npoints)?;
+    let off = ctx.values(off, &format!("{sec} offsets"))?;
+    let off = to_indices(&off, "cell offset", conn.len())?;
+    let mut c = Cells::from_offsets(off, conn)?;
+    if with_types {
+        let t = by_name("types").ok_or_else(|| malformed("<Cells> without types"))?;
+        let t = ctx.values(t, "cell types")?;
+        if t.len() != c.len() {
+            return Err(malformed(format!(
+                "{} cell types for {} cells",
+                t.len(),
+                c.len()
+            )));
+        }
+        c.types = t.iter().map(|&x| x.clamp(0.0, 255.0) as u8).collect();
+    }
+    Ok(c)
 }
 
 /// Read a `.pvti` and merge its pieces into one field in whole-extent order.
