@@ -47,7 +47,8 @@ def make_array(name, ncomp, n, salt, special):
 
 def add_arrays(ds, active_point, active_cell, special, extra=False):
     """Point arrays: pressure (1), stress (9), dti (6). Cell arrays: cellstress (9), celldti (6).
-    With `extra`: also an id array (vtkIdType) before the tensors and a Float64 'dti64' (6)."""
+    With `extra`: also an id array (vtkIdType) and a string array before the tensors and a
+    Float64 'dti64' (6)."""
     n, m = ds.GetNumberOfPoints(), ds.GetNumberOfCells()
     pd, cd = ds.GetPointData(), ds.GetCellData()
     p = vtk.vtkFloatArray()
@@ -61,6 +62,11 @@ def add_arrays(ds, active_point, active_cell, special, extra=False):
         for i in range(n):
             ids.InsertNextValue(1000 + i)
         pd.AddArray(ids)
+        labels = vtk.vtkStringArray()
+        labels.SetName("labels")
+        for i in range(n):
+            labels.InsertNextValue(["", "a b", "x" * (70 + i)][i % 3])  # empty, space, long
+        pd.AddArray(labels)
     for name, nc, salt in [("stress", 9, 0.1), ("dti", 6, 0.2)]:
         arr = make_array(name, nc, n, salt, special)
         if active_point == name:

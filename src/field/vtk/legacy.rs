@@ -15,11 +15,14 @@ use crate::field::{DatasetKind, Location};
 enum LType {
     Num(Scalar),
     Bit,
+    /// `string` / `utf8_string` (FIELD arrays): skipped, never a tensor.
+    Str,
 }
 
 fn ltype(s: &str) -> Res<LType> {
     Ok(LType::Num(match s.to_ascii_lowercase().as_str() {
         "bit" => return Ok(LType::Bit),
+        "string" | "utf8_string" => return Ok(LType::Str),
         "char" | "signed_char" | "vtktypeint8" => Scalar::I8,
         "unsigned_char" | "vtktypeuint8" => Scalar::U8,
         "short" | "vtktypeint16" => Scalar::I16,
@@ -102,9 +105,14 @@ impl<'a> Cursor<'a> {
 
     /// Read `n` values of type `ty`; returns them if `keep`, else skips them.
     fn values(&mut self, n: usize, ty: LType, keep: bool, what: &str) -> Res<Option<Vec<f64>>> {
+        if let LType::Str = ty {
+            self.skip_strings(n, what)?;
+            return Ok(None);
+        }
         if self.binary {
             let nbytes = match ty {
                 LType::Bit => n.div_ceil(8),
+                LType::Str => 0,
                 LType::Num(s) => n
                     .checked_mul(s.size())
                     .ok_or_else(|| malformed(format!("{what}: {n} values overflow")))?,
@@ -126,6 +134,7 @@ impl<'a> Cursor<'a> {
                     out.extend((0..n).map(|i| ((bytes[i / 8] >> (7 - i % 8)) & 1) as f64));
                 }
                 LType::Num(s) => decode_into(bytes, s, true, &mut out),
+                LType::Str => {}
             }
             Ok(Some(out))
         } else {
@@ -144,12 +153,46 @@ impl<'a> Cursor<'a> {
                 if let Some(o) = out.as_mut() {
                     o.push(match ty {
                         LType::Num(s) => s.round_text(v),
-                        LType::Bit => v,
+                        LType::Bit | LType::Str => v,
                     });
                 }
             }
             Ok(out)
         }
+    }
+
+    /// Skip `n` strings: one per line in ASCII files; in binary files each has a big-endian
+    /// length prefix whose two top bits give its size (11: 1 byte, 10: 2, 01: 4, 00: 8).
+    fn skip_strings(&mut self, n: usize, what: &str) -> Res<()> {
+        let short = || malformed(format!("{what}: file ends inside the strings"));
+        if n > self.remaining() {
+            return Err(short());
+        }
+        for _ in 0..n {
+            if !self.binary {
+                self.raw_line().ok_or_else(short)?;
+                continue;
+            }
+            let first = *self.b.get(self.pos).ok_or_else(short)?;
+            let width = match first >> 6 {
+                3 => 1,
+                2 => 2,
+                1 => 4,
+                _ => 8,
+            };
+            let head = self.b.get(self.pos..self.pos + width).ok_or_else(short)?;
+            let mut len = (first & 0x3F) as u64;
+            for &b in &head[1..] {
+                len = (len << 8) | b as u64;
+            }
+            let end = usize::try_from(len)
+                .ok()
+                .and_then(|l| (self.pos + width).checked_add(l))
+                .filter(|&e| e <= self.b.len())
+                .ok_or_else(short)?;
+            self.pos = end;
+        }
+        Ok(())
     }
 
     /// Skip a METADATA block: lines up to the first blank one.
@@ -612,7 +655,7 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
             values
                 .get_mut(i)
                 .and_then(Option::take)
-                .ok_or_else(|| malformed("array values were not kept"))
+                .ok_or_else(|| malformed("the array is not numeric"))
         }),
     })
 }
