@@ -18,8 +18,8 @@
 //!
 //! Working around all of that would have needed a pre-parser about as large as a parser.
 //!
-//! Layout: `legacy` and `xml` turn bytes into a [`Parsed`] dataset (geometry, cells, array
-//! descriptors and a way to load one array); [`assemble`] picks the tensor array, checks its
+//! Layout: `legacy` and `xml` turn bytes into a `Parsed` dataset (geometry, cells, array
+//! descriptors and a way to load one array); `assemble` picks the tensor array, checks its
 //! component and tuple counts and computes the positions (points, or cell centres as VTK's
 //! vtkCellCenters does).
 
@@ -313,9 +313,16 @@ pub(crate) fn pick(arrays: &[ArrayDesc], name: Option<&str>) -> Res<usize> {
             .iter()
             .position(|a| a.name == name && usable(a) && matches!(a.ncomp, 6 | 9))
             .or_else(|| arrays.iter().position(|a| a.name == name && usable(a)))
-            .ok_or_else(|| LoadErrorKind::ArrayNotFound {
-                name: name.to_string(),
-                available: describe_arrays(arrays),
+            .ok_or_else(|| {
+                if arrays.iter().any(|a| a.name == name) {
+                    return LoadErrorKind::Other(format!(
+                        "array '{name}' is dataset-level field data, not point or cell data"
+                    ));
+                }
+                LoadErrorKind::ArrayNotFound {
+                    name: name.to_string(),
+                    available: describe_arrays(arrays),
+                }
             })?;
         if !matches!(arrays[i].ncomp, 6 | 9) {
             return Err(LoadErrorKind::ComponentCount {
