@@ -14,6 +14,7 @@ use crate::render::gpu_data::{CameraUniform, GpuGlyph, Lighting};
 use crate::render::gumhold::GumholdRenderer;
 use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
+use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
 use crate::scene::Scene;
 
@@ -131,6 +132,7 @@ impl GpuRenderer {
         let layout = &self.pipeline_layout;
         let drawer: Arc<dyn Drawer> = match (method, glyph) {
             (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(&self.ctx, layout, glyph)),
+            (Method::Sigg, glyph) => Arc::new(SiggRenderer::new(&self.ctx, layout, glyph)),
             (Method::Reference, _) => {
                 return Err(RenderError::Unsupported(
                     "the reference is a CPU method; use ReferenceScene".into(),

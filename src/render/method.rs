@@ -9,6 +9,8 @@ use std::str::FromStr;
 pub enum Method {
     /// Gumhold's perspective-correct silhouette quad, ray cast per fragment.
     Gumhold,
+    /// Sigg et al.'s screen-space bounding box of the projected quadric, ray cast per fragment.
+    Sigg,
     /// The exact f64 CPU ray caster (accuracy truth, and the fallback without a GPU).
     Reference,
 }
@@ -16,7 +18,7 @@ pub enum Method {
 impl Method {
     /// Every GPU method, in the order reports list them.
     pub fn gpu_methods() -> Vec<Method> {
-        vec![Method::Gumhold]
+        vec![Method::Gumhold, Method::Sigg]
     }
 
     pub fn is_gpu(self) -> bool {
@@ -28,6 +30,7 @@ impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Method::Gumhold => write!(f, "gumhold"),
+            Method::Sigg => write!(f, "sigg"),
             Method::Reference => write!(f, "reference"),
         }
     }
@@ -38,8 +41,11 @@ impl FromStr for Method {
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
             "gumhold" => Ok(Method::Gumhold),
+            "sigg" => Ok(Method::Sigg),
             "reference" => Ok(Method::Reference),
-            _ => Err(format!("unknown method '{s}': use gumhold or reference")),
+            _ => Err(format!(
+                "unknown method '{s}': use gumhold, sigg or reference"
+            )),
         }
     }
 }
@@ -75,7 +81,7 @@ mod tests {
 
     #[test]
     fn methods_round_trip_through_their_names() {
-        for m in [Method::Gumhold, Method::Reference] {
+        for m in [Method::Gumhold, Method::Sigg, Method::Reference] {
             assert_eq!(m.to_string().parse::<Method>(), Ok(m));
         }
         assert!("voodoo".parse::<Method>().unwrap_err().contains("voodoo"));

@@ -9,6 +9,8 @@ pub mod headless;
 pub mod method;
 pub mod pipeline;
 pub mod shaders;
+pub mod sigg;
+pub mod sigg_math;
 pub mod targets;
 
 pub use context::GpuContext;

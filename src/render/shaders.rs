@@ -1,37 +1,51 @@
-//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, its own file
-//! and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`] runs
-//! naga's validator over each composition.
+//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
+//! parts it needs (`cylinder_slab.wgsl` for cylinders, `sigg.wgsl` for Sigg's method), its own
+//! file and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`]
+//! runs naga's validator over each composition.
 
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
 const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/gumhold_ellipsoid.wgsl");
 const GUMHOLD_CYLINDER: &str = include_str!("../../shaders/gumhold_cylinder.wgsl");
+const CYLINDER_SLAB: &str = include_str!("../../shaders/cylinder_slab.wgsl");
+const SIGG: &str = include_str!("../../shaders/sigg.wgsl");
+const SIGG_ELLIPSOID: &str = include_str!("../../shaders/sigg_ellipsoid.wgsl");
+const SIGG_CYLINDER: &str = include_str!("../../shaders/sigg_cylinder.wgsl");
 
 /// A method's complete shader source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShaderSource {
     GumholdEllipsoid,
     GumholdCylinder,
+    SiggEllipsoid,
+    SiggCylinder,
 }
 
 impl ShaderSource {
-    pub const ALL: [ShaderSource; 2] = [
+    pub const ALL: [ShaderSource; 4] = [
         ShaderSource::GumholdEllipsoid,
         ShaderSource::GumholdCylinder,
+        ShaderSource::SiggEllipsoid,
+        ShaderSource::SiggCylinder,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
             ShaderSource::GumholdEllipsoid => "gumhold_ellipsoid.wgsl",
             ShaderSource::GumholdCylinder => "gumhold_cylinder.wgsl",
+            ShaderSource::SiggEllipsoid => "sigg_ellipsoid.wgsl",
+            ShaderSource::SiggCylinder => "sigg_cylinder.wgsl",
         }
     }
 
     pub fn text(self) -> String {
-        let body = match self {
-            ShaderSource::GumholdEllipsoid => GUMHOLD_ELLIPSOID,
-            ShaderSource::GumholdCylinder => GUMHOLD_CYLINDER,
+        let parts: &[&str] = match self {
+            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID],
+            ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER],
+            ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
+            ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
         };
+        let body = parts.join("\n");
         format!("{COMMON}\n{body}\n{OUTPUTS}")
     }
 }
