@@ -1,9 +1,9 @@
 // The capped-cylinder slab test shared by every cylinder method (composed after common.wgsl).
 // Parameter space: the glyph's local frame scaled by the radii, solid |p~x| <= 1, p~y² + p~z² <= 1.
 
-// Entry into the capped cylinder along o + t v (sigg-quadric.md §7): (t, surface) with
-// surface 0 = side, ±1 = cap; discards on a miss.
-fn slab(o: vec3<f32>, v: vec3<f32>) -> vec2<f32> {
+// Entry and exit of the capped cylinder along o + t v (sigg-quadric.md §7):
+// (t_in, surface_in, t_out, surface_out) with surface 0 = side, ±1 = cap; discards on a miss.
+fn slab_span(o: vec3<f32>, v: vec3<f32>) -> vec4<f32> {
     var side_in = -1e30;
     var side_out = 1e30;
     let a = dot(v.yz, v.yz);
@@ -41,9 +41,18 @@ fn slab(o: vec3<f32>, v: vec3<f32>) -> vec2<f32> {
     if t_in > t_out {
         discard;
     }
-    var surface = 0.0;
+    var surface_in = 0.0;
     if cap_in > side_in {
-        surface = sign(o.x + t_in * v.x);
+        surface_in = sign(o.x + t_in * v.x);
     }
-    return vec2<f32>(t_in, surface);
+    var surface_out = 0.0;
+    if cap_out < side_out {
+        surface_out = sign(o.x + t_out * v.x);
+    }
+    return vec4<f32>(t_in, surface_in, t_out, surface_out);
+}
+
+// Entry only: (t, surface).
+fn slab(o: vec3<f32>, v: vec3<f32>) -> vec2<f32> {
+    return slab_span(o, v).xy;
 }

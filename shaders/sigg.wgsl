@@ -1,8 +1,9 @@
 // Sigg et al.'s method (shared part): one screen-space bounding box per glyph from the projected
 // conic (Sigg eq. 5), drawn as an instanced 4-vertex strip at its NDC corners, and a per-pixel
 // ray rebuilt from @builtin(position) and the camera, solved in parameter space with a
-// glyph-near origin. Math: shared/math/sigg-quadric.md §2, §4, §7. Mirrored in f64 by
-// src/render/sigg_math.rs. Composed as common.wgsl + this + sigg_<glyph>.wgsl + outputs.wgsl.
+// glyph-near origin. Math: shared/math/sigg-quadric.md §2, §4, §7. The box is mirrored in f64
+// by src/render/sigg_math.rs. Composed as common.wgsl + this + sigg_<glyph>.wgsl + outputs.wgsl.
+// The fragment stage works in view space and assumes a symmetric projection (as Camera builds).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -10,8 +11,10 @@ struct VsOut {
     @location(0) v_view: vec3<f32>,
     @location(1) @interpolate(flat) id: u32,
     @location(2) @interpolate(flat) color: u32,
-    @location(3) @interpolate(flat) centre: vec3<f32>,
-    // Rows of A = diag(1/r) Oᵀ (world to the glyph's parameter space); Aᵀ maps normals back.
+    // The glyph centre in view space.
+    @location(3) @interpolate(flat) c_view: vec3<f32>,
+    // Rows of A = diag(1/r) Oᵀ R_viewᵀ (view to the glyph's parameter space); Aᵀ maps
+    // parameter-space normals to view space.
     @location(4) @interpolate(flat) a0: vec3<f32>,
     @location(5) @interpolate(flat) a1: vec3<f32>,
     @location(6) @interpolate(flat) a2: vec3<f32>,
@@ -70,14 +73,19 @@ fn quadric_box(u: vec3<f32>, v: vec3<f32>, w: vec3<f32>, c: vec3<f32>) -> SiggBo
     return b;
 }
 
+fn view_rotation() -> mat3x3<f32> {
+    return mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
+}
+
 // The flat per-glyph varyings.
 fn glyph_varyings(out: ptr<function, VsOut>, g: GpuGlyph, o: mat3x3<f32>, id: u32) {
+    let rv = view_rotation();
     (*out).id = id;
     (*out).color = g.color;
-    (*out).centre = g.centre;
-    (*out).a0 = o[0] / g.radii.x;
-    (*out).a1 = o[1] / g.radii.y;
-    (*out).a2 = o[2] / g.radii.z;
+    (*out).c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
+    (*out).a0 = rv * o[0] / g.radii.x;
+    (*out).a1 = rv * o[1] / g.radii.y;
+    (*out).a2 = rv * o[2] / g.radii.z;
 }
 
 // Corner vi of the strip ((−,−), (+,−), (−,+), (+,+)) of the box, or of the whole viewport at
@@ -100,60 +108,60 @@ fn culled() -> VsOut {
     return out;
 }
 
-struct PixelRay {
-    // Perspective: the eye; orthographic: the pixel's point on the camera plane (view z = 0).
-    o: vec3<f32>,
-    // Unit direction.
-    d: vec3<f32>,
-}
-
-// The pixel's ray from its window position (pixel centres at +0.5). Perspective: the direction
-// is the line where the NDC planes x = const and y = const (rows of P View) meet.
-fn pixel_ray(frag: vec4<f32>) -> PixelRay {
-    let ndc = vec2<f32>(2.0 * frag.x * camera.viewport.z - 1.0, 1.0 - 2.0 * frag.y * camera.viewport.w);
-    let f = camera.forward.xyz;
-    if is_ortho() {
-        let h = camera.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
-        return PixelRay(h.xyz / h.w - camera.depth.z * f, f);
-    }
-    let vp = camera.view_proj;
-    let r4 = vec3<f32>(vp[0].w, vp[1].w, vp[2].w);
-    let n1 = vec3<f32>(vp[0].x, vp[1].x, vp[2].x) - ndc.x * r4;
-    let n2 = vec3<f32>(vp[0].y, vp[1].y, vp[2].y) - ndc.y * r4;
-    let d = normalize(cross(n1, n2));
-    return PixelRay(camera.eye.xyz, select(d, -d, dot(d, f) < 0.0));
-}
-
-// The glyph-near origin of §4: the ray point closest to the centre, in parameter space, and the
-// ray direction there; t0 is its distance along the ray.
+// The pixel's ray in view space, with the glyph-near origin of §4 first taken where the ray
+// crosses the plane z_view = c_view.z: the offset from the centre is formed from NDC in screen
+// space, so nothing cancels however far the glyph is (unlike eye + t d − c in world space).
 struct ParamRay {
+    // Origin offset from the centre (view space; z = 0) and unit direction (view space).
+    off: vec3<f32>,
+    d: vec3<f32>,
+    // The same in parameter space.
     o_t: vec3<f32>,
     v_t: vec3<f32>,
+    // Distance from the ray's start (eye, or the camera plane when orthographic) to the origin.
     t0: f32,
 }
 
-fn to_param(in: VsOut, ray: PixelRay) -> ParamRay {
+fn pixel_ray(in: VsOut) -> ParamRay {
+    let ndc = vec2<f32>(2.0 * in.position.x * camera.viewport.z - 1.0, 1.0 - 2.0 * in.position.y * camera.viewport.w);
+    // P00 and P11 (rows 0 and 1 of P View are P00 and P11 times unit rows of View).
+    let vp = camera.view_proj;
+    let p = vec2<f32>(length(vec3<f32>(vp[0].x, vp[1].x, vp[2].x)), length(vec3<f32>(vp[0].y, vp[1].y, vp[2].y)));
+    var r: ParamRay;
+    if is_ortho() {
+        r.off = vec3<f32>(ndc / p - in.c_view.xy, 0.0);
+        r.d = vec3<f32>(0.0, 0.0, -1.0);
+        r.t0 = -in.c_view.z;
+    } else {
+        let dv = vec3<f32>(ndc / p, -1.0);
+        let len = length(dv);
+        r.off = vec3<f32>(-in.c_view.z * dv.xy - in.c_view.xy, 0.0);
+        r.d = dv / len;
+        r.t0 = -in.c_view.z * len;
+    }
     let a = transpose(mat3x3<f32>(in.a0, in.a1, in.a2));
-    let t0 = dot(in.centre - ray.o, ray.d);
-    return ParamRay(a * ((ray.o - in.centre) + t0 * ray.d), a * ray.d, t0);
+    r.v_t = a * r.d;
+    // Then slide it to the ray point closest to the centre in parameter space (β ≈ 0): for
+    // thin glyphs this keeps |o~| ~ 1, so β² − αγ does not cancel near the silhouette.
+    let s = -dot(a * r.off, r.v_t) / dot(r.v_t, r.v_t);
+    r.off += s * r.d;
+    r.t0 += s;
+    r.o_t = a * r.off;
+    return r;
 }
 
-// Shade the hit at distance t along the ray with parameter-space normal n_t; depth from the
-// hit point (standard Z).
-fn finish(in: VsOut, ray: PixelRay, t: f32, n_t: vec3<f32>) -> Hit {
-    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
-    var p_view: vec3<f32>;
+// Shade the hit at t' along the ray from the glyph-near origin with parameter-space normal n_t;
+// depth from the hit point (standard Z).
+fn finish(in: VsOut, r: ParamRay, tp: f32, n_t: vec3<f32>) -> Hit {
+    let p_view = in.c_view + r.off + tp * r.d;
     var depth: f32;
     if is_ortho() {
-        // The origin lies on the camera plane: view z = −t.
-        p_view = vec3<f32>((camera.view * vec4<f32>(ray.o, 1.0)).xy, -t);
         depth = camera.depth.y * p_view.z + camera.depth.x;
     } else {
-        p_view = t * (rv * ray.d);
         // (P22 z + B) / (−z) = B / d − P22 with d = −z.
         depth = camera.depth.x / -p_view.z - camera.depth.y;
     }
-    let n_view = normalize(rv * (mat3x3<f32>(in.a0, in.a1, in.a2) * n_t));
+    let n_view = normalize(mat3x3<f32>(in.a0, in.a1, in.a2) * n_t);
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;

@@ -38,18 +38,21 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 }
 
 fn ray_cast(in: VsOut) -> Hit {
-    let ray = pixel_ray(in.position);
-    let r = to_param(in, ray);
-    let s = slab(r.o_t, r.v_t);
-    let t = r.t0 + s.x;
-    // The entry must lie in front of the ray origin.
-    if !(t > 0.0) {
-        discard;
+    let r = pixel_ray(in);
+    let span = slab_span(r.o_t, r.v_t);
+    // The entry if it lies in front of the ray's start, else (orthographic start inside the
+    // glyph) the exit, as the reference does.
+    var s = span.xy;
+    if !(r.t0 + s.x > 0.0) {
+        s = span.zw;
+        if !(r.t0 + s.x > 0.0) {
+            discard;
+        }
     }
     let p_t = r.o_t + s.x * r.v_t;
     var n_t = vec3<f32>(s.y, 0.0, 0.0);
     if s.y == 0.0 {
         n_t = vec3<f32>(0.0, p_t.y, p_t.z);
     }
-    return finish(in, ray, t, n_t);
+    return finish(in, r, s.x, n_t);
 }

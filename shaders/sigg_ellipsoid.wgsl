@@ -27,8 +27,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 }
 
 fn ray_cast(in: VsOut) -> Hit {
-    let ray = pixel_ray(in.position);
-    let r = to_param(in, ray);
+    let r = pixel_ray(in);
     let alpha = dot(r.v_t, r.v_t);
     let beta = dot(r.o_t, r.v_t);
     let gamma = dot(r.o_t, r.o_t) - 1.0;
@@ -52,5 +51,5 @@ fn ray_cast(in: VsOut) -> Hit {
             discard;
         }
     }
-    return finish(in, ray, r.t0 + tp, r.o_t + tp * r.v_t);
+    return finish(in, r, tp, r.o_t + tp * r.v_t);
 }

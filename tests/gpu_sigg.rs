@@ -179,6 +179,82 @@ fn glyph_in_the_corner_of_a_wide_view() {
 }
 
 #[test]
+fn box_in_the_corner_of_a_wide_view() {
+    // 100° field of view, glyph wholly in front of the camera plane near the image corner:
+    // eq. 5's box must hold the strongly distorted silhouette.
+    let scene = Scene::from_specs(&[spec(
+        [3.18, -2.23, 2.5],
+        [0.4, 1.0, 0.0],
+        0.9,
+        [0.6, 0.25, 0.15],
+        [255, 0, 255, 255],
+    )]);
+    let mut cam = Camera::frame(
+        &Framing {
+            fov_deg: 100.0,
+            ..Framing::default()
+        },
+        DVec3::ZERO,
+        1.0,
+        256,
+        192,
+    );
+    cam.eye = DVec3::new(0.0, 0.0, 5.0);
+    cam.target = DVec3::ZERO;
+    cam.up = DVec3::Y;
+    cam.near = 0.05;
+    cam.far = 20.0;
+    let proxy = scene_proxy(&scene, &cam, 0, GlyphKind::Ellipsoid);
+    let Proxy::Box(b) = proxy else {
+        panic!("corner glyph should have a box: {proxy:?}");
+    };
+    assert!(b.lo.x > 0.3 && b.hi.y < -0.3, "not in the corner: {b:?}");
+    if let Some(a) = check("wide corner box", &scene, &cam, GlyphKind::Ellipsoid) {
+        assert_tight("wide corner box", &a);
+    }
+}
+
+#[test]
+fn distant_glyph() {
+    // A glyph 1000 sizes away seen through a 0.25° field of view: the box and the glyph-near
+    // origin keep f32 well-conditioned.
+    let scene = Scene::from_specs(&[spec(
+        [310.0, 926.0, -205.0],
+        [-0.2, 0.9, 0.4],
+        2.0,
+        [1.0, 0.6, 0.3],
+        [120, 200, 80, 255],
+    )]);
+    let mut cam = Camera::frame(
+        &Framing {
+            fov_deg: 0.25,
+            ..Framing::default()
+        },
+        DVec3::ZERO,
+        1.0,
+        256,
+        192,
+    );
+    cam.eye = DVec3::new(310.0, 926.0, -205.0) - DVec3::new(0.3, 0.9, 0.2).normalize() * 1000.0;
+    cam.target = DVec3::new(310.0, 926.0, -205.0);
+    cam.up = DVec3::Z;
+    cam.near = 1.0;
+    cam.far = 2000.0;
+    let Some(a) = check("distant", &scene, &cam, GlyphKind::Ellipsoid) else {
+        return;
+    };
+    // For comparison (printed): Gumhold's path on the same view.
+    let gumhold = FrameRequest {
+        method: Method::Gumhold,
+        ..request(GlyphKind::Ellipsoid, true)
+    };
+    check_request("distant", &scene, &cam, &gumhold);
+    // The aux target stores view z in f32: at |z| = 1000 one ulp is 6.1e-5 glyph sizes, just
+    // inside the tight depth bound.
+    assert_tight("distant", &a);
+}
+
+#[test]
 fn orthographic_views() {
     let scene = intersecting();
     let cam = framed(
@@ -237,6 +313,36 @@ fn ellipsoid_crossing_the_camera_plane() {
     );
     if let Some(a) = check("crossing", &scene, &cam, GlyphKind::Ellipsoid) {
         assert_tight("crossing", &a);
+    }
+}
+
+#[test]
+fn orthographic_camera_plane_inside_glyphs() {
+    // The orthographic camera plane passes through the glyph (no eye to cull around): where the
+    // entry lies behind the camera plane, the reference shows the exit (inner) surface.
+    for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        let scene = Scene::from_specs(&[spec(
+            [0.0; 3],
+            [0.3, 0.2, 1.0],
+            0.5,
+            [1.0, 0.6, 0.4],
+            [220, 180, 40, 255],
+        )]);
+        let mut cam = framed(
+            &scene,
+            Framing {
+                ortho: true,
+                ..Framing::default()
+            },
+        );
+        cam.eye = scene.origin + DVec3::new(0.1, 0.05, 0.1);
+        cam.target = cam.eye + DVec3::new(-1.0, -0.3, -0.4);
+        cam.up = DVec3::Z;
+        cam.near = 0.05;
+        cam.far = 10.0;
+        if let Some(a) = check("ortho inside", &scene, &cam, glyph) {
+            assert_tight("ortho inside", &a);
+        }
     }
 }
 
