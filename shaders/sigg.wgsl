@@ -34,6 +34,21 @@ struct SiggBox {
     // NDC depth of the centre (the proxy depth of the flat variants).
     z: f32,
     kind: u32,
+    // The largest value over the glyph of the clip-space planes w + x, w − x, w + y (reach_a)
+    // and w − y, z, w − z (reach_b): negative = wholly outside that frustum plane.
+    reach_a: vec3<f32>,
+    reach_b: vec3<f32>,
+}
+
+// max over the unit ball of the parameter-space plane n: n.w + |n.xyz|.
+fn reach(n: vec4<f32>) -> f32 {
+    return n.w + length(n.xyz);
+}
+
+// A glyph wholly outside one frustum plane is culled (an addition to Sigg: it keeps glyphs
+// beside the eye, which cross the camera plane, from drawing viewport proxies).
+fn outside_frustum(b: SiggBox) -> bool {
+    return any(b.reach_a < vec3<f32>(0.0)) || any(b.reach_b < vec3<f32>(0.0));
 }
 
 // Minkowski product with D = diag(1, 1, 1, −1).
@@ -51,9 +66,12 @@ fn quadric_box(u: vec3<f32>, v: vec3<f32>, w: vec3<f32>, c: vec3<f32>) -> SiggBo
     let mc = camera.view_proj * vec4<f32>(c, 1.0);
     let r1 = vec4<f32>(mu.x, mv.x, mw.x, mc.x);
     let r2 = vec4<f32>(mu.y, mv.y, mw.y, mc.y);
+    let r3 = vec4<f32>(mu.z, mv.z, mw.z, mc.z);
     let r4 = vec4<f32>(mu.w, mv.w, mw.w, mc.w);
     let r44 = ddot(r4, r4);
     var b: SiggBox;
+    b.reach_a = vec3<f32>(reach(r4 + r1), reach(r4 - r1), reach(r4 + r2));
+    b.reach_b = vec3<f32>(reach(r4 - r2), reach(r3), reach(r4 - r3));
     if !(r44 < 0.0) {
         b.kind = PROXY_VIEWPORT;
         return b;

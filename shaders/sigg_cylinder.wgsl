@@ -23,6 +23,12 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let b1 = quadric_box(u, v, vec3<f32>(0.0), g.centre - w);
     let b2 = quadric_box(u, v, vec3<f32>(0.0), g.centre + w);
     var b = b1;
+    // The hull of the discs is outside a plane iff both discs are.
+    b.reach_a = max(b1.reach_a, b2.reach_a);
+    b.reach_b = max(b1.reach_b, b2.reach_b);
+    if outside_frustum(b) {
+        return culled();
+    }
     if b1.kind == PROXY_BOX && b2.kind == PROXY_BOX {
         b.lo = min(b1.lo, b2.lo);
         b.hi = max(b1.hi, b2.hi);

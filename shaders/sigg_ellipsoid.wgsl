@@ -19,7 +19,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         }
     }
     let b = quadric_box(o[0] * g.radii.x, o[1] * g.radii.y, o[2] * g.radii.z, g.centre);
-    if b.kind == PROXY_CULL {
+    if b.kind == PROXY_CULL || outside_frustum(b) {
         return culled();
     }
     emit_corner(&out, vi, b);

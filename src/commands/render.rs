@@ -24,7 +24,7 @@ pub struct ViewArgs {
     /// Image size.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Rendering method: gumhold (GPU) or reference (exact CPU ray caster).
+    /// Rendering method: gumhold or sigg (GPU), or reference (exact CPU ray caster).
     #[arg(long, default_value = "gumhold")]
     pub method: Method,
     #[arg(long, value_enum, default_value_t = GlyphKind::Ellipsoid)]

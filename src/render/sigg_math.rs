@@ -106,6 +106,20 @@ pub struct QuadricBox {
     pub depth: f64,
     /// The box, when r4ᵀDr4 < 0 and the centre is in front.
     pub bbox: Option<NdcBox>,
+    /// Largest value over the quadric of the clip-space planes w + x, w − x, w + y, w − y, z,
+    /// w − z (negative: wholly outside that frustum plane).
+    pub reach: [f64; 6],
+}
+
+impl QuadricBox {
+    pub fn outside_frustum(&self) -> bool {
+        self.reach.iter().any(|&r| r < 0.0)
+    }
+}
+
+/// max over the unit ball of the parameter-space plane n: n.w + |n.xyz|.
+fn reach(n: DVec4) -> f64 {
+    n.w + n.truncate().length()
 }
 
 /// Minkowski product with D = diag(1, 1, 1, −1).
@@ -122,8 +136,10 @@ pub fn quadric_box(view_proj: &DMat4, u: DVec3, v: DVec3, w: DVec3, c: DVec3) ->
     let mc = *view_proj * c.extend(1.0);
     let r1 = DVec4::new(mu.x, mv.x, mw.x, mc.x);
     let r2 = DVec4::new(mu.y, mv.y, mw.y, mc.y);
+    let r3 = DVec4::new(mu.z, mv.z, mw.z, mc.z);
     let r4 = DVec4::new(mu.w, mv.w, mw.w, mc.w);
     let r44 = ddot(r4, r4);
+    let reach = [r4 + r1, r4 - r1, r4 + r2, r4 - r2, r3, r4 - r3].map(reach);
     let centre = (r44 != 0.0).then(|| DVec2::new(ddot(r1, r4), ddot(r2, r4)) / r44);
     let bbox = match centre {
         Some(b0) if r44 < 0.0 && mc.w > 0.0 => {
@@ -147,6 +163,7 @@ pub fn quadric_box(view_proj: &DMat4, u: DVec3, v: DVec3, w: DVec3, c: DVec3) ->
         w_centre: mc.w,
         depth: mc.z / mc.w,
         bbox,
+        reach,
     }
 }
 
@@ -174,7 +191,8 @@ pub fn cylinder_boxes(
 /// What the vertex stage draws for a glyph.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Proxy {
-    /// Eye inside (perspective) or the glyph wholly behind the camera plane.
+    /// Eye inside (perspective), the glyph wholly behind the camera plane, or wholly outside
+    /// one plane of the view frustum.
     Culled,
     /// The glyph crosses the camera plane: the whole viewport.
     Viewport,
@@ -229,6 +247,9 @@ pub fn glyph_proxy(
                 return Proxy::Culled;
             }
             let b = quadric_box(view_proj, axes[0], axes[1], axes[2], geo.centre);
+            if b.outside_frustum() {
+                return Proxy::Culled;
+            }
             match b.bbox {
                 Some(bbox) => Proxy::Box(bbox),
                 None if b.r4dr4 < 0.0 => Proxy::Culled,
@@ -240,6 +261,10 @@ pub fn glyph_proxy(
                 return Proxy::Culled;
             }
             let (caps, union) = cylinder_boxes(view_proj, axes[1], axes[2], axes[0], geo.centre);
+            // The hull of the discs is outside a plane iff both discs are.
+            if (0..6).any(|k| caps[0].reach[k].max(caps[1].reach[k]) < 0.0) {
+                return Proxy::Culled;
+            }
             let behind = |q: &QuadricBox| q.r4dr4 < 0.0 && q.w_centre <= 0.0;
             match union {
                 Some(b) => Proxy::Box(b),
@@ -375,6 +400,40 @@ mod tests {
         };
         assert_eq!(off.pixels(8, 4), 0);
         assert_eq!(Proxy::Viewport.pixels(8, 4), 32);
+    }
+
+    #[test]
+    fn proxies_box_cross_and_cull() {
+        use glam::DMat3;
+        // 30° vertical field of view at 3:2, eye at the origin looking down −z.
+        let mut cam = Camera::frame(&Default::default(), DVec3::ZERO, 1.0, 300, 200);
+        cam.eye = DVec3::ZERO;
+        cam.target = DVec3::NEG_Z;
+        cam.up = DVec3::Y;
+        cam.near = 0.1;
+        cam.far = 100.0;
+        let vp = cam.projection_matrix() * cam.view(DVec3::ZERO);
+        let sphere = |c: DVec3| GlyphGeometry {
+            centre: c,
+            frame: DMat3::IDENTITY,
+            radii: DVec3::splat(0.5),
+        };
+        let proxy = |c: DVec3, kind| glyph_proxy(&vp, &sphere(c), DVec3::ZERO, false, kind);
+        for kind in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+            // In front: a box around the projected centre.
+            let Proxy::Box(b) = proxy(DVec3::new(0.0, 0.0, -5.0), kind) else {
+                panic!("{kind}: no box in front");
+            };
+            assert!(b.lo.x < 0.0 && b.hi.x > 0.0 && b.lo.y < 0.0 && b.hi.y > 0.0);
+            // Crossing the camera plane, in view: the viewport.
+            assert_eq!(proxy(DVec3::new(0.55, 0.0, -0.2), kind), Proxy::Viewport);
+            // Crossing it beside the eye, outside the left frustum plane; behind; around the eye.
+            assert_eq!(proxy(DVec3::new(-2.0, 0.0, 0.1), kind), Proxy::Culled);
+            assert_eq!(proxy(DVec3::new(0.0, 0.0, 5.0), kind), Proxy::Culled);
+            assert_eq!(proxy(DVec3::new(0.1, 0.0, 0.0), kind), Proxy::Culled);
+            // Beyond the far plane.
+            assert_eq!(proxy(DVec3::new(0.0, 0.0, -101.0), kind), Proxy::Culled);
+        }
     }
 
     #[test]
