@@ -15,6 +15,7 @@ use crate::render::gumhold::GumholdRenderer;
 use crate::render::mesh::MeshRenderer;
 use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
+use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
 use crate::scene::Scene;
 
@@ -132,6 +133,7 @@ impl GpuRenderer {
         let layout = &self.pipeline_layout;
         let drawer: Arc<dyn Drawer> = match (method, glyph) {
             (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(&self.ctx, layout, glyph)),
+            (Method::Sigg, glyph) => Arc::new(SiggRenderer::new(&self.ctx, layout, glyph)),
             (Method::Mesh(_) | Method::Box, glyph) => Arc::new(
                 MeshRenderer::new(&self.ctx, layout, method, glyph).expect("a mesh method"),
             ),
