@@ -10,6 +10,7 @@ pub mod error;
 pub mod field;
 pub mod glyph;
 pub mod image_out;
+pub mod info;
 pub mod metrics;
 pub mod reference;
 pub mod render;
