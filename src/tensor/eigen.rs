@@ -74,6 +74,20 @@ pub fn symmetric_eigen(t: &[f64; 9]) -> Eigen {
 /// sorting.
 #[inline]
 pub fn jacobi_eigen(t: &[f64; 9]) -> Eigen {
+    // Keep squares of entries in range: rescale extreme tensors by an exact power of two.
+    let m = t.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m > 0.0 && !(1e-100..=1e100).contains(&m) {
+        let k = m.log2().floor() as i32;
+        let scaled = t.map(|x| x * 2f64.powi(-k));
+        let mut e = jacobi_core(&scaled);
+        e.values = e.values.map(|x| x * 2f64.powi(k));
+        return e;
+    }
+    jacobi_core(t)
+}
+
+#[inline]
+fn jacobi_core(t: &[f64; 9]) -> Eigen {
     // a[0..3] diagonal, off-diagonals a01, a02, a12
     let mut d = [t[0], t[4], t[8]];
     let mut off = [t[1], t[2], t[5]];
@@ -441,6 +455,23 @@ mod tests {
                 for k in 0..3 {
                     prop_assert!((back[i][k] - f[i][k]).abs() < 1e-6);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn extreme_scales() {
+        let base = [2.0, 0.3, -0.1, 0.3, 1.0, 0.2, -0.1, 0.2, 0.5];
+        let ref_e = symmetric_eigen(&base);
+        for s in [1e-300, 1e-200, 1e200, 1e300] {
+            let a = base.map(|x| x * s);
+            let e = symmetric_eigen(&a);
+            for k in 0..3 {
+                assert!(
+                    (e.values[k] / s - ref_e.values[k]).abs() < 1e-14,
+                    "scale {s}"
+                );
+                assert!((dot(e.vectors[k], ref_e.vectors[k]).abs() - 1.0).abs() < 1e-14);
             }
         }
     }

@@ -82,6 +82,13 @@ pub fn md(ev: [f64; 3]) -> f64 {
 /// tensors; e.g. 1.224 for `(2, −0.6, −1.5)`), since `Σ (λi − MD)² = Σ λi² − 3 MD²`.
 #[inline]
 pub fn fa(ev: [f64; 3]) -> f64 {
+    // Scale-free: normalise by max |λ| so that squares neither overflow nor underflow.
+    let big = ev[0].abs().max(ev[1].abs()).max(ev[2].abs());
+    if !(big > 0.0 && big.is_finite()) {
+        return 0.0;
+    }
+    let inv = 1.0 / big;
+    let ev = ev.map(|l| l * inv);
     let m = md(ev);
     let num: f64 = ev.iter().map(|l| (l - m) * (l - m)).sum();
     let den: f64 = ev.iter().map(|l| l * l).sum();
@@ -249,6 +256,8 @@ mod tests {
         assert!(close(w.cl, 0.25) && close(w.cp, 0.45) && close(w.cs, 0.3));
         assert!((fa([2.0, -0.6, -1.5]) - 1.2244360213371532).abs() < 1e-12);
         assert!(close(fa([1.0, 0.0, -1.0]), 1.5f64.sqrt()));
+        assert!(close(fa([3e200, 1e200, 1e200]), fa([3.0, 1.0, 1.0])));
+        assert!(close(fa([3e-200, 1e-200, 1e-200]), fa([3.0, 1.0, 1.0])));
         // ties resolved cigar, then pancake: (2, 1, 0) has cl = cp = 0.5
         assert_eq!(classify([2.0, 1.0, 0.0], 0.5), ShapeClass::Linear);
         // exactly at tau counts
