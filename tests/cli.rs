@@ -327,7 +327,7 @@ fn bench_writes_csv_charts_and_report() {
         "speed_accuracy_close.png",
         "speed_accuracy_far.png",
     ] {
-        assert_eq!(png_size(&out.join(png)), (1000, 700), "{png}");
+        assert_eq!(png_size(&out.join(png)), (1280, 600), "{png}");
     }
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## What this shows"));

@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::Row;
-use crate::render::Method;
+use crate::render::{GlyphKind, Method};
 
 /// Errors are plotted on a log axis: exact agreement is drawn at this floor.
 pub const ERROR_FLOOR_DEG: f64 = 1e-4;
@@ -64,17 +64,35 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Draw the chart of `rows` (one view, measured GPU rows) to a PNG at `path`.
+/// Draw the chart of `rows` (one view) to a PNG at `path`: one panel per glyph shape, one
+/// colour per method family, mesh levels joined as a curve, the Pareto front ringed. Only the
+/// depth-corrected variants are drawn (the others differ in depth, not in normals).
 pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(), String> {
     ensure_font();
     let rows: Vec<&Row> = rows
         .iter()
         .copied()
-        .filter(|r| r.skipped.is_empty() && r.method.is_gpu() && r.frame_ms_median.is_finite())
+        .filter(|r| {
+            r.skipped.is_empty()
+                && r.method.is_gpu()
+                && r.depth_correction
+                && r.frame_ms_median.is_finite()
+        })
         .collect();
     if rows.is_empty() {
         return Err("nothing measured to chart".into());
     }
+    let mut glyphs: Vec<GlyphKind> = Vec::new();
+    let mut families: Vec<String> = Vec::new();
+    for r in &rows {
+        if !glyphs.contains(&r.glyph) {
+            glyphs.push(r.glyph);
+        }
+        if !families.contains(&family(r.method)) {
+            families.push(family(r.method));
+        }
+    }
+    // Shared axes across panels, so they can be compared at a glance.
     let (mut tmin, mut tmax) = (f64::INFINITY, 0.0f64);
     let (mut emin, mut emax) = (f64::INFINITY, 0.0f64);
     for r in &rows {
@@ -85,82 +103,90 @@ pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(),
     }
     let x_range = (tmin / 1.5).max(1e-3)..(tmax * 1.5).max(tmin * 2.0);
     let y_range = (emin / 3.0)..(emax * 3.0).max(emin * 10.0);
-    let (w, h) = (1000u32, 700u32);
+    let (w, h) = (640 * glyphs.len() as u32, 600u32);
     let mut rgb = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| e.to_string())?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 26))
-            .margin(20)
-            .x_label_area_size(55)
-            .y_label_area_size(80)
-            .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())
+        let root = root
+            .titled(title, ("sans-serif", 24))
             .map_err(|e| e.to_string())?;
-        chart
-            .configure_mesh()
-            .x_desc("frame time, ms (median, log scale)")
-            .y_desc("normal error p99, degrees (log scale)")
-            .label_style(("sans-serif", 16))
-            .axis_desc_style(("sans-serif", 18))
-            .draw()
-            .map_err(|e| e.to_string())?;
-        let mut families: Vec<(String, bool, crate::render::GlyphKind)> = Vec::new();
-        for r in &rows {
-            let key = (family(r.method), r.depth_correction, r.glyph);
-            if !families.contains(&key) {
-                families.push(key);
-            }
-        }
-        for (k, (fam, depth, glyph)) in families.iter().enumerate() {
-            let colour = PALETTE[k % PALETTE.len()];
-            let mut pts: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| {
-                    family(r.method) == *fam && r.depth_correction == *depth && r.glyph == *glyph
-                })
-                .map(|r| (r.frame_ms_median, error_of(r)))
-                .collect();
-            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let label = format!(
-                "{fam} {glyph}{}",
-                if *depth { "" } else { " (no depth corr.)" }
-            );
-            let style = ShapeStyle::from(&colour).stroke_width(2);
+        let panels = root.split_evenly((1, glyphs.len()));
+        for (panel, glyph) in panels.iter().zip(&glyphs) {
+            let these: Vec<&Row> = rows.iter().copied().filter(|r| r.glyph == *glyph).collect();
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("{glyph} glyphs"), ("sans-serif", 20))
+                .margin(15)
+                .x_label_area_size(50)
+                .y_label_area_size(70)
+                .build_cartesian_2d(x_range.clone().log_scale(), y_range.clone().log_scale())
+                .map_err(|e| e.to_string())?;
             chart
-                .draw_series(LineSeries::new(pts.clone(), style))
-                .map_err(|e| e.to_string())?
-                .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new(
-                        vec![(x, y), (x + 20, y)],
-                        ShapeStyle::from(&colour).stroke_width(3),
+                .configure_mesh()
+                .x_desc("frame time, ms (median, log)")
+                .y_desc("normal error p99, degrees (log)")
+                .x_labels(6)
+                .y_labels(8)
+                .x_label_formatter(&|x| format_tick(*x))
+                .y_label_formatter(&|y| format_tick(*y))
+                .label_style(("sans-serif", 15))
+                .axis_desc_style(("sans-serif", 16))
+                .draw()
+                .map_err(|e| e.to_string())?;
+            for (k, fam) in families.iter().enumerate() {
+                let colour = PALETTE[k % PALETTE.len()];
+                // Joined in level order (mesh:0, mesh:1, ...), not by time.
+                let mut fam_rows: Vec<&Row> = these
+                    .iter()
+                    .copied()
+                    .filter(|r| family(r.method) == *fam)
+                    .collect();
+                if fam_rows.is_empty() {
+                    continue;
+                }
+                fam_rows.sort_by_key(|r| r.method.to_string());
+                let pts: Vec<(f64, f64)> = fam_rows
+                    .iter()
+                    .map(|r| (r.frame_ms_median, error_of(r)))
+                    .collect();
+                let style = ShapeStyle::from(&colour).stroke_width(2);
+                chart
+                    .draw_series(LineSeries::new(pts.clone(), style))
+                    .map_err(|e| e.to_string())?
+                    .label(fam.clone())
+                    .legend(move |(x, y)| {
+                        PathElement::new(
+                            vec![(x, y), (x + 20, y)],
+                            ShapeStyle::from(&colour).stroke_width(3),
+                        )
+                    });
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                    .map_err(|e| e.to_string())?;
+            }
+            let front = pareto(&these);
+            chart
+                .draw_series(front.iter().map(|r| {
+                    Circle::new(
+                        (r.frame_ms_median, error_of(r)),
+                        10,
+                        ShapeStyle::from(&BLACK).stroke_width(2),
                     )
+                }))
+                .map_err(|e| e.to_string())?
+                .label("Pareto front")
+                .legend(|(x, y)| {
+                    Circle::new((x + 10, y), 6, ShapeStyle::from(&BLACK).stroke_width(2))
                 });
             chart
-                .draw_series(pts.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 15))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
                 .map_err(|e| e.to_string())?;
         }
-        let front = pareto(&rows);
-        chart
-            .draw_series(front.iter().map(|r| {
-                Circle::new(
-                    (r.frame_ms_median, error_of(r)),
-                    10,
-                    ShapeStyle::from(&BLACK).stroke_width(2),
-                )
-            }))
-            .map_err(|e| e.to_string())?
-            .label("Pareto front")
-            .legend(|(x, y)| Circle::new((x + 10, y), 6, ShapeStyle::from(&BLACK).stroke_width(2)));
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 15))
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(|e| e.to_string())?;
         root.present().map_err(|e| e.to_string())?;
     }
     let rgba: Vec<u8> = rgb
@@ -169,4 +195,18 @@ pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(),
         .collect();
     crate::image_out::write_png_atomic(path, w, h, &rgba)
         .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Log-axis tick labels: few significant digits, no trailing ".0" clutter.
+fn format_tick(x: f64) -> String {
+    if x >= 100.0 {
+        format!("{x:.0}")
+    } else if x >= 1.0 {
+        format!("{x:.3}")
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    } else {
+        format!("{x:.0e}")
+    }
 }
