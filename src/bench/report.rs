@@ -239,16 +239,17 @@ pub fn findings(rows: &[Row]) -> String {
         }
         for method in [crate::render::Method::Gumhold, crate::render::Method::Sigg] {
             for view in ["close", "default"] {
-                if let Some(r) = fastest(pick(view, GlyphKind::Ellipsoid, &|r| r.method == method))
-                {
-                    if let (Some(f), true) = (r.fragments, r.covered_pixels > 0) {
-                        let _ = writeln!(
-                            out,
-                            "- {method}, {view} view: {f} fragment-shader invocations for {} covered pixels ({:.2} per pixel; this counts overdraw of hidden glyphs, and lavapipe reports whole 4x4 tiles per triangle).",
-                            r.covered_pixels,
-                            f as f64 / r.covered_pixels as f64
-                        );
-                    }
+                let Some(r) = fastest(pick(view, GlyphKind::Ellipsoid, &|r| r.method == method))
+                else {
+                    continue;
+                };
+                if let (Some(f), true) = (r.fragments, r.covered_pixels > 0) {
+                    let _ = writeln!(
+                        out,
+                        "- {method}, {view} view: {f} fragment-shader invocations for {} covered pixels ({:.2} per pixel; this counts overdraw of hidden glyphs, and lavapipe reports whole 4x4 tiles per triangle).",
+                        r.covered_pixels,
+                        f as f64 / r.covered_pixels as f64
+                    );
                 }
             }
         }
