@@ -108,6 +108,9 @@ pub struct Row {
     pub vertices: Option<u64>,
     pub bytes_per_glyph: usize,
     pub covered_pixels: usize,
+    /// Fragments the method's proxies should shade (Gumhold: the quads' pixel area; Sigg: the
+    /// boxes' pixels), where a model exists.
+    pub predicted_fragments: Option<f64>,
     pub accuracy: Accuracy,
     /// Empty when measured; else why not.
     pub skipped: String,
@@ -198,6 +201,7 @@ pub fn run(
                 Ok(f) => {
                     st.accuracy = compare(&f, reference, &view.scene);
                     st.covered = f.covered_pixels();
+                    st.predicted = predicted_fragments(&view.scene, &view.camera, cfg);
                     cost.record(cfg, f.median_ms());
                     if f.median_ms() > opts.budget_s * 1e3 {
                         st.skipped = format!("over budget: {:.1} s per frame", f.median_ms() / 1e3);
@@ -242,6 +246,31 @@ pub fn run(
     rows
 }
 
+/// What the bounding proxies of Gumhold's and Sigg's methods predict for the fragment count:
+/// every proxy pixel is shaded (writing depth turns early depth rejection off).
+fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<f64> {
+    use rayon::prelude::*;
+    let n = scene.instances.len();
+    match cfg.method {
+        Method::Gumhold => Some(
+            (0..n)
+                .into_par_iter()
+                .map(|i| crate::render::gumhold_math::proxy_pixels(scene, camera, i, cfg.glyph))
+                .sum(),
+        ),
+        Method::Sigg => Some(
+            (0..n)
+                .into_par_iter()
+                .map(|i| {
+                    crate::render::sigg_math::scene_proxy(scene, camera, i, cfg.glyph)
+                        .pixels(camera.width, camera.height) as f64
+                })
+                .sum(),
+        ),
+        _ => None,
+    }
+}
+
 fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
     let ms = f.median_ms();
     Row {
@@ -257,6 +286,7 @@ fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
         vertices: None,
         bytes_per_glyph: GPU_GLYPH_SIZE,
         covered_pixels: f.covered_pixels(),
+        predicted_fragments: None,
         // The reference is the truth it is compared with.
         accuracy: Accuracy {
             color_psnr_db: 99.0,
@@ -308,6 +338,7 @@ struct State {
     vertices: Option<u64>,
     accuracy: Accuracy,
     covered: usize,
+    predicted: Option<f64>,
     skipped: String,
 }
 
@@ -336,6 +367,7 @@ impl State {
             vertices: self.vertices,
             bytes_per_glyph: GPU_GLYPH_SIZE,
             covered_pixels: self.covered,
+            predicted_fragments: self.predicted,
             accuracy: self.accuracy,
             skipped: self.skipped,
         }

@@ -59,13 +59,13 @@ pub fn csv(rows: &[Row]) -> String {
 /// A Markdown table of one view's rows.
 pub fn table(rows: &[&Row]) -> String {
     let mut out = String::from(
-        "| method | glyph | depth corr. | ms (median) | fragments | frags/covered px | coverage mismatch | id mismatch | depth err p99 | normal err p99 (°) | PSNR (dB) |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| method | glyph | depth corr. | ms (median) | fragments | predicted | frags/covered px | coverage mismatch | id mismatch | depth err p99 | normal err p99 (°) | PSNR (dB) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if !r.skipped.is_empty() {
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | skipped: {} | | | | | | | |",
+                "| {} | {} | {} | skipped: {} | | | | | | | | |",
                 r.method,
                 r.glyph,
                 yes(r.depth_correction),
@@ -80,12 +80,14 @@ pub fn table(rows: &[&Row]) -> String {
         };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.1} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.3} | {:.1} |",
+            "| {} | {} | {} | {:.1} | {} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.3} | {:.1} |",
             r.method,
             r.glyph,
             yes(r.depth_correction),
             r.frame_ms_median,
             opt(r.fragments),
+            r.predicted_fragments
+                .map_or(String::new(), |p| format!("{p:.0}")),
             per_px,
             a.coverage_mismatch,
             a.id_mismatch,
@@ -243,12 +245,12 @@ pub fn findings(rows: &[Row]) -> String {
                 else {
                     continue;
                 };
-                if let (Some(f), true) = (r.fragments, r.covered_pixels > 0) {
+                if let (Some(f), Some(p)) = (r.fragments, r.predicted_fragments) {
                     let _ = writeln!(
                         out,
-                        "- {method}, {view} view: {f} fragment-shader invocations for {} covered pixels ({:.2} per pixel; this counts overdraw of hidden glyphs, and lavapipe reports whole 4x4 tiles per triangle).",
-                        r.covered_pixels,
-                        f as f64 / r.covered_pixels as f64
+                        "- {method}, {view} view: {f} fragment-shader invocations against {p:.0} predicted by its proxies' pixel area (ratio {:.3}; lavapipe counts whole 4x4 tiles per triangle, which adds the tiles on proxy edges), {:.2} per covered pixel (overdraw of hidden glyphs included).",
+                        f as f64 / p,
+                        f as f64 / r.covered_pixels.max(1) as f64
                     );
                 }
             }
@@ -279,6 +281,7 @@ mod tests {
             vertices: Some(400),
             bytes_per_glyph: 48,
             covered_pixels: 800,
+            predicted_fragments: None,
             accuracy: Accuracy::default(),
             skipped: String::new(),
         };
