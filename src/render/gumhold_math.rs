@@ -181,6 +181,88 @@ pub fn fragment(
     })
 }
 
+/// Pixels (continuous area, clipped to the viewport) of the proxy Gumhold's vertex stage draws
+/// for instance `i`: the fragments it shades, since writing depth disables early rejection.
+/// Ellipsoids use their own quad, cylinders the quad of their bounding ellipsoid (√3 along the
+/// axis, √(3/2) across) or the whole viewport when the eye is inside that ellipsoid.
+pub fn proxy_pixels(
+    scene: &crate::scene::Scene,
+    camera: &crate::camera::Camera,
+    i: usize,
+    glyph: crate::render::GlyphKind,
+) -> f64 {
+    use crate::render::GlyphKind;
+    let geo = scene.geometry(i);
+    let eye = camera.eye - scene.origin;
+    let (w, h) = (f64::from(camera.width), f64::from(camera.height));
+    let radii = match glyph {
+        GlyphKind::Ellipsoid => geo.radii,
+        GlyphKind::Cylinder => {
+            let local = (geo.frame.transpose() * (eye - geo.centre)) / geo.radii;
+            if !camera.is_ortho()
+                && local.x.abs() <= 1.0
+                && local.y * local.y + local.z * local.z <= 1.0
+            {
+                return 0.0;
+            }
+            geo.radii * DVec3::new(3f64.sqrt(), 1.5f64.sqrt(), 1.5f64.sqrt())
+        }
+    };
+    let t = geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose();
+    let t_inv = geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose();
+    let setup = if camera.is_ortho() {
+        setup_orthographic(&t_inv, camera.forward())
+    } else {
+        match setup_perspective(&t_inv, geo.centre, eye) {
+            Some(s) => s,
+            // Ellipsoid: culled. Cylinder: the near-plane proxy covers the viewport.
+            None if glyph == GlyphKind::Cylinder => return w * h,
+            None => return 0.0,
+        }
+    };
+    let view_proj = camera.projection_matrix() * camera.view(scene.origin);
+    // Corners in strip order → polygon order (−,−), (+,−), (+,+), (−,+), clipped in clip space
+    // against the near plane and the four side planes.
+    let mut poly: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+        .iter()
+        .map(|&(sx, sy)| {
+            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
+        })
+        .collect();
+    let planes: [fn(glam::DVec4) -> f64; 5] = [
+        |p| p.z,
+        |p| p.w + p.x,
+        |p| p.w - p.x,
+        |p| p.w + p.y,
+        |p| p.w - p.y,
+    ];
+    for plane in planes {
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (da, db) = (plane(a), plane(b));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                out.push(a + (b - a) * (da / (da - db)));
+            }
+        }
+        poly = out;
+        if poly.is_empty() {
+            return 0.0;
+        }
+    }
+    let pts: Vec<DVec2> = poly
+        .iter()
+        .map(|p| DVec2::new((p.x / p.w + 1.0) * w / 2.0, (p.y / p.w + 1.0) * h / 2.0))
+        .collect();
+    let twice: f64 = (0..pts.len())
+        .map(|k| pts[k].perp_dot(pts[(k + 1) % pts.len()]))
+        .sum();
+    twice.abs() / 2.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -327,86 +409,4 @@ mod tests {
         }
         assert_eq!(checked, 10, "every ellipsoid case");
     }
-}
-
-/// Pixels (continuous area, clipped to the viewport) of the proxy Gumhold's vertex stage draws
-/// for instance `i`: the fragments it shades, since writing depth disables early rejection.
-/// Ellipsoids use their own quad, cylinders the quad of their bounding ellipsoid (√3 along the
-/// axis, √(3/2) across) or the whole viewport when the eye is inside that ellipsoid.
-pub fn proxy_pixels(
-    scene: &crate::scene::Scene,
-    camera: &crate::camera::Camera,
-    i: usize,
-    glyph: crate::render::GlyphKind,
-) -> f64 {
-    use crate::render::GlyphKind;
-    let geo = scene.geometry(i);
-    let eye = camera.eye - scene.origin;
-    let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let radii = match glyph {
-        GlyphKind::Ellipsoid => geo.radii,
-        GlyphKind::Cylinder => {
-            let local = (geo.frame.transpose() * (eye - geo.centre)) / geo.radii;
-            if !camera.is_ortho()
-                && local.x.abs() <= 1.0
-                && local.y * local.y + local.z * local.z <= 1.0
-            {
-                return 0.0;
-            }
-            geo.radii * DVec3::new(3f64.sqrt(), 1.5f64.sqrt(), 1.5f64.sqrt())
-        }
-    };
-    let t = geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose();
-    let t_inv = geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose();
-    let setup = if camera.is_ortho() {
-        setup_orthographic(&t_inv, camera.forward())
-    } else {
-        match setup_perspective(&t_inv, geo.centre, eye) {
-            Some(s) => s,
-            // Ellipsoid: culled. Cylinder: the near-plane proxy covers the viewport.
-            None if glyph == GlyphKind::Cylinder => return w * h,
-            None => return 0.0,
-        }
-    };
-    let view_proj = camera.projection_matrix() * camera.view(scene.origin);
-    // Corners in strip order → polygon order (−,−), (+,−), (+,+), (−,+), clipped in clip space
-    // against the near plane and the four side planes.
-    let mut poly: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
-        .iter()
-        .map(|&(sx, sy)| {
-            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
-        })
-        .collect();
-    let planes: [fn(glam::DVec4) -> f64; 5] = [
-        |p| p.z,
-        |p| p.w + p.x,
-        |p| p.w - p.x,
-        |p| p.w + p.y,
-        |p| p.w - p.y,
-    ];
-    for plane in planes {
-        let mut out = Vec::with_capacity(poly.len() + 2);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let (da, db) = (plane(a), plane(b));
-            if da >= 0.0 {
-                out.push(a);
-            }
-            if (da >= 0.0) != (db >= 0.0) {
-                out.push(a + (b - a) * (da / (da - db)));
-            }
-        }
-        poly = out;
-        if poly.is_empty() {
-            return 0.0;
-        }
-    }
-    let pts: Vec<DVec2> = poly
-        .iter()
-        .map(|p| DVec2::new((p.x / p.w + 1.0) * w / 2.0, (p.y / p.w + 1.0) * h / 2.0))
-        .collect();
-    let twice: f64 = (0..pts.len())
-        .map(|k| pts[k].perp_dot(pts[(k + 1) % pts.len()]))
-        .sum();
-    twice.abs() / 2.0
 }
