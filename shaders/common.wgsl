@@ -34,6 +34,11 @@ struct GpuGlyph {
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<storage, read> glyphs: array<GpuGlyph>;
 
+// E² (the eye in an ellipsoid's parameter space, squared) at or below this counts as "eye
+// inside or on the ellipsoid": the ellipsoid glyphs are culled there, as by the reference
+// (reference::EYE_INSIDE_E2); Gumhold's cylinders then draw on the near plane.
+const EYE_INSIDE_E2: f32 = 1.00001;
+
 fn is_ortho() -> bool {
     return camera.eye.w > 0.5;
 }

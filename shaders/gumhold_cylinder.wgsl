@@ -25,7 +25,6 @@ struct VsOut {
 
 // Bounding ellipsoid of the unit cylinder: √3 along the axis, √(3/2) across.
 const BOUND: vec3<f32> = vec3<f32>(1.7320508, 1.2247449, 1.2247449);
-const EYE_INSIDE_E2: f32 = 1.00001;
 
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {

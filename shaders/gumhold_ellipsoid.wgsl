@@ -24,9 +24,6 @@ struct VsOut {
     @location(10) @interpolate(flat) tz: vec3<f32>,
 }
 
-// E² at or below this counts as "eye inside or on the glyph": the glyph is culled (documented).
-const EYE_INSIDE_E2: f32 = 1.00001;
-
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;

@@ -18,22 +18,22 @@ fn check(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) -> Option
     common::check(name, scene, camera, Method::Sigg, glyph, true)
 }
 
+fn tight(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) {
+    common::check_tight(name, scene, camera, Method::Sigg, glyph);
+}
+
 #[test]
 fn sphere() {
     let scene = scenes::sphere();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("sphere", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("sphere", &a);
-    }
+    tight("sphere", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn rotated_cigar() {
     let scene = scenes::cigar();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("cigar", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("cigar", &a);
-    }
+    tight("cigar", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -41,9 +41,7 @@ fn thin_pancake() {
     // 1 : 1 : 0.01 seen obliquely: the normal varies fastest near the rim.
     let scene = scenes::pancake();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("pancake", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("pancake", &a);
-    }
+    tight("pancake", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -82,9 +80,7 @@ fn glyph_in_the_corner_of_a_wide_view() {
             .map(|i| scene_proxy(&scene, &cam, i, GlyphKind::Ellipsoid))
             .collect::<Vec<_>>()
     );
-    if let Some(a) = check("corner", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("corner", &a);
-    }
+    tight("corner", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -118,9 +114,7 @@ fn box_in_the_corner_of_a_wide_view() {
         panic!("corner glyph should have a box: {proxy:?}");
     };
     assert!(b.lo.x > 0.3 && b.hi.y < -0.3, "not in the corner: {b:?}");
-    if let Some(a) = check("wide corner box", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("wide corner box", &a);
-    }
+    tight("wide corner box", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -166,13 +160,9 @@ fn distant_glyph() {
 #[test]
 fn orthographic_views() {
     let (scene, cam) = scenes::ortho_intersecting();
-    if let Some(a) = check("ortho", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("ortho", &a);
-    }
+    tight("ortho", &scene, &cam, GlyphKind::Ellipsoid);
     let (scene, cam) = scenes::ortho_along_an_eigenvector();
-    if let Some(a) = check("ortho axis", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("ortho axis", &a);
-    }
+    tight("ortho axis", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -198,9 +188,7 @@ fn ellipsoid_crossing_the_camera_plane() {
         scene_proxy(&scene, &cam, 0, GlyphKind::Ellipsoid),
         Proxy::Viewport
     );
-    if let Some(a) = check("crossing", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("crossing", &a);
-    }
+    tight("crossing", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -227,9 +215,7 @@ fn orthographic_camera_plane_inside_glyphs() {
         cam.up = DVec3::Z;
         cam.near = 0.05;
         cam.far = 10.0;
-        if let Some(a) = check("ortho inside", &scene, &cam, glyph) {
-            assert_tight("ortho inside", &a);
-        }
+        tight("ortho inside", &scene, &cam, glyph);
     }
 }
 
@@ -284,11 +270,9 @@ fn eye_inside_a_grid(glyph: GlyphKind) {
     );
     eprintln!("grid {glyph}: {boxes} boxes, {viewport} viewport proxies, {culled} culled");
     assert!(boxes > 0 && viewport > 0 && culled > 0);
-    if let Some(a) = check("grid", &scene, &cam, glyph) {
-        // 125 overlapping glyphs: more silhouette and intersection pixels than a single glyph,
-        // each of which may flip within f32 rounding; the same 0.1 % bounds still hold.
-        assert_tight("grid", &a);
-    }
+    // 125 overlapping glyphs: more silhouette and intersection pixels than a single glyph,
+    // each of which may flip within f32 rounding; the same 0.1 % bounds still hold.
+    tight("grid", &scene, &cam, glyph);
     // The fragment count follows the proxies (boxes, viewport, culled) the CPU twin predicts.
     fragments_and_box_pixels("grid", &scene, &cam, glyph);
 }
@@ -308,11 +292,9 @@ fn cylinders_side_on_end_on_and_oblique() {
     let scene = scenes::cylinders();
     for (name, framing) in scenes::cylinder_framings() {
         let cam = framed(&scene, framing);
-        if let Some(a) = check(name, &scene, &cam, GlyphKind::Cylinder) {
-            // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
-            // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
-            assert_tight(name, &a);
-        }
+        // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
+        // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
+        tight(name, &scene, &cam, GlyphKind::Cylinder);
     }
 }
 
@@ -329,9 +311,7 @@ fn cylinder_seen_end_on_along_its_axis() {
                 ..Framing::default()
             },
         );
-        if let Some(a) = check("end-on", &scene, &cam, GlyphKind::Cylinder) {
-            assert_tight("end-on", &a);
-        }
+        tight("end-on", &scene, &cam, GlyphKind::Cylinder);
     }
 }
 
@@ -345,9 +325,7 @@ fn eye_near_a_cylinder_cap() {
         scene_proxy(&scene, &cam, 0, GlyphKind::Cylinder),
         Proxy::Box(_)
     ));
-    if let Some(a) = check("near cap", &scene, &cam, GlyphKind::Cylinder) {
-        assert_tight("near cap", &a);
-    }
+    tight("near cap", &scene, &cam, GlyphKind::Cylinder);
 }
 
 #[test]
@@ -371,9 +349,7 @@ fn cylinder_crossing_the_camera_plane() {
         scene_proxy(&scene, &cam, 0, GlyphKind::Cylinder),
         Proxy::Viewport
     );
-    if let Some(a) = check("cylinder crossing", &scene, &cam, GlyphKind::Cylinder) {
-        assert_tight("cylinder crossing", &a);
-    }
+    tight("cylinder crossing", &scene, &cam, GlyphKind::Cylinder);
 }
 
 /// Renders `scene` with Sigg's method and returns (fragment invocations, box pixels predicted by

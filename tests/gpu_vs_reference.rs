@@ -15,22 +15,22 @@ fn check(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) -> Option
     common::check(name, scene, camera, Method::Gumhold, glyph, true)
 }
 
+fn tight(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) {
+    common::check_tight(name, scene, camera, Method::Gumhold, glyph);
+}
+
 #[test]
 fn sphere() {
     let scene = scenes::sphere();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("sphere", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("sphere", &a);
-    }
+    tight("sphere", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn rotated_cigar() {
     let scene = scenes::cigar();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("cigar", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("cigar", &a);
-    }
+    tight("cigar", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -38,9 +38,7 @@ fn thin_pancake() {
     // 1 : 1 : 0.01 seen obliquely: the normal varies fastest near the rim.
     let scene = scenes::pancake();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("pancake", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("pancake", &a);
-    }
+    tight("pancake", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -72,25 +70,19 @@ fn glyph_in_the_corner_of_a_wide_view() {
     // A 100° field of view with the glyph near the image corner: strong perspective distortion
     // of the quad, where an orthographic-style bounding box would clip the silhouette.
     let (scene, cam) = scenes::corner_of_a_wide_view();
-    if let Some(a) = check("corner", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("corner", &a);
-    }
+    tight("corner", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn orthographic_view() {
     let (scene, cam) = scenes::ortho_intersecting();
-    if let Some(a) = check("ortho", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("ortho", &a);
-    }
+    tight("ortho", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn orthographic_view_along_an_eigenvector() {
     let (scene, cam) = scenes::ortho_along_an_eigenvector();
-    if let Some(a) = check("ortho axis", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("ortho axis", &a);
-    }
+    tight("ortho axis", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -98,11 +90,9 @@ fn cylinders_side_on_end_on_and_oblique() {
     let scene = scenes::cylinders();
     for (name, framing) in scenes::cylinder_framings() {
         let cam = framed(&scene, framing);
-        if let Some(a) = check(name, &scene, &cam, GlyphKind::Cylinder) {
-            // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
-            // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
-            assert_tight(name, &a);
-        }
+        // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
+        // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
+        tight(name, &scene, &cam, GlyphKind::Cylinder);
     }
 }
 
@@ -119,9 +109,7 @@ fn cylinder_seen_end_on_along_its_axis() {
                 ..Framing::default()
             },
         );
-        if let Some(a) = check("end-on", &scene, &cam, GlyphKind::Cylinder) {
-            assert_tight("end-on", &a);
-        }
+        tight("end-on", &scene, &cam, GlyphKind::Cylinder);
     }
 }
 
@@ -130,7 +118,5 @@ fn eye_near_a_cylinder_cap() {
     // The eye sits 5 % of the half-length above a cap, inside the bounding ellipsoid: the proxy
     // becomes the near plane and the cap fills most of the view.
     let (scene, cam) = scenes::near_a_cap();
-    if let Some(a) = check("near cap", &scene, &cam, GlyphKind::Cylinder) {
-        assert_tight("near cap", &a);
-    }
+    tight("near cap", &scene, &cam, GlyphKind::Cylinder);
 }

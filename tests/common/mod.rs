@@ -106,3 +106,11 @@ pub fn check(
     let req = aux_request(method, glyph, depth_correction);
     check_request(name, scene, camera, &req).map(|(_, a)| a)
 }
+
+/// [`check`] with depth correction, held to [`assert_tight`]'s bounds (skipped without an
+/// adapter).
+pub fn check_tight(name: &str, scene: &Scene, camera: &Camera, method: Method, glyph: GlyphKind) {
+    if let Some(a) = check(name, scene, camera, method, glyph, true) {
+        assert_tight(name, &a);
+    }
+}
