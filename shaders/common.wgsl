@@ -34,6 +34,11 @@ struct GpuGlyph {
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<storage, read> glyphs: array<GpuGlyph>;
 
+// E² (the eye in an ellipsoid's parameter space, squared) at or below this counts as "eye
+// inside or on the ellipsoid": the ellipsoid glyphs are culled there, as by the reference
+// (reference::EYE_INSIDE_E2); Gumhold's cylinders then draw on the near plane.
+const EYE_INSIDE_E2: f32 = 1.00001;
+
 fn is_ortho() -> bool {
     return camera.eye.w > 0.5;
 }
@@ -69,10 +74,16 @@ fn orthonormal_pair(z: vec3<f32>) -> array<vec3<f32>, 2> {
     );
 }
 
-// Corner k (0..3, strip order (-,-), (+,-), (-,+), (+,+)) of the near plane in world space,
-// with its NDC: a proxy that covers the whole viewport, for glyphs the eye is too close to.
+// The corner signs (s_x, s_y) ∈ {−1, 1}² of strip vertex k (0..3, strip order (-,-), (+,-),
+// (-,+), (+,+)).
+fn corner_signs(k: u32) -> vec2<f32> {
+    return vec2<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u));
+}
+
+// Corner k (0..3, strip order as in corner_signs) of the near plane in world space, with its
+// NDC: a proxy that covers the whole viewport, for glyphs the eye is too close to.
 fn near_plane_corner(k: u32) -> vec3<f32> {
-    let ndc = vec2<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u));
+    let ndc = corner_signs(k);
     let h = camera.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
     return h.xyz / h.w;
 }

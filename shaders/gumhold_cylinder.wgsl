@@ -25,7 +25,6 @@ struct VsOut {
 
 // Bounding ellipsoid of the unit cylinder: √3 along the axis, √(3/2) across.
 const BOUND: vec3<f32> = vec3<f32>(1.7320508, 1.2247449, 1.2247449);
-const EYE_INSIDE_E2: f32 = 1.00001;
 
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
@@ -34,8 +33,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
     let rinv = 1.0 / g.radii;
-    let sx = select(-1.0, 1.0, (vi & 1u) != 0u);
-    let sy = select(-1.0, 1.0, (vi & 2u) != 0u);
+    let s = corner_signs(vi);
     // Local parameter space of the cylinder: p~ = diag(1/r) Oᵀ (p − c).
     let e_c = (ot * (camera.eye.xyz - g.centre)) * rinv;
 
@@ -45,7 +43,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         let d_b = (ot * camera.forward.xyz) * rinv / BOUND;
         let z_hat = normalize(d_b);
         let xy = orthonormal_pair(z_hat);
-        v = g.centre + o * ((sx * xy[0] + sy * xy[1]) * BOUND * g.radii);
+        v = g.centre + o * ((s.x * xy[0] + s.y * xy[1]) * BOUND * g.radii);
     } else {
         if abs(e_c.x) <= 1.0 && dot(e_c.yz, e_c.yz) <= 1.0 {
             // Eye inside the glyph: not drawn (as for ellipsoids; the reference agrees).
@@ -58,7 +56,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
             let e = sqrt(e2);
             let z_hat = -e_b / e;
             let xy = orthonormal_pair(z_hat);
-            let vt = e_b / e2 + sqrt((e2 - 1.0) / e2) * (sx * xy[0] + sy * xy[1]);
+            let vt = e_b / e2 + sqrt((e2 - 1.0) / e2) * (s.x * xy[0] + s.y * xy[1]);
             v = g.centre + o * (vt * BOUND * g.radii);
         } else {
             v = near_plane_corner(vi);

@@ -24,9 +24,6 @@ struct VsOut {
     @location(10) @interpolate(flat) tz: vec3<f32>,
 }
 
-// E² at or below this counts as "eye inside or on the glyph": the glyph is culled (documented).
-const EYE_INSIDE_E2: f32 = 1.00001;
-
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
@@ -34,8 +31,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
     let rinv = 1.0 / g.radii;
-    let sx = select(-1.0, 1.0, (vi & 1u) != 0u);
-    let sy = select(-1.0, 1.0, (vi & 2u) != 0u);
+    let s = corner_signs(vi);
 
     var z_hat: vec3<f32>;
     var m_t = vec3<f32>(0.0);
@@ -60,10 +56,10 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         out.u = 1.0 / e;
     }
     let xy = orthonormal_pair(z_hat);
-    let vt_quad = m_t + r_t * (sx * xy[0] + sy * xy[1]);
+    let vt_quad = m_t + r_t * (s.x * xy[0] + s.y * xy[1]);
     let v = g.centre + o * ((ot * vt_quad) * g.radii);
     out.position = camera.view_proj * vec4<f32>(v, 1.0);
-    out.q = vec2<f32>(sx, sy);
+    out.q = s;
     out.vt_quad = vt_quad;
     if is_ortho() {
         out.vt_ray = z_hat;

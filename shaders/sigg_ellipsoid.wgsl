@@ -2,10 +2,6 @@
 // stable parameter-space roots of sigg-quadric.md §4 per fragment. Composed as common.wgsl +
 // sigg.wgsl + this + outputs.wgsl.
 
-// E² at or below this counts as "eye inside or on the glyph": culled, as by Gumhold's shader
-// and the reference (reference::EYE_INSIDE_E2).
-const EYE_INSIDE_E2: f32 = 1.00001;
-
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;

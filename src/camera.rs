@@ -261,23 +261,7 @@ impl Camera {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn load_cases() -> serde_json::Value {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/math/test-vectors.json"
-        ))
-        .expect("shared/math/test-vectors.json beside the repository");
-        serde_json::from_str(&text).unwrap()
-    }
-
-    fn v3(v: &serde_json::Value) -> DVec3 {
-        DVec3::new(
-            v[0].as_f64().unwrap(),
-            v[1].as_f64().unwrap(),
-            v[2].as_f64().unwrap(),
-        )
-    }
+    use crate::test_vectors::{cases, v3};
 
     /// Build the test vector's camera exactly (no framing) at a 1000-pixel-high viewport.
     pub(crate) fn camera_of(case: &serde_json::Value) -> Camera {
@@ -312,8 +296,7 @@ mod tests {
 
     #[test]
     fn matrices_and_rays_match_the_test_vectors() {
-        let all = load_cases();
-        for case in all["cases"].as_array().unwrap() {
+        for case in &cases() {
             let id = case["id"].as_str().unwrap();
             let cam = camera_of(case);
             let e = &case["expected"];

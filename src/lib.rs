@@ -18,5 +18,7 @@ pub mod reference;
 pub mod render;
 pub mod scene;
 pub mod tensor;
+#[cfg(test)]
+pub(crate) mod test_vectors;
 
 pub use error::{LoadError, RenderError};

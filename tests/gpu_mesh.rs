@@ -4,7 +4,8 @@
 
 mod common;
 
-use glam::{DQuat, DVec3};
+use common::scenes::{self, framed};
+use glam::DVec3;
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::metrics::{Accuracy, compare};
 use tensorglyph::reference::ReferenceScene;
@@ -12,27 +13,13 @@ use tensorglyph::render::mesh::mesh_stats;
 use tensorglyph::render::{Frame, FrameRequest, GlyphKind, GpuRenderer, Method};
 use tensorglyph::scene::{GlyphSpec, Scene};
 
+/// A glyph centred where [`scenes::cigar`] is.
 fn spec(axis: [f64; 3], angle: f64, radii: [f64; 3], color: [u8; 4]) -> GlyphSpec {
-    GlyphSpec {
-        centre: DVec3::new(1.0, -2.0, 0.5),
-        rotation: DQuat::from_axis_angle(DVec3::from(axis).normalize(), angle),
-        radii: DVec3::from(radii),
-        color,
-        glyph: 0,
-    }
+    common::spec([1.0, -2.0, 0.5], axis, angle, radii, color)
 }
 
 fn sphere() -> Scene {
     Scene::from_specs(&[spec([0.0, 0.0, 1.0], 0.0, [0.5; 3], [200, 80, 40, 255])])
-}
-
-fn cigar() -> Scene {
-    Scene::from_specs(&[spec(
-        [0.3, -0.5, 0.8],
-        1.1,
-        [2.0, 0.1, 0.1],
-        [255, 0, 0, 255],
-    )])
 }
 
 /// Axis along the frame's first column, elliptic cross-section, seen obliquely (caps and side).
@@ -47,10 +34,6 @@ fn cylinder() -> Scene {
 
 fn camera(scene: &Scene) -> Camera {
     framed(scene, Framing::default())
-}
-
-fn framed(scene: &Scene, framing: Framing) -> Camera {
-    Camera::frame(&framing, scene.centre, scene.radius, 256, 192)
 }
 
 /// One frame of `method` and the reference, compared.
@@ -160,7 +143,7 @@ fn sphere_improves_with_level() {
 
 #[test]
 fn rotated_cigar_improves_with_level() {
-    improves_with_level("cigar", &cigar(), GlyphKind::Ellipsoid);
+    improves_with_level("cigar", &scenes::cigar(), GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -175,7 +158,7 @@ fn box_covers_the_glyph() {
     };
     for (name, scene, glyph) in [
         ("sphere", sphere(), GlyphKind::Ellipsoid),
-        ("cigar", cigar(), GlyphKind::Ellipsoid),
+        ("cigar", scenes::cigar(), GlyphKind::Ellipsoid),
         ("cylinder", cylinder(), GlyphKind::Cylinder),
     ] {
         let (_, frame, reference) = check(&gpu, name, &scene, Method::Box, glyph);
@@ -207,7 +190,7 @@ fn orthographic_and_end_on_views() {
     for (name, scene, glyph, framing) in [
         (
             "ortho cigar",
-            cigar(),
+            scenes::cigar(),
             GlyphKind::Ellipsoid,
             Framing {
                 ortho: true,

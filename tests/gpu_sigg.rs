@@ -5,131 +5,60 @@
 
 mod common;
 
-use common::{assert_tight, check_request, spec};
+use common::scenes::{self, framed};
+use common::{assert_tight, aux_request, check_request, spec};
 use glam::DVec3;
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::metrics::Accuracy;
 use tensorglyph::render::sigg_math::{Proxy, scene_proxy};
-use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method};
+use tensorglyph::render::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::Scene;
 
-fn request(glyph: GlyphKind, depth_correction: bool) -> FrameRequest {
-    FrameRequest {
-        method: Method::Sigg,
-        glyph,
-        aux: true,
-        depth_correction,
-        ..FrameRequest::default()
-    }
-}
-
-fn check_full(
-    name: &str,
-    scene: &Scene,
-    camera: &Camera,
-    depth_correction: bool,
-    glyph: GlyphKind,
-) -> Option<(Frame, Accuracy)> {
-    check_request(name, scene, camera, &request(glyph, depth_correction))
-}
-
 fn check(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) -> Option<Accuracy> {
-    check_full(name, scene, camera, true, glyph).map(|(_, a)| a)
+    common::check(name, scene, camera, Method::Sigg, glyph, true)
 }
 
-fn framed(scene: &Scene, framing: Framing) -> Camera {
-    Camera::frame(&framing, scene.centre, scene.radius, 256, 192)
-}
-
-fn sphere_scene() -> Scene {
-    Scene::from_specs(&[spec(
-        [0.0; 3],
-        [0.0, 0.0, 1.0],
-        0.0,
-        [0.5; 3],
-        [200, 80, 40, 255],
-    )])
+fn tight(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) {
+    common::check_tight(name, scene, camera, Method::Sigg, glyph);
 }
 
 #[test]
 fn sphere() {
-    let scene = sphere_scene();
+    let scene = scenes::sphere();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("sphere", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("sphere", &a);
-    }
-}
-
-fn cigar_scene() -> Scene {
-    Scene::from_specs(&[spec(
-        [1.0, -2.0, 0.5],
-        [0.3, -0.5, 0.8],
-        1.1,
-        [2.0, 0.1, 0.1],
-        [255, 0, 0, 255],
-    )])
+    tight("sphere", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn rotated_cigar() {
-    let scene = cigar_scene();
+    let scene = scenes::cigar();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("cigar", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("cigar", &a);
-    }
+    tight("cigar", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn thin_pancake() {
     // 1 : 1 : 0.01 seen obliquely: the normal varies fastest near the rim.
-    let scene = Scene::from_specs(&[spec(
-        [0.0, 0.0, 0.0],
-        [1.0, 0.2, 0.1],
-        0.7,
-        [1.0, 1.0, 0.01],
-        [0, 255, 0, 255],
-    )]);
+    let scene = scenes::pancake();
     let cam = framed(&scene, Framing::default());
-    if let Some(a) = check("pancake", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("pancake", &a);
-    }
-}
-
-/// Two glyphs that cut into each other: only per-pixel depth gets the intersection curve right.
-fn intersecting() -> Scene {
-    Scene::from_specs(&[
-        spec(
-            [0.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0],
-            0.3,
-            [1.0, 0.4, 0.4],
-            [255, 0, 0, 255],
-        ),
-        spec(
-            [0.5, 0.0, 0.1],
-            [1.0, 0.0, 0.0],
-            0.8,
-            [0.3, 0.9, 0.5],
-            [0, 0, 255, 255],
-        ),
-    ])
+    tight("pancake", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
 fn intersecting_glyphs_need_depth_correction() {
-    let scene = intersecting();
+    let scene = scenes::intersecting();
     let cam = framed(&scene, Framing::default());
-    let Some((_, with)) = check_full("intersecting", &scene, &cam, true, GlyphKind::Ellipsoid)
-    else {
+    let Some(with) = check("intersecting", &scene, &cam, GlyphKind::Ellipsoid) else {
         return;
     };
     assert_tight("intersecting", &with);
-    let (_, without) = check_full(
+    let without = common::check(
         "intersecting flat",
         &scene,
         &cam,
-        false,
+        Method::Sigg,
         GlyphKind::Ellipsoid,
+        false,
     )
     .unwrap();
     // Without correction each box sits at its centre's depth, so the later-drawn or nearer-
@@ -144,38 +73,14 @@ fn intersecting_glyphs_need_depth_correction() {
 fn glyph_in_the_corner_of_a_wide_view() {
     // A 100° field of view with the glyph near the image corner: strong perspective distortion,
     // where a box from the projected bounding sphere's centre would clip the silhouette.
-    let scene = Scene::from_specs(&[
-        spec([0.0; 3], [0.0, 0.0, 1.0], 0.0, [0.05; 3], [90, 90, 90, 255]),
-        spec(
-            [2.2, -1.6, 0.3],
-            [0.4, 1.0, 0.0],
-            0.9,
-            [0.6, 0.25, 0.15],
-            [255, 0, 255, 255],
-        ),
-    ]);
-    let mut cam = Camera::frame(
-        &Framing {
-            view: ViewPreset::NegZ,
-            fov_deg: 100.0,
-            ..Framing::default()
-        },
-        DVec3::ZERO,
-        0.5,
-        256,
-        192,
-    );
-    cam.near = 0.05;
-    cam.far = 20.0;
+    let (scene, cam) = scenes::corner_of_a_wide_view();
     eprintln!(
         "corner proxies: {:?}",
         (0..2)
             .map(|i| scene_proxy(&scene, &cam, i, GlyphKind::Ellipsoid))
             .collect::<Vec<_>>()
     );
-    if let Some(a) = check("corner", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("corner", &a);
-    }
+    tight("corner", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -209,9 +114,7 @@ fn box_in_the_corner_of_a_wide_view() {
         panic!("corner glyph should have a box: {proxy:?}");
     };
     assert!(b.lo.x > 0.3 && b.hi.y < -0.3, "not in the corner: {b:?}");
-    if let Some(a) = check("wide corner box", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("wide corner box", &a);
-    }
+    tight("wide corner box", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -246,7 +149,7 @@ fn distant_glyph() {
     // For comparison (printed): Gumhold's path on the same view.
     let gumhold = FrameRequest {
         method: Method::Gumhold,
-        ..request(GlyphKind::Ellipsoid, true)
+        ..aux_request(Method::Sigg, GlyphKind::Ellipsoid, true)
     };
     check_request("distant", &scene, &cam, &gumhold);
     // The aux target stores view z in f32: at |z| = 1000 one ulp is 6.1e-5 glyph sizes, just
@@ -256,36 +159,10 @@ fn distant_glyph() {
 
 #[test]
 fn orthographic_views() {
-    let scene = intersecting();
-    let cam = framed(
-        &scene,
-        Framing {
-            ortho: true,
-            azimuth: 30.0,
-            ..Framing::default()
-        },
-    );
-    if let Some(a) = check("ortho", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("ortho", &a);
-    }
-    let scene = Scene::from_specs(&[spec(
-        [0.0; 3],
-        [0.0, 0.0, 1.0],
-        0.0,
-        [1.0, 0.5, 0.2],
-        [200, 200, 0, 255],
-    )]);
-    let cam = framed(
-        &scene,
-        Framing {
-            ortho: true,
-            view: ViewPreset::PosZ,
-            ..Framing::default()
-        },
-    );
-    if let Some(a) = check("ortho axis", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("ortho axis", &a);
-    }
+    let (scene, cam) = scenes::ortho_intersecting();
+    tight("ortho", &scene, &cam, GlyphKind::Ellipsoid);
+    let (scene, cam) = scenes::ortho_along_an_eigenvector();
+    tight("ortho axis", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -311,9 +188,7 @@ fn ellipsoid_crossing_the_camera_plane() {
         scene_proxy(&scene, &cam, 0, GlyphKind::Ellipsoid),
         Proxy::Viewport
     );
-    if let Some(a) = check("crossing", &scene, &cam, GlyphKind::Ellipsoid) {
-        assert_tight("crossing", &a);
-    }
+    tight("crossing", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -340,9 +215,7 @@ fn orthographic_camera_plane_inside_glyphs() {
         cam.up = DVec3::Z;
         cam.near = 0.05;
         cam.far = 10.0;
-        if let Some(a) = check("ortho inside", &scene, &cam, glyph) {
-            assert_tight("ortho inside", &a);
-        }
+        tight("ortho inside", &scene, &cam, glyph);
     }
 }
 
@@ -397,11 +270,9 @@ fn eye_inside_a_grid(glyph: GlyphKind) {
     );
     eprintln!("grid {glyph}: {boxes} boxes, {viewport} viewport proxies, {culled} culled");
     assert!(boxes > 0 && viewport > 0 && culled > 0);
-    if let Some(a) = check("grid", &scene, &cam, glyph) {
-        // 125 overlapping glyphs: more silhouette and intersection pixels than a single glyph,
-        // each of which may flip within f32 rounding; the same 0.1 % bounds still hold.
-        assert_tight("grid", &a);
-    }
+    // 125 overlapping glyphs: more silhouette and intersection pixels than a single glyph,
+    // each of which may flip within f32 rounding; the same 0.1 % bounds still hold.
+    tight("grid", &scene, &cam, glyph);
     // The fragment count follows the proxies (boxes, viewport, culled) the CPU twin predicts.
     fragments_and_box_pixels("grid", &scene, &cam, glyph);
 }
@@ -416,66 +287,21 @@ fn eye_inside_a_grid_of_cylinders() {
     eye_inside_a_grid(GlyphKind::Cylinder);
 }
 
-/// Cylinder glyphs: axis along the frame's first column.
-fn cylinder_scene() -> Scene {
-    Scene::from_specs(&[
-        spec(
-            [0.0, 0.0, 0.0],
-            [0.2, 0.9, 0.3],
-            0.8,
-            [1.0, 0.35, 0.2],
-            [255, 120, 0, 255],
-        ),
-        spec(
-            [0.9, 0.6, -0.2],
-            [1.0, 0.0, 0.0],
-            1.3,
-            [0.5, 0.3, 0.3],
-            [0, 120, 255, 255],
-        ),
-    ])
-}
-
 #[test]
 fn cylinders_side_on_end_on_and_oblique() {
-    let scene = cylinder_scene();
-    for (name, framing) in [
-        ("oblique", Framing::default()),
-        (
-            "side",
-            Framing {
-                view: ViewPreset::PosY,
-                ..Framing::default()
-            },
-        ),
-        (
-            "ortho",
-            Framing {
-                ortho: true,
-                azimuth: 40.0,
-                ..Framing::default()
-            },
-        ),
-    ] {
+    let scene = scenes::cylinders();
+    for (name, framing) in scenes::cylinder_framings() {
         let cam = framed(&scene, framing);
-        if let Some(a) = check(name, &scene, &cam, GlyphKind::Cylinder) {
-            // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
-            // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
-            assert_tight(name, &a);
-        }
+        // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
+        // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
+        tight(name, &scene, &cam, GlyphKind::Cylinder);
     }
 }
 
 #[test]
 fn cylinder_seen_end_on_along_its_axis() {
     // Axis exactly along the view direction: the side degenerates to the rim; only the cap shows.
-    let scene = Scene::from_specs(&[spec(
-        [0.0; 3],
-        [0.0, 1.0, 0.0],
-        -std::f64::consts::FRAC_PI_2,
-        [1.0, 0.4, 0.25],
-        [200, 0, 200, 255],
-    )]);
+    let scene = scenes::end_on_cylinder();
     for ortho in [false, true] {
         let cam = framed(
             &scene,
@@ -485,9 +311,7 @@ fn cylinder_seen_end_on_along_its_axis() {
                 ..Framing::default()
             },
         );
-        if let Some(a) = check("end-on", &scene, &cam, GlyphKind::Cylinder) {
-            assert_tight("end-on", &a);
-        }
+        tight("end-on", &scene, &cam, GlyphKind::Cylinder);
     }
 }
 
@@ -496,26 +320,12 @@ fn eye_near_a_cylinder_cap() {
     // The eye sits 5 % of the half-length above a cap, just outside the glyph. Both discs lie
     // in front of the camera plane, so eq. 5 still gives a (huge, viewport-clamped) box; the
     // cap fills most of the view.
-    let scene = Scene::from_specs(&[spec(
-        [0.0; 3],
-        [0.0, 0.0, 1.0],
-        0.0,
-        [1.0, 0.6, 0.4],
-        [0, 160, 80, 255],
-    )]);
-    let mut cam = Camera::frame(&Framing::default(), DVec3::ZERO, 1.0, 256, 192);
-    cam.eye = DVec3::new(1.05, 0.1, 0.05);
-    cam.target = DVec3::new(0.0, 0.05, 0.0);
-    cam.up = DVec3::Z;
-    cam.near = 1e-3;
-    cam.far = 10.0;
+    let (scene, cam) = scenes::near_a_cap();
     assert!(matches!(
         scene_proxy(&scene, &cam, 0, GlyphKind::Cylinder),
         Proxy::Box(_)
     ));
-    if let Some(a) = check("near cap", &scene, &cam, GlyphKind::Cylinder) {
-        assert_tight("near cap", &a);
-    }
+    tight("near cap", &scene, &cam, GlyphKind::Cylinder);
 }
 
 #[test]
@@ -539,9 +349,7 @@ fn cylinder_crossing_the_camera_plane() {
         scene_proxy(&scene, &cam, 0, GlyphKind::Cylinder),
         Proxy::Viewport
     );
-    if let Some(a) = check("cylinder crossing", &scene, &cam, GlyphKind::Cylinder) {
-        assert_tight("cylinder crossing", &a);
-    }
+    tight("cylinder crossing", &scene, &cam, GlyphKind::Cylinder);
 }
 
 /// Renders `scene` with Sigg's method and returns (fragment invocations, box pixels predicted by
@@ -597,20 +405,14 @@ fn fragments_and_box_pixels(
 fn fragments_match_the_predicted_box() {
     // Small boxes (100-160 px across at 256x192): the count follows the tile model; tile
     // overhead (border + diagonal tiles) is 8-12 % of the box here, so no 10 % check.
-    let scene = cigar_scene();
+    let scene = scenes::cigar();
     let cam = framed(&scene, Framing::default());
     fragments_and_box_pixels("cigar", &scene, &cam, GlyphKind::Ellipsoid);
-    let scene = Scene::from_specs(&[spec(
-        [0.0, 0.0, 0.0],
-        [0.2, 0.9, 0.3],
-        0.8,
-        [1.0, 0.35, 0.2],
-        [255, 120, 0, 255],
-    )]);
+    let scene = scenes::cylinder();
     let cam = framed(&scene, Framing::default());
     fragments_and_box_pixels("cylinder", &scene, &cam, GlyphKind::Cylinder);
     // One glyph whose box is ~220 px across (512x384): fragments within 10 % of its pixels.
-    let scene = sphere_scene();
+    let scene = scenes::sphere();
     let cam = Camera::frame(&Framing::default(), scene.centre, scene.radius, 512, 384);
     if let Some((fragments, pixels)) =
         fragments_and_box_pixels("sphere", &scene, &cam, GlyphKind::Ellipsoid)

@@ -129,29 +129,7 @@ impl Cylinder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use serde_json::Value;
-
-    fn v3(v: &Value) -> DVec3 {
-        DVec3::new(
-            v[0].as_f64().unwrap(),
-            v[1].as_f64().unwrap(),
-            v[2].as_f64().unwrap(),
-        )
-    }
-
-    fn m3(v: &Value) -> DMat3 {
-        DMat3::from_cols(v3(&v[0]), v3(&v[1]), v3(&v[2])).transpose()
-    }
-
-    fn cases() -> Vec<Value> {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/math/test-vectors.json"
-        ))
-        .unwrap();
-        let all: Value = serde_json::from_str(&text).unwrap();
-        all["cases"].as_array().unwrap().clone()
-    }
+    use crate::test_vectors::{cases, m3, v3};
 
     #[test]
     fn ellipsoid_hits_match_the_test_vectors() {

@@ -5,12 +5,10 @@
 use crate::render::context::GpuContext;
 use crate::render::headless::Drawer;
 use crate::render::method::GlyphKind;
-use crate::render::pipeline::{Variant, variant_pipelines};
+use crate::render::pipeline::{StripRenderer, Variant};
 use crate::render::shaders::ShaderSource;
 
-pub struct GumholdRenderer {
-    pipelines: Vec<wgpu::RenderPipeline>,
-}
+pub struct GumholdRenderer(StripRenderer);
 
 impl GumholdRenderer {
     pub fn new(ctx: &GpuContext, layout: &wgpu::PipelineLayout, glyph: GlyphKind) -> Self {
@@ -18,20 +16,12 @@ impl GumholdRenderer {
             GlyphKind::Ellipsoid => ShaderSource::GumholdEllipsoid,
             GlyphKind::Cylinder => ShaderSource::GumholdCylinder,
         };
-        Self {
-            pipelines: variant_pipelines(
-                ctx,
-                layout,
-                source,
-                wgpu::PrimitiveTopology::TriangleStrip,
-            ),
-        }
+        Self(StripRenderer::new(ctx, layout, source))
     }
 }
 
 impl Drawer for GumholdRenderer {
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
-        pass.set_pipeline(&self.pipelines[variant.index()]);
-        pass.draw(0..4, 0..instances);
+        self.0.draw(pass, variant, instances);
     }
 }

@@ -266,29 +266,7 @@ pub fn proxy_pixels(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use serde_json::Value;
-
-    fn v3(v: &Value) -> DVec3 {
-        DVec3::new(
-            v[0].as_f64().unwrap(),
-            v[1].as_f64().unwrap(),
-            v[2].as_f64().unwrap(),
-        )
-    }
-
-    fn m3(v: &Value) -> DMat3 {
-        DMat3::from_cols(v3(&v[0]), v3(&v[1]), v3(&v[2])).transpose()
-    }
-
-    fn m4(v: &Value) -> DMat4 {
-        let a: Vec<f64> = v
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect();
-        DMat4::from_cols_slice(&a)
-    }
+    use crate::test_vectors::{cases, m3, m4, v3};
 
     fn close(a: DVec3, b: DVec3, tol: f64, what: &str) {
         assert!((a - b).length() <= tol, "{what}: {a} vs {b}");
@@ -298,14 +276,8 @@ mod tests {
     /// set-up, corners (world and NDC), the pixel's q, κ, hit point, normal and depth.
     #[test]
     fn shader_math_matches_the_test_vectors() {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/math/test-vectors.json"
-        ))
-        .unwrap();
-        let all: Value = serde_json::from_str(&text).unwrap();
         let mut checked = 0;
-        for case in all["cases"].as_array().unwrap() {
+        for case in &cases() {
             if case["kind"] != "ellipsoid" {
                 continue;
             }

@@ -195,3 +195,33 @@ pub fn variant_pipelines(
     }
     pipelines.into_iter().flatten().collect()
 }
+
+/// The ray casters' pipelines (one per output variant) for one shader: each draws a 4-vertex
+/// strip per instance (glyph) with no vertex buffer, the shader placing the proxy's corners.
+pub struct StripRenderer {
+    pipelines: Vec<wgpu::RenderPipeline>,
+}
+
+impl StripRenderer {
+    pub fn new(
+        ctx: &GpuContext,
+        layout: &wgpu::PipelineLayout,
+        source: crate::render::shaders::ShaderSource,
+    ) -> Self {
+        Self {
+            pipelines: variant_pipelines(
+                ctx,
+                layout,
+                source,
+                wgpu::PrimitiveTopology::TriangleStrip,
+            ),
+        }
+    }
+}
+
+impl crate::render::headless::Drawer for StripRenderer {
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
+        pass.set_pipeline(&self.pipelines[variant.index()]);
+        pass.draw(0..4, 0..instances);
+    }
+}

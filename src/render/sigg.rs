@@ -7,12 +7,10 @@
 use crate::render::context::GpuContext;
 use crate::render::headless::Drawer;
 use crate::render::method::GlyphKind;
-use crate::render::pipeline::{Variant, variant_pipelines};
+use crate::render::pipeline::{StripRenderer, Variant};
 use crate::render::shaders::ShaderSource;
 
-pub struct SiggRenderer {
-    pipelines: Vec<wgpu::RenderPipeline>,
-}
+pub struct SiggRenderer(StripRenderer);
 
 impl SiggRenderer {
     pub fn new(ctx: &GpuContext, layout: &wgpu::PipelineLayout, glyph: GlyphKind) -> Self {
@@ -20,20 +18,12 @@ impl SiggRenderer {
             GlyphKind::Ellipsoid => ShaderSource::SiggEllipsoid,
             GlyphKind::Cylinder => ShaderSource::SiggCylinder,
         };
-        Self {
-            pipelines: variant_pipelines(
-                ctx,
-                layout,
-                source,
-                wgpu::PrimitiveTopology::TriangleStrip,
-            ),
-        }
+        Self(StripRenderer::new(ctx, layout, source))
     }
 }
 
 impl Drawer for SiggRenderer {
     fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
-        pass.set_pipeline(&self.pipelines[variant.index()]);
-        pass.draw(0..4, 0..instances);
+        self.0.draw(pass, variant, instances);
     }
 }

@@ -290,25 +290,8 @@ pub fn scene_proxy(scene: &Scene, camera: &Camera, i: usize, kind: GlyphKind) ->
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_vectors::{cases, m4, v3};
     use serde_json::Value;
-
-    fn v3(v: &Value) -> DVec3 {
-        DVec3::new(
-            v[0].as_f64().unwrap(),
-            v[1].as_f64().unwrap(),
-            v[2].as_f64().unwrap(),
-        )
-    }
-
-    fn m4(v: &Value) -> DMat4 {
-        let a: Vec<f64> = v
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect();
-        DMat4::from_cols_slice(&a)
-    }
 
     fn f(v: &Value) -> f64 {
         v.as_f64().unwrap()
@@ -333,14 +316,8 @@ mod tests {
     /// Every ellipsoid and cylinder case: box, centre, r4ᵀDr4, cylinder cap boxes (1e-9).
     #[test]
     fn boxes_match_the_test_vectors() {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shared/math/test-vectors.json"
-        ))
-        .unwrap();
-        let all: Value = serde_json::from_str(&text).unwrap();
         let mut checked = 0;
-        for case in all["cases"].as_array().unwrap() {
+        for case in &cases() {
             let id = case["id"].as_str().unwrap();
             let e = &case["expected"];
             let s = &e["sigg"];

@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod scenes;
+
 use tensorglyph::render::{GpuContext, GpuRenderer};
 
 /// The GPU renderer, or `None` (skip) when no adapter exists. Under CI a missing adapter fails:
@@ -22,7 +24,7 @@ use glam::{DQuat, DVec3};
 use tensorglyph::camera::Camera;
 use tensorglyph::metrics::{Accuracy, compare};
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::render::{Frame, FrameRequest};
+use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::{GlyphSpec, Scene};
 
 /// A glyph from its world centre, rotation (axis, angle), radii and colour.
@@ -79,4 +81,36 @@ pub fn assert_tight(name: &str, a: &Accuracy) {
     assert!(a.depth_err_rel_p99 <= 1e-4, "{name}: depth {a:?}");
     assert!(a.normal_err_deg_p99 <= 0.1, "{name}: normal {a:?}");
     assert!(a.color_psnr_db >= 40.0, "{name}: colour {a:?}");
+}
+
+/// A request for `method` and `glyph` with aux data (as [`check_request`] needs).
+pub fn aux_request(method: Method, glyph: GlyphKind, depth_correction: bool) -> FrameRequest {
+    FrameRequest {
+        method,
+        glyph,
+        aux: true,
+        depth_correction,
+        ..FrameRequest::default()
+    }
+}
+
+/// [`check_request`] for `method` and `glyph`: the accuracy only.
+pub fn check(
+    name: &str,
+    scene: &Scene,
+    camera: &Camera,
+    method: Method,
+    glyph: GlyphKind,
+    depth_correction: bool,
+) -> Option<Accuracy> {
+    let req = aux_request(method, glyph, depth_correction);
+    check_request(name, scene, camera, &req).map(|(_, a)| a)
+}
+
+/// [`check`] with depth correction, held to [`assert_tight`]'s bounds (skipped without an
+/// adapter).
+pub fn check_tight(name: &str, scene: &Scene, camera: &Camera, method: Method, glyph: GlyphKind) {
+    if let Some(a) = check(name, scene, camera, method, glyph, true) {
+        assert_tight(name, &a);
+    }
 }
