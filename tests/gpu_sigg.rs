@@ -306,7 +306,7 @@ fn cylinder_seen_end_on_along_its_axis() {
         let cam = framed(
             &scene,
             Framing {
-                view: ViewPreset::NegX,
+                view: ViewPreset::NegZ,
                 ortho,
                 ..Framing::default()
             },
