@@ -59,6 +59,15 @@ impl GlyphGeometry {
         DVec3::new(t.row(0).length(), t.row(1).length(), t.row(2).length())
     }
 
+    /// Half-extents of a box holding the glyph drawn as an ellipsoid or as a capped cylinder
+    /// (axis = first column): the cylinder's box, which contains the ellipsoid's.
+    pub fn glyph_half_extents(&self) -> DVec3 {
+        let a = self.frame.x_axis * self.radii.x;
+        let u = self.frame.y_axis * self.radii.y;
+        let v = self.frame.z_axis * self.radii.z;
+        a.abs() + DVec3::new(u.x.hypot(v.x), u.y.hypot(v.y), u.z.hypot(v.z))
+    }
+
     pub fn max_radius(&self) -> f64 {
         self.radii.max_element()
     }
@@ -119,13 +128,14 @@ impl Scene {
         Self::from_instances(origin, instances)
     }
 
-    /// Wrap ready instances; computes the bounding sphere.
+    /// Wrap ready instances; computes the bounding sphere (holding the glyphs as ellipsoids or
+    /// as cylinders, so framing and the far plane never cut a glyph).
     pub fn from_instances(origin: DVec3, instances: Vec<GpuGlyph>) -> Self {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for g in &instances {
             let geo = GlyphGeometry::of(g);
-            let h = geo.half_extents();
+            let h = geo.glyph_half_extents();
             lo = lo.min(geo.centre - h);
             hi = hi.max(geo.centre + h);
         }

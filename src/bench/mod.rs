@@ -111,6 +111,8 @@ pub struct Row {
     /// Fragments the method's proxies should shade (Gumhold: the quads' pixel area; Sigg: the
     /// boxes' pixels), where a model exists.
     pub predicted_fragments: Option<f64>,
+    /// The same under lavapipe's counting (16 per 4x4 tile a triangle touches).
+    pub predicted_tile_fragments: Option<f64>,
     pub accuracy: Accuracy,
     /// Empty when measured; else why not.
     pub skipped: String,
@@ -201,7 +203,8 @@ pub fn run(
                 Ok(f) => {
                     st.accuracy = compare(&f, reference, &view.scene);
                     st.covered = f.covered_pixels();
-                    st.predicted = predicted_fragments(&view.scene, &view.camera, cfg);
+                    (st.predicted, st.predicted_tiles) =
+                        predicted_fragments(&view.scene, &view.camera, cfg).unzip();
                     cost.record(cfg, f.median_ms());
                     if f.median_ms() > opts.budget_s * 1e3 {
                         st.skipped = format!("over budget: {:.1} s per frame", f.median_ms() / 1e3);
@@ -246,29 +249,37 @@ pub fn run(
     rows
 }
 
-/// What the bounding proxies of Gumhold's and Sigg's methods predict for the fragment count:
-/// every proxy pixel is shaded (writing depth turns early depth rejection off).
-fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<f64> {
+/// What the bounding proxies of Gumhold's and Sigg's methods predict for the fragment count
+/// (every proxy pixel is shaded: writing depth turns early depth rejection off): (pixel area,
+/// lavapipe's 4x4-tile count).
+fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(f64, f64)> {
+    use crate::render::gumhold_math::{proxy_shape, tile_invocations};
     use rayon::prelude::*;
+    let (w, h) = (camera.width, camera.height);
     let n = scene.instances.len();
-    match cfg.method {
-        Method::Gumhold => Some(
-            (0..n)
-                .into_par_iter()
-                .map(|i| crate::render::gumhold_math::proxy_pixels(scene, camera, i, cfg.glyph))
-                .sum(),
-        ),
-        Method::Sigg => Some(
-            (0..n)
-                .into_par_iter()
-                .map(|i| {
-                    crate::render::sigg_math::scene_proxy(scene, camera, i, cfg.glyph)
-                        .pixels(camera.width, camera.height) as f64
-                })
-                .sum(),
-        ),
-        _ => None,
-    }
+    let per_glyph: Box<dyn Fn(usize) -> (f64, f64) + Sync> = match cfg.method {
+        Method::Gumhold => Box::new(|i| {
+            let p = proxy_shape(scene, camera, i, cfg.glyph);
+            (
+                p.area(w, h),
+                tile_invocations(&p.triangles(w, h), w, h, 4) as f64,
+            )
+        }),
+        Method::Sigg => Box::new(|i| {
+            let p = crate::render::sigg_math::scene_proxy(scene, camera, i, cfg.glyph);
+            (
+                p.pixels(w, h) as f64,
+                p.strip_tile_invocations(w, h, 4) as f64,
+            )
+        }),
+        _ => return None,
+    };
+    Some(
+        (0..n)
+            .into_par_iter()
+            .map(|i| per_glyph(i))
+            .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1)),
+    )
 }
 
 fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
@@ -287,6 +298,7 @@ fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
         bytes_per_glyph: GPU_GLYPH_SIZE,
         covered_pixels: f.covered_pixels(),
         predicted_fragments: None,
+        predicted_tile_fragments: None,
         // The reference is the truth it is compared with.
         accuracy: Accuracy {
             color_psnr_db: 99.0,
@@ -339,6 +351,7 @@ struct State {
     accuracy: Accuracy,
     covered: usize,
     predicted: Option<f64>,
+    predicted_tiles: Option<f64>,
     skipped: String,
 }
 
@@ -368,6 +381,7 @@ impl State {
             bytes_per_glyph: GPU_GLYPH_SIZE,
             covered_pixels: self.covered,
             predicted_fragments: self.predicted,
+            predicted_tile_fragments: self.predicted_tiles,
             accuracy: self.accuracy,
             skipped: self.skipped,
         }

@@ -245,11 +245,16 @@ pub fn findings(rows: &[Row]) -> String {
                 else {
                     continue;
                 };
-                if let (Some(f), Some(p)) = (r.fragments, r.predicted_fragments) {
+                if let (Some(f), Some(p), Some(pt)) = (
+                    r.fragments,
+                    r.predicted_fragments,
+                    r.predicted_tile_fragments,
+                ) {
                     let _ = writeln!(
                         out,
-                        "- {method}, {view} view: {f} fragment-shader invocations against {p:.0} predicted by its proxies' pixel area (ratio {:.3}; lavapipe counts whole 4x4 tiles per triangle, which adds the tiles on proxy edges), {:.2} per covered pixel (overdraw of hidden glyphs included).",
+                        "- {method}, {view} view: {f} fragment-shader invocations; its proxies cover {p:.0} pixels (measured/predicted {:.3}), and counted as lavapipe counts (16 per 4x4 tile a triangle touches) they predict {pt:.0} (measured/predicted {:.3}). Per covered pixel: {:.2} (overdraw of hidden glyphs included).",
                         f as f64 / p,
+                        f as f64 / pt,
                         f as f64 / r.covered_pixels.max(1) as f64
                     );
                 }
@@ -282,6 +287,7 @@ mod tests {
             bytes_per_glyph: 48,
             covered_pixels: 800,
             predicted_fragments: None,
+            predicted_tile_fragments: None,
             accuracy: Accuracy::default(),
             skipped: String::new(),
         };

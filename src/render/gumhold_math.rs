@@ -181,16 +181,147 @@ pub fn fragment(
     })
 }
 
-/// Pixels (continuous area, clipped to the viewport) of the proxy Gumhold's vertex stage draws
-/// for instance `i`: the fragments it shades, since writing depth disables early rejection.
-/// Ellipsoids use their own quad, cylinders the quad of their bounding ellipsoid (√3 along the
-/// axis, √(3/2) across) or the whole viewport when the eye is inside that ellipsoid.
-pub fn proxy_pixels(
+/// The proxy Gumhold's vertex stage draws for an instance, in pixel coordinates.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ProxyShape {
+    /// Not drawn (eye inside the glyph, or wholly clipped).
+    None,
+    /// The near-plane proxy: the whole viewport.
+    Viewport,
+    /// The quad's corners in strip order (−,−), (+,−), (−,+), (+,+), all in front of the eye.
+    Quad([DVec2; 4]),
+    /// The quad clipped by the view volume (a convex polygon).
+    Clipped(Vec<DVec2>),
+}
+
+impl ProxyShape {
+    /// Continuous pixel area inside the viewport.
+    pub fn area(&self, width: u32, height: u32) -> f64 {
+        let shoelace = |p: &[DVec2]| {
+            (0..p.len())
+                .map(|k| p[k].perp_dot(p[(k + 1) % p.len()]))
+                .sum::<f64>()
+                .abs()
+                / 2.0
+        };
+        match self {
+            ProxyShape::None => 0.0,
+            ProxyShape::Viewport => f64::from(width) * f64::from(height),
+            ProxyShape::Quad(q) => {
+                shoelace(&clip_to_viewport(&[q[0], q[1], q[3], q[2]], width, height))
+            }
+            ProxyShape::Clipped(p) => shoelace(&clip_to_viewport(p, width, height)),
+        }
+    }
+
+    /// The screen triangles the rasteriser gets: the strip's two, or a fan of a clipped polygon.
+    pub fn triangles(&self, width: u32, height: u32) -> Vec<[DVec2; 3]> {
+        let (w, h) = (f64::from(width), f64::from(height));
+        match self {
+            ProxyShape::None => vec![],
+            ProxyShape::Viewport => {
+                let c = [
+                    DVec2::ZERO,
+                    DVec2::new(w, 0.0),
+                    DVec2::new(0.0, h),
+                    DVec2::new(w, h),
+                ];
+                vec![[c[0], c[1], c[2]], [c[1], c[2], c[3]]]
+            }
+            ProxyShape::Quad(q) => vec![[q[0], q[1], q[2]], [q[1], q[2], q[3]]],
+            ProxyShape::Clipped(p) => (1..p.len().saturating_sub(1))
+                .map(|k| [p[0], p[k], p[k + 1]])
+                .collect(),
+        }
+    }
+}
+
+/// A convex polygon clipped to the pixel rectangle [0, w] x [0, h].
+fn clip_to_viewport(poly: &[DVec2], width: u32, height: u32) -> Vec<DVec2> {
+    let (w, h) = (f64::from(width), f64::from(height));
+    let planes: [&dyn Fn(DVec2) -> f64; 4] = [&|p| p.x, &|p| w - p.x, &|p| p.y, &|p| h - p.y];
+    let mut poly = poly.to_vec();
+    for plane in planes {
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (da, db) = (plane(a), plane(b));
+            if da >= 0.0 {
+                out.push(a);
+            }
+            if (da >= 0.0) != (db >= 0.0) {
+                out.push(a + (b - a) * (da / (da - db)));
+            }
+        }
+        poly = out;
+    }
+    poly
+}
+
+/// Fragment-shader invocations a rasteriser that shades whole `block` x `block` tiles reports
+/// (llvmpipe/lavapipe: 4x4, every lane counted): `block²` per tile holding a covered pixel
+/// centre, per triangle.
+pub fn tile_invocations(tris: &[[DVec2; 3]], width: u32, height: u32, block: u32) -> u64 {
+    let mut total = 0u64;
+    let mut tiles: Vec<(u32, u32)> = Vec::new();
+    for t in tris {
+        let e = |a: DVec2, b: DVec2, p: DVec2| (b - a).perp_dot(p - a);
+        let area = e(t[0], t[1], t[2]);
+        if area == 0.0 || !area.is_finite() {
+            continue;
+        }
+        let lo = t[0].min(t[1]).min(t[2]).max(DVec2::ZERO);
+        let hi = t[0]
+            .max(t[1])
+            .max(t[2])
+            .min(DVec2::new(f64::from(width), f64::from(height)));
+        tiles.clear();
+        let (i0, i1) = (
+            (lo.x - 0.5).ceil().max(0.0) as u32,
+            (hi.x - 0.5).floor() as i64,
+        );
+        let (j0, j1) = (
+            (lo.y - 0.5).ceil().max(0.0) as u32,
+            (hi.y - 0.5).floor() as i64,
+        );
+        for j in j0..=(j1.max(-1) as u32).min(height.saturating_sub(1)) {
+            if i64::from(j) > j1 {
+                break;
+            }
+            for i in i0..=(i1.max(-1) as u32).min(width.saturating_sub(1)) {
+                if i64::from(i) > i1 {
+                    break;
+                }
+                let p = DVec2::new(f64::from(i) + 0.5, f64::from(j) + 0.5);
+                let (a, b, c) = (e(t[1], t[2], p), e(t[2], t[0], p), e(t[0], t[1], p));
+                let inside = if area > 0.0 {
+                    a >= 0.0 && b >= 0.0 && c >= 0.0
+                } else {
+                    a <= 0.0 && b <= 0.0 && c <= 0.0
+                };
+                if inside {
+                    let tile = (i / block, j / block);
+                    if !tiles.contains(&tile) {
+                        tiles.push(tile);
+                    }
+                }
+            }
+        }
+        total += tiles.len() as u64 * u64::from(block * block);
+    }
+    total
+}
+
+/// The proxy Gumhold's vertex stage draws for instance `i` (the fragments it shades, since
+/// writing depth disables early rejection). Ellipsoids use their own quad, cylinders the quad
+/// of their bounding ellipsoid (√3 along the axis, √(3/2) across) or the whole viewport when
+/// the eye is inside that ellipsoid.
+pub fn proxy_shape(
     scene: &crate::scene::Scene,
     camera: &crate::camera::Camera,
     i: usize,
     glyph: crate::render::GlyphKind,
-) -> f64 {
+) -> ProxyShape {
     use crate::render::GlyphKind;
     let geo = scene.geometry(i);
     let eye = camera.eye - scene.origin;
@@ -203,34 +334,61 @@ pub fn proxy_pixels(
                 && local.x.abs() <= 1.0
                 && local.y * local.y + local.z * local.z <= 1.0
             {
-                return 0.0;
+                return ProxyShape::None;
             }
             geo.radii * DVec3::new(3f64.sqrt(), 1.5f64.sqrt(), 1.5f64.sqrt())
         }
     };
-    let t = geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose();
-    let t_inv = geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose();
+    // The ellipsoid shader works with the symmetric T; the cylinder shader in the glyph's local
+    // frame (A = O diag(r), so its quad is a different, equally valid square).
+    let (t, t_inv) = match glyph {
+        GlyphKind::Ellipsoid => (
+            geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose(),
+            geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
+        ),
+        GlyphKind::Cylinder => (
+            geo.frame * DMat3::from_diagonal(radii),
+            DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
+        ),
+    };
     let setup = if camera.is_ortho() {
         setup_orthographic(&t_inv, camera.forward())
     } else {
         match setup_perspective(&t_inv, geo.centre, eye) {
             Some(s) => s,
             // Ellipsoid: culled. Cylinder: the near-plane proxy covers the viewport.
-            None if glyph == GlyphKind::Cylinder => return w * h,
-            None => return 0.0,
+            None if glyph == GlyphKind::Cylinder => return ProxyShape::Viewport,
+            None => return ProxyShape::None,
         }
     };
     let view_proj = camera.projection_matrix() * camera.view(scene.origin);
-    // Corners in strip order → polygon order (−,−), (+,−), (+,+), (−,+), clipped in clip space
-    // against the near plane and the four side planes.
+    let to_px =
+        |p: glam::DVec4| DVec2::new((p.x / p.w + 1.0) * w / 2.0, (1.0 - p.y / p.w) * h / 2.0);
+    let strip: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
+        .iter()
+        .map(|&(sx, sy)| {
+            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
+        })
+        .collect();
+    if strip.iter().all(|p| p.w > 0.0 && p.z >= 0.0 && p.z <= p.w) {
+        return ProxyShape::Quad([
+            to_px(strip[0]),
+            to_px(strip[1]),
+            to_px(strip[2]),
+            to_px(strip[3]),
+        ]);
+    }
+    // Polygon order (−,−), (+,−), (+,+), (−,+), clipped in clip space against the near and far
+    // planes and the four side planes.
     let mut poly: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .iter()
         .map(|&(sx, sy)| {
             view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
         })
         .collect();
-    let planes: [fn(glam::DVec4) -> f64; 5] = [
+    let planes: [fn(glam::DVec4) -> f64; 6] = [
         |p| p.z,
+        |p| p.w - p.z,
         |p| p.w + p.x,
         |p| p.w - p.x,
         |p| p.w + p.y,
@@ -250,17 +408,10 @@ pub fn proxy_pixels(
         }
         poly = out;
         if poly.is_empty() {
-            return 0.0;
+            return ProxyShape::None;
         }
     }
-    let pts: Vec<DVec2> = poly
-        .iter()
-        .map(|p| DVec2::new((p.x / p.w + 1.0) * w / 2.0, (p.y / p.w + 1.0) * h / 2.0))
-        .collect();
-    let twice: f64 = (0..pts.len())
-        .map(|k| pts[k].perp_dot(pts[(k + 1) % pts.len()]))
-        .sum();
-    twice.abs() / 2.0
+    ProxyShape::Clipped(poly.into_iter().map(to_px).collect())
 }
 
 #[cfg(test)]
