@@ -22,6 +22,10 @@ fn vs_main(
 ) -> VsOut {
     var out: VsOut;
     let g = glyphs[ii];
+    if !drawable(g.radii) {
+        out.position = CULLED_POSITION;
+        return out;
+    }
     let o = quat_to_mat3(g.rotation);
     let v = g.centre + o * (p * g.radii);
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
