@@ -19,6 +19,8 @@ struct VsOut {
     @location(5) @interpolate(flat) n0: vec3<f32>,
     @location(6) @interpolate(flat) n1: vec3<f32>,
     @location(7) @interpolate(flat) n2: vec3<f32>,
+    // Row 2 of R_view O diag(r): the hit's view z relative to the centre is tz · p~.
+    @location(8) @interpolate(flat) tz: vec3<f32>,
 }
 
 // Bounding ellipsoid of the unit cylinder: √3 along the axis, √(3/2) across.
@@ -81,6 +83,8 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.n0 = n[0];
     out.n1 = n[1];
     out.n2 = n[2];
+    let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
+    out.tz = (ot * r2) * g.radii;
     return out;
 }
 
@@ -109,7 +113,8 @@ fn ray_cast(in: VsOut) -> Hit {
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;
-    hit.z_view = p_view.z;
+    hit.z_rel = dot(in.tz, p_t);
+    hit.z_proxy_rel = dot(in.tz, in.o_t);
     hit.depth = in.position.z + delta_depth;
     return hit;
 }

@@ -183,7 +183,8 @@ fn finish(in: VsOut, r: ParamRay, tp: f32, n_t: vec3<f32>) -> Hit {
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;
-    hit.z_view = p_view.z;
+    hit.z_rel = (r.off + tp * r.d).z;
+    hit.z_proxy_rel = in.v_view.z - in.c_view.z;
     hit.depth = depth;
     return hit;
 }

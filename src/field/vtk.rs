@@ -4,8 +4,12 @@
 //! The parsers here are our own, strict and allocation-safe: every count is checked against the
 //! bytes actually present before anything is allocated, and only the picked tensor array (plus
 //! the geometry) is decoded. `vtkio` 0.7.0-rc2 is not used for reading, because on files VTK 9.1
-//! itself writes it (see `tests/vtkio_survey.rs`, run with `--ignored`):
-//! - rejects legacy `TENSORS6` with `Parse(Tag)` (12 of our 40 legacy files);
+//! itself writes it (`tests/vtkio_differential.rs` checks each of these, and that vtkio agrees
+//! with us on every other file):
+//! - rejects legacy `TENSORS6` with `Parse(Tag)` (12 of our 40 legacy files), and legacy FIELD
+//!   data holding a string array;
+//! - rejects XML point/cell data with a `<Array type="String">` among the data arrays
+//!   ("duplicate field `DataArray`");
 //! - rejects XML appended *raw* data ("unknown variant `raw`"; 20 of 52 XML files, and a `.pvti`
 //!   whose pieces use it);
 //! - panics on compressed `.vtp` files (the empty `Verts`/`Lines`/`Strips` sections);

@@ -57,7 +57,8 @@ pub struct Frame {
     pub color: Vec<u8>,
     /// Instance index + 1 of the front-most glyph, 0 for background.
     pub ids: Vec<u32>,
-    /// View-space normal and view z per pixel (where `ids` is non-zero).
+    /// View-space normal and the view z of the hit relative to its glyph's centre, per pixel
+    /// (where `ids` is non-zero).
     pub aux: Option<Vec<[f32; 4]>>,
     /// Wall-clock time of each frame, submit to completion.
     pub frame_ms: Vec<f64>,
