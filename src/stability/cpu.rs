@@ -329,13 +329,18 @@ pub fn eigensolver(quick: bool) -> Vec<Row> {
             .iter()
             .map(|r| *r * DMat3::from_diagonal(DVec3::new(1.0, 1.0 - g, 0.3)) * r.transpose())
             .collect();
-        for single in [true, false] {
+        for solver in ["nalgebra f32", "nalgebra f64", "tensor::eigen (Jacobi f64)"] {
+            let single = solver == "nalgebra f32";
             let start = Instant::now();
             let sols: Vec<([f64; 3], [DVec3; 3])> = tensors
                 .iter()
                 .map(|t| {
                     let a = t.to_cols_array();
-                    if single {
+                    if solver.starts_with("tensor") {
+                        let e =
+                            crate::tensor::eigen::symmetric_eigen(&t.transpose().to_cols_array());
+                        (e.values, e.vectors.map(DVec3::from))
+                    } else if single {
                         let m = nalgebra::Matrix3::<f32>::from_column_slice(&a.map(|x| x as f32));
                         let e = nalgebra::SymmetricEigen::new(m);
                         sorted(
@@ -385,11 +390,7 @@ pub fn eigensolver(quick: bool) -> Vec<Row> {
             } else {
                 f64::EPSILON
             };
-            let name = if single {
-                "nalgebra f32"
-            } else {
-                "nalgebra f64"
-            };
+            let name = solver;
             let mut rw = row("11-eigensolver", "eigenvalue gap", g, name);
             rw.glyph = "-".into();
             let (rp, rm) = p99_max(res);

@@ -90,17 +90,9 @@ impl Bounds {
         normal_deg: 2.0,
     };
 
-    /// The depth bound never goes below 4 ulps (8 half-ulps) of the f32 view depth (`z_quantum_rel`):
-    /// view z is an f32 measured from the eye, so a glyph d away cannot be placed finer than
-    /// 2⁻²⁴ d (documented limit).
     fn exceeded(&self, m: &BTreeMap<String, f64>) -> Vec<String> {
         let mut out = Vec::new();
-        let zq = 8.0 * m.get("z_quantum_rel").copied().unwrap_or(0.0);
-        let b = Bounds {
-            depth_rel: self.depth_rel.max(zq),
-            ..*self
-        };
-        let this = &b;
+        let this = self;
         let mut check = |key: &str, bound: f64| {
             let v = m.get(key).copied().unwrap_or(0.0);
             if !within(v, bound) {
@@ -197,7 +189,6 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
                 Err(e) => (Status::Fail, format!("render error: {e}")),
                 Ok(frame) => {
                     measure(&frame, &reference, &probe.scene, &mut m);
-                    m.insert("z_quantum_rel".into(), z_quantum(probe));
                     (Status::Pass, String::new())
                 }
             };
@@ -216,27 +207,6 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         }
     }
     rows
-}
-
-/// Half an f32 ulp of the farthest view depth of the scene, in units of its smallest drawn
-/// glyph's largest radius.
-fn z_quantum(p: &Probe) -> f64 {
-    let d = (p.scene.centre - p.camera.eye)
-        .dot(p.camera.forward())
-        .abs()
-        + p.scene.radius;
-    let r = p
-        .scene
-        .instances
-        .iter()
-        .filter(|g| crate::reference::drawable_radii(g.radii))
-        .map(|g| f64::from(g.radii.iter().copied().fold(0.0f32, f32::max)))
-        .fold(f64::INFINITY, f64::min);
-    if r.is_finite() && r > 0.0 {
-        f64::from(f32::EPSILON) / 2.0 * d / r
-    } else {
-        0.0
-    }
 }
 
 fn measure(frame: &Frame, reference: &Frame, scene: &Scene, m: &mut BTreeMap<String, f64>) {
@@ -303,7 +273,6 @@ pub fn judge(rows: &mut [Row]) {
                 fails.push(format!("{k} {}", g(k)));
             }
         }
-        let limit = cases::documented_limit(r);
         if !fails.is_empty() {
             r.status = Status::Fail;
             r.reason = fails.join("; ");
@@ -350,7 +319,7 @@ pub fn judge(rows: &mut [Row]) {
         };
         r.status = status;
         r.reason = reason;
-        if let Some(note) = limit
+        if let Some(note) = cases::documented_limit(r)
             && r.status != Status::Pass
         {
             // A documented inherent limit: never worse than degraded, and say which.

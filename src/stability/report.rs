@@ -207,8 +207,60 @@ pub fn charts(rows: &[Row], dir: &Path) -> Vec<(String, String)> {
         {
             out.push((case.to_string(), name));
         }
+        if case == "11-eigensolver" {
+            out.extend(solver_speed_chart(&rs, dir));
+        }
     }
     out
+}
+
+/// Case 11 against speed: per solver, median tensors per second over the gaps against the worst
+/// residual and the e1 angle p99 at gap 10⁻⁴ (where f32 already reaches its limit).
+fn solver_speed_chart(rs: &[&Row], dir: &Path) -> Option<(String, String)> {
+    let mut solvers: Vec<&str> = Vec::new();
+    for r in rs {
+        if !solvers.contains(&r.method.as_str()) {
+            solvers.push(&r.method);
+        }
+    }
+    let mut series = Vec::new();
+    for s in solvers {
+        let mine: Vec<&Row> = rs.iter().copied().filter(|r| r.method == s).collect();
+        let mut speed: Vec<f64> = mine
+            .iter()
+            .filter_map(|r| r.metrics.get("tensors_per_s").copied())
+            .collect();
+        speed.sort_by(f64::total_cmp);
+        let median = *speed.get(speed.len() / 2)?;
+        let res = mine
+            .iter()
+            .filter_map(|r| r.metrics.get("residual_rel_max").copied())
+            .fold(0.0, f64::max);
+        series.push(Series {
+            label: format!("{s}: worst residual"),
+            points: vec![(median, res)],
+            bold: true,
+        });
+        if let Some(r) = mine.iter().find(|r| r.value == 1e-4) {
+            let a = r.metrics.get("e1_angle_deg_p99").copied();
+            series.push(Series {
+                label: format!("{s}: e1 angle p99 (deg) at gap 1e-4"),
+                points: vec![(median, a.unwrap_or(f64::NAN))],
+                bold: false,
+            });
+        }
+    }
+    let axes = Axes {
+        x_desc: "tensors per second (median over the gaps, one thread, log)",
+        y_desc: "error (log)",
+        log_x: true,
+        log_y: true,
+        y_floor: 1e-17,
+    };
+    let name = "11-eigensolver-speed.png".to_string();
+    let title = "11-eigensolver: accuracy against speed";
+    line_chart_png(&dir.join(&name), title, &axes, &series).ok()?;
+    Some(("11-eigensolver".into(), name))
 }
 
 fn fmt(v: f64) -> String {
