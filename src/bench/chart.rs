@@ -182,8 +182,10 @@ pub(crate) fn save_rgb(path: &Path, w: u32, h: u32, rgb: &[u8]) -> Result<(), St
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
-    /// Drawn dashed-looking (thin) when false: a secondary variant of the same method.
+    /// Drawn thin when false: a secondary variant (another glyph) of the same method.
     pub bold: bool,
+    /// Index into the palette (series of one method share a colour).
+    pub colour: usize,
 }
 
 /// Axes of a [`line_chart_png`]: labels, log scales, and the floor drawn for zero errors.
@@ -240,7 +242,10 @@ pub fn line_chart_png(
             .x_label_area_size(55)
             .y_label_area_size(85);
         let xr = if axes.log_x {
-            (x0 / 2.0)..(x1 * 2.0).max(x0 * 4.0)
+            // Whole decades, so a narrow range still gets labels.
+            let lo = 10f64.powf(x0.log10().floor()) / 1.5;
+            let hi = 10f64.powf(x1.log10().ceil()) * 1.5;
+            lo..hi
         } else {
             let pad = ((x1 - x0) * 0.05).max(0.5);
             (x0 - pad)..(x1 + pad)
@@ -255,16 +260,25 @@ pub fn line_chart_png(
         macro_rules! draw {
             ($chart:expr) => {{
                 let mut chart = $chart.map_err(|e| e.to_string())?;
+                let fmt = |v: &f64| {
+                    if v.abs() >= 1e4 || (v.abs() < 1e-2 && *v != 0.0) {
+                        format!("{v:.0e}")
+                    } else {
+                        format!("{}", (v * 1000.0).round() / 1000.0)
+                    }
+                };
                 chart
                     .configure_mesh()
+                    .x_label_formatter(&fmt)
+                    .y_label_formatter(&fmt)
                     .x_desc(axes.x_desc)
                     .y_desc(axes.y_desc)
                     .label_style(("sans-serif", 15))
                     .axis_desc_style(("sans-serif", 17))
                     .draw()
                     .map_err(|e| e.to_string())?;
-                for (k, s) in series.iter().enumerate() {
-                    let colour = PALETTE[k % PALETTE.len()];
+                for s in series {
+                    let colour = PALETTE[s.colour % PALETTE.len()];
                     let mut p: Vec<(f64, f64)> = s
                         .points
                         .iter()

@@ -234,6 +234,7 @@ fn measure(frame: &Frame, reference: &Frame, scene: &Scene, m: &mut BTreeMap<Str
                 1.0
             },
         ),
+        ("same_glyph_px", a.same_glyph_pixels as f64),
         ("nan_px", nan as f64),
         ("garbage_px", garbage as f64),
         ("crack_px", cracks as f64),

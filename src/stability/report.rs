@@ -168,16 +168,31 @@ pub fn charts(rows: &[Row], dir: &Path) -> Vec<(String, String)> {
                 keys.push(k);
             }
         }
+        // Charts show a readable subset of the mesh levels (the CSV has them all).
+        keys.retain(|(m, _, _)| {
+            !m.starts_with("mesh:") || ["mesh:0", "mesh:3", "mesh:6"].contains(&m.as_str())
+        });
+        let mut methods: Vec<&str> = Vec::new();
+        for (m, _, _) in &keys {
+            if !methods.contains(&m.as_str()) {
+                methods.push(m);
+            }
+        }
         let series: Vec<Series> = keys
             .iter()
             .map(|(m, g, dc)| Series {
+                colour: methods.iter().position(|x| x == m).unwrap_or(0) + usize::from(!*dc) * 3,
                 label: format!("{m} {g}{}", if *dc { "" } else { " (no depth corr.)" }),
                 points: rs
                     .iter()
                     .filter(|r| &r.method == m && &r.glyph == g && r.depth_correction == *dc)
+                    // No pixel compared (glyph absent in both): nothing to chart.
+                    .filter(|r| {
+                        !(metric.contains("err") && r.metrics.get("same_glyph_px") == Some(&0.0))
+                    })
                     .filter_map(|r| r.metrics.get(metric).map(|&v| (x_of(r).0, v)))
                     .collect(),
-                bold: super::is_exact(m) || g == "-" || g == "ellipsoid",
+                bold: g == "-" || g == "ellipsoid",
             })
             .collect();
         let x_desc = if case == "4-eye-approach" {
@@ -236,7 +251,9 @@ fn solver_speed_chart(rs: &[&Row], dir: &Path) -> Option<(String, String)> {
             .iter()
             .filter_map(|r| r.metrics.get("residual_rel_max").copied())
             .fold(0.0, f64::max);
+        let colour = series.len() / 2;
         series.push(Series {
+            colour,
             label: format!("{s}: worst residual"),
             points: vec![(median, res)],
             bold: true,
@@ -244,6 +261,7 @@ fn solver_speed_chart(rs: &[&Row], dir: &Path) -> Option<(String, String)> {
         if let Some(r) = mine.iter().find(|r| r.value == 1e-4) {
             let a = r.metrics.get("e1_angle_deg_p99").copied();
             series.push(Series {
+                colour,
                 label: format!("{s}: e1 angle p99 (deg) at gap 1e-4"),
                 points: vec![(median, a.unwrap_or(f64::NAN))],
                 bold: false,
