@@ -43,6 +43,20 @@ fn is_ortho() -> bool {
     return camera.eye.w > 0.5;
 }
 
+// A glyph is drawn only if every radius is finite and at least this fraction of the largest
+// (2⁻²⁴: thinner than f32 resolves at the glyph's own scale, T⁻¹ is meaningless). NaN fails
+// every comparison, so NaN radii are not drawn either. Mirrored by reference::drawable_radii.
+const MIN_RADIUS_RATIO: f32 = 5.9604645e-8;
+
+fn drawable(r: vec3<f32>) -> bool {
+    let rmax = max(r.x, max(r.y, r.z));
+    let rmin = min(r.x, min(r.y, r.z));
+    return rmin > 0.0 && rmin >= rmax * MIN_RADIUS_RATIO && rmax <= 3.0e38;
+}
+
+// Outside the clip volume (z < 0): every corner of a culled glyph is clipped away.
+const CULLED_POSITION: vec4<f32> = vec4<f32>(0.0, 0.0, -2.0, 1.0);
+
 fn quat_to_mat3(q: vec4<f32>) -> mat3x3<f32> {
     let x2 = q.x + q.x;
     let y2 = q.y + q.y;

@@ -28,6 +28,10 @@ struct VsOut {
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
     let g = glyphs[ii];
+    if !drawable(g.radii) {
+        out.position = CULLED_POSITION;
+        return out;
+    }
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
     let rinv = 1.0 / g.radii;

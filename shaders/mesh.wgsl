@@ -16,6 +16,11 @@ struct VsOut {
     @location(4) z_rel: f32,
 }
 
+// Which glyph the mesh approximates; MeshRenderer sets it to true for cylinders.
+const MESH_CYLINDER: bool = false;
+// reference::EYE_INSIDE_E2.
+const MESH_EYE_INSIDE_E2: f32 = 1.00001;
+
 @vertex
 fn vs_main(
     @location(0) p: vec3<f32>,
@@ -25,6 +30,21 @@ fn vs_main(
     var out: VsOut;
     let g = glyphs[ii];
     let o = quat_to_mat3(g.rotation);
+    if !drawable(g.radii) {
+        out.position = CULLED_POSITION;
+        return out;
+    }
+    // The eye inside or on the true glyph: not drawn, as by the impostors and the reference
+    // (the inscribed polytope alone would still show it from just inside the surface).
+    if !is_ortho() {
+        let e_p = (transpose(o) * (camera.eye.xyz - g.centre)) / g.radii;
+        let inside_cylinder = abs(e_p.x) <= 1.0 && dot(e_p.yz, e_p.yz) <= 1.0;
+        let inside_ellipsoid = !(dot(e_p, e_p) > MESH_EYE_INSIDE_E2);
+        if select(inside_ellipsoid, inside_cylinder, MESH_CYLINDER) {
+            out.position = CULLED_POSITION;
+            return out;
+        }
+    }
     let v = g.centre + o * (p * g.radii);
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
     out.position = camera.view_proj * vec4<f32>(v, 1.0);

@@ -6,6 +6,9 @@
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
     let g = glyphs[ii];
+    if !drawable(g.radii) {
+        return culled();
+    }
     let o = quat_to_mat3(g.rotation);
     glyph_varyings(&out, g, o, ii + 1u);
     if !is_ortho() {

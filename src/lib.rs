@@ -17,6 +17,7 @@ pub mod metrics;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod stability;
 pub mod tensor;
 #[cfg(test)]
 pub(crate) mod test_vectors;

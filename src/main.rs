@@ -1,4 +1,4 @@
-//! The `tensorglyph` command line: demo, info, render, bench.
+//! The `tensorglyph` command line: demo, info, render, bench, stability.
 
 mod commands;
 
@@ -27,6 +27,8 @@ enum Command {
     Render(commands::render::RenderArgs),
     /// Time every method on the same scenes and chart speed against accuracy.
     Bench(commands::bench::BenchArgs),
+    /// Adversarial stability suite: every method and glyph against the reference.
+    Stability(commands::stability::StabilityArgs),
 }
 
 fn main() -> ExitCode {
@@ -36,6 +38,7 @@ fn main() -> ExitCode {
         Command::Info(a) => commands::info::run(a),
         Command::Render(a) => commands::render::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Stability(a) => commands::stability::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -13,7 +13,8 @@ pub const ERROR_FLOOR_DEG: f64 = 1e-4;
 
 static FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
-fn ensure_font() {
+/// Register the bundled font once (every chart of the crate draws text with it).
+pub(crate) fn ensure_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
         // The bundled font is valid; a failure would only lose labels.
@@ -53,7 +54,8 @@ pub fn pareto<'r>(rows: &[&'r Row]) -> Vec<&'r Row> {
         .collect()
 }
 
-const PALETTE: [RGBColor; 8] = [
+/// Series colours shared by every chart.
+pub(crate) const PALETTE: [RGBColor; 8] = [
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
     RGBColor(44, 160, 44),
@@ -189,6 +191,11 @@ pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(),
         }
         root.present().map_err(|e| e.to_string())?;
     }
+    save_rgb(path, w, h, &rgb)
+}
+
+/// Write a plotters RGB buffer as a PNG, atomically.
+pub(crate) fn save_rgb(path: &Path, w: u32, h: u32, rgb: &[u8]) -> Result<(), String> {
     let rgba: Vec<u8> = rgb
         .chunks_exact(3)
         .flat_map(|p| [p[0], p[1], p[2], 255])
@@ -209,4 +216,153 @@ fn format_tick(x: f64) -> String {
     } else {
         format!("{x:.0e}")
     }
+}
+
+/// One curve of a [`line_chart_png`].
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    /// Drawn thin when false: a secondary variant (another glyph) of the same method.
+    pub bold: bool,
+    /// Index into the palette (series of one method share a colour).
+    pub colour: usize,
+}
+
+/// Axes of a [`line_chart_png`]: labels, log scales, and the floor drawn for zero errors.
+pub struct Axes<'a> {
+    pub x_desc: &'a str,
+    pub y_desc: &'a str,
+    pub log_x: bool,
+    pub log_y: bool,
+    /// Values below this are drawn at it on a log y axis (exact agreement).
+    pub y_floor: f64,
+}
+
+/// Error against a swept parameter: one line per series, points marked.
+pub fn line_chart_png(
+    path: &Path,
+    title: &str,
+    axes: &Axes,
+    series: &[Series],
+) -> Result<(), String> {
+    ensure_font();
+    let fix_y = |y: f64| {
+        let y = if y.is_nan() { f64::INFINITY } else { y };
+        if axes.log_y { y.max(axes.y_floor) } else { y }
+    };
+    let pts: Vec<(f64, f64)> = series
+        .iter()
+        .flat_map(|s| s.points.iter().map(|&(x, y)| (x, fix_y(y))))
+        .filter(|p| p.0.is_finite() && p.1.is_finite() && (!axes.log_x || p.0 > 0.0))
+        .collect();
+    if pts.is_empty() {
+        return Err("nothing to chart".into());
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for &(x, y) in &pts {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    let (w, h) = (1000u32, 650u32);
+    let mut rgb = vec![0u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let mut builder = ChartBuilder::on(&root);
+        builder
+            .caption(title, ("sans-serif", 24))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(85);
+        let xr = if axes.log_x {
+            // Whole decades, so a narrow range still gets labels.
+            let lo = 10f64.powf(x0.log10().floor()) / 1.5;
+            let hi = 10f64.powf(x1.log10().ceil()) * 1.5;
+            lo..hi
+        } else {
+            let pad = ((x1 - x0) * 0.05).max(0.5);
+            (x0 - pad)..(x1 + pad)
+        };
+        let yr = if axes.log_y {
+            (y0 / 3.0)..(y1 * 3.0).max(y0 * 10.0)
+        } else {
+            let pad = ((y1 - y0) * 0.05).max(1e-3);
+            (y0 - pad)..(y1 + pad)
+        };
+        // plotters types differ per scale: draw through one generic closure per combination.
+        macro_rules! draw {
+            ($chart:expr) => {{
+                let mut chart = $chart.map_err(|e| e.to_string())?;
+                let fmt = |v: &f64| {
+                    if v.abs() >= 1e4 || (v.abs() < 1e-2 && *v != 0.0) {
+                        format!("{v:.0e}")
+                    } else {
+                        format!("{}", (v * 1000.0).round() / 1000.0)
+                    }
+                };
+                chart
+                    .configure_mesh()
+                    .x_label_formatter(&fmt)
+                    .y_label_formatter(&fmt)
+                    .x_desc(axes.x_desc)
+                    .y_desc(axes.y_desc)
+                    .label_style(("sans-serif", 15))
+                    .axis_desc_style(("sans-serif", 17))
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+                for s in series {
+                    let colour = PALETTE[s.colour % PALETTE.len()];
+                    let mut p: Vec<(f64, f64)> = s
+                        .points
+                        .iter()
+                        .map(|&(x, y)| (x, fix_y(y)))
+                        .filter(|p| {
+                            p.0.is_finite() && p.1.is_finite() && (!axes.log_x || p.0 > 0.0)
+                        })
+                        .collect();
+                    p.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    let width = if s.bold { 2 } else { 1 };
+                    chart
+                        .draw_series(LineSeries::new(
+                            p.clone(),
+                            ShapeStyle::from(&colour).stroke_width(width),
+                        ))
+                        .map_err(|e| e.to_string())?
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(
+                                vec![(x, y), (x + 20, y)],
+                                ShapeStyle::from(&colour).stroke_width(3),
+                            )
+                        });
+                    chart
+                        .draw_series(p.iter().map(|&q| Circle::new(q, 3, colour.filled())))
+                        .map_err(|e| e.to_string())?;
+                }
+                chart
+                    .configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 13))
+                    .position(SeriesLabelPosition::UpperLeft)
+                    .draw()
+                    .map_err(|e| e.to_string())?;
+            }};
+        }
+        match (axes.log_x, axes.log_y) {
+            (true, true) => draw!(builder.build_cartesian_2d(xr.log_scale(), yr.log_scale())),
+            (true, false) => draw!(builder.build_cartesian_2d(xr.log_scale(), yr)),
+            (false, true) => draw!(builder.build_cartesian_2d(xr, yr.log_scale())),
+            (false, false) => draw!(builder.build_cartesian_2d(xr, yr)),
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    save_rgb(path, w, h, &rgb)
 }

@@ -277,7 +277,7 @@ fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(
     Some(
         (0..n)
             .into_par_iter()
-            .map(|i| per_glyph(i))
+            .map(&per_glyph)
             .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1)),
     )
 }

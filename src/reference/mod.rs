@@ -23,6 +23,18 @@ use intersect::{Cylinder, RayHit};
 /// Same constant as `EYE_INSIDE_E2` in shaders/gumhold_ellipsoid.wgsl.
 pub const EYE_INSIDE_E2: f64 = 1.00001;
 
+/// Same rule as `drawable` in shaders/common.wgsl: every radius finite, positive and at least
+/// 2⁻²⁴ of the largest (f32 cannot resolve a thinner glyph at its own scale); others are not
+/// drawn by any method.
+pub const MIN_RADIUS_RATIO: f32 = 5.960_464_5e-8;
+
+pub fn drawable_radii(r: [f32; 3]) -> bool {
+    let rmax = r[0].max(r[1]).max(r[2]);
+    let rmin = r[0].min(r[1]).min(r[2]);
+    // NaN fails every comparison (f32::max/min skip NaN, so test each radius too).
+    r.iter().all(|&x| x > 0.0 && x <= 3.0e38) && rmin >= rmax * MIN_RADIUS_RATIO
+}
+
 /// One image row: colour, ids, aux.
 type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>);
 
@@ -108,11 +120,14 @@ impl<'a> ReferenceScene<'a> {
                         (Shape::Cylinder(c), c.half_extents(), c.contains(eye))
                     }
                 };
+                let drawable = drawable_radii(g.radii);
+                // An undrawn glyph's box may be NaN: keep the BVH finite.
+                let h = if drawable { h } else { DVec3::ZERO };
                 (
                     Prepared {
                         shape,
                         base: DVec3::new(f64::from(r), f64::from(gg), f64::from(b)) / 255.0,
-                        drawn: ortho || !eye_inside,
+                        drawn: (ortho || !eye_inside) && drawable,
                     },
                     Aabb {
                         lo: geo.centre - h,

@@ -276,7 +276,19 @@ impl MeshRenderer {
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(source.name()),
-                source: wgpu::ShaderSource::Wgsl(source.text().into()),
+                source: wgpu::ShaderSource::Wgsl(
+                    source
+                        .text()
+                        .replace(
+                            "const MESH_CYLINDER: bool = false;",
+                            if glyph == GlyphKind::Cylinder {
+                                "const MESH_CYLINDER: bool = true;"
+                            } else {
+                                "const MESH_CYLINDER: bool = false;"
+                            },
+                        )
+                        .into(),
+                ),
             });
         let buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<MeshVertex>() as u64,

@@ -1,0 +1,58 @@
+//! `tensorglyph stability`: the adversarial suite; see `tensorglyph::stability`.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result};
+use clap::Args;
+
+use tensorglyph::bench::report::write_atomic;
+use tensorglyph::render::{GpuContext, GpuRenderer};
+use tensorglyph::stability::{self, Options, Status, report};
+
+#[derive(Args, Debug)]
+pub struct StabilityArgs {
+    /// Folder for stability.md, stability.csv (or .jsonl) and the charts (created if missing).
+    #[arg(long, default_value = "stability-out")]
+    pub out: PathBuf,
+    /// Also write stability.jsonl and print the rows as JSON lines on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Only the quick regression subset.
+    #[arg(long)]
+    pub quick: bool,
+}
+
+pub fn run(args: StabilityArgs) -> Result<()> {
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("{}: cannot create the output folder", args.out.display()))?;
+    let ctx = GpuContext::new().context("stability needs a GPU adapter (lavapipe counts)")?;
+    let adapter = format!("{} ({})", ctx.adapter_name, ctx.backend);
+    let gpu = GpuRenderer::new(ctx)?;
+    let opts = Options {
+        quick: args.quick,
+        ..Options::default()
+    };
+    let rows = stability::run(Some(&gpu), &opts, |msg| eprintln!("{msg}"));
+    let charts = report::charts(&rows, &args.out);
+    let md = report::markdown(&rows, &charts, &adapter);
+    let write = |name: &str, text: &str| {
+        let p = args.out.join(name);
+        write_atomic(&p, text.as_bytes()).with_context(|| format!("{}: cannot write", p.display()))
+    };
+    write("stability.md", &md)?;
+    write("stability.csv", &report::csv(&rows))?;
+    if args.json {
+        let j = report::json_lines(&rows);
+        write("stability.jsonl", &j)?;
+        print!("{j}");
+    }
+    let fails = rows.iter().filter(|r| r.status == Status::Fail).count();
+    let degraded = rows.iter().filter(|r| r.status == Status::Degraded).count();
+    eprintln!(
+        "{} rows: {} pass, {degraded} degraded, {fails} fail; report in {}",
+        rows.len(),
+        rows.len() - fails - degraded,
+        args.out.display()
+    );
+    Ok(())
+}
