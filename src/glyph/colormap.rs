@@ -1,1 +1,86 @@
-//! Colour maps.
+//! Colour maps: a compact viridis LUT (perceptually uniform, colour-blind safe) and a simple
+//! diverging map.
+
+/// Matplotlib's viridis (CC0, van der Walt and Smith) sampled at table indices
+/// 0, 16, 32, …, 240 and 255 of its 256 entries; linear interpolation between nodes is within
+/// about 0.002 of the full table.
+const VIRIDIS: [[f32; 3]; 17] = [
+    [0.267004, 0.004874, 0.329415],
+    [0.282327, 0.094955, 0.417331],
+    [0.278826, 0.175490, 0.483397],
+    [0.258965, 0.251537, 0.524736],
+    [0.229739, 0.322361, 0.545706],
+    [0.199430, 0.387607, 0.554642],
+    [0.172719, 0.448791, 0.557885],
+    [0.149039, 0.508051, 0.557250],
+    [0.127568, 0.566949, 0.550556],
+    [0.120638, 0.625828, 0.533488],
+    [0.157851, 0.683765, 0.501686],
+    [0.246070, 0.738910, 0.452024],
+    [0.369214, 0.788888, 0.382914],
+    [0.515992, 0.831158, 0.294279],
+    [0.678489, 0.863742, 0.189503],
+    [0.845561, 0.887322, 0.099702],
+    [0.993248, 0.906157, 0.143936],
+];
+
+/// Viridis at `t` in [0, 1] (clamped; NaN maps to 0), as RGB in [0, 1].
+pub fn viridis(t: f64) -> [f64; 3] {
+    let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
+    let x = t * 255.0; // position in the 256-entry table
+    let seg = ((x / 16.0) as usize).min(15);
+    let x0 = (seg * 16) as f64;
+    let x1 = if seg == 15 { 255.0 } else { x0 + 16.0 };
+    let f = ((x - x0) / (x1 - x0)).clamp(0.0, 1.0);
+    let (a, b) = (VIRIDIS[seg], VIRIDIS[seg + 1]);
+    std::array::from_fn(|k| f64::from(a[k]) + f * (f64::from(b[k]) - f64::from(a[k])))
+}
+
+/// Diverging blue–white–red at `s` in [−1, 1]: −1 blue (compression), 0 white, +1 red (tension).
+pub fn diverging(s: f64) -> [f64; 3] {
+    let s = if s.is_nan() { 0.0 } else { s.clamp(-1.0, 1.0) };
+    const RED: [f64; 3] = [0.80, 0.10, 0.10];
+    const BLUE: [f64; 3] = [0.10, 0.25, 0.80];
+    let (end, f) = if s >= 0.0 { (RED, s) } else { (BLUE, -s) };
+    end.map(|c| 1.0 + f * (c - 1.0))
+}
+
+/// RGB in [0, 1] to RGBA8 (rounded, clamped, opaque).
+#[inline]
+pub fn to_rgba8(c: [f64; 3]) -> [u8; 4] {
+    let q = |x: f64| (x.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [q(c[0]), q(c[1]), q(c[2]), 255]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn viridis_ends_and_nodes() {
+        assert_eq!(viridis(0.0), VIRIDIS[0].map(f64::from));
+        assert_eq!(viridis(1.0), VIRIDIS[16].map(f64::from));
+        let mid = viridis(128.0 / 255.0);
+        for k in 0..3 {
+            assert!((mid[k] - f64::from(VIRIDIS[8][k])).abs() < 1e-12);
+        }
+        // lightness increases monotonically (approximated by the sum of channels' luma)
+        let luma = |c: [f64; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let mut last = -1.0;
+        for i in 0..=100 {
+            let l = luma(viridis(i as f64 / 100.0));
+            assert!(l > last);
+            last = l;
+        }
+        assert_eq!(viridis(f64::NAN), viridis(0.0));
+        assert_eq!(viridis(2.0), viridis(1.0));
+    }
+
+    #[test]
+    fn diverging_ends() {
+        assert_eq!(diverging(0.0), [1.0, 1.0, 1.0]);
+        let red = to_rgba8(diverging(1.0));
+        assert!(red[0] == 204 && red[1] < 30 && red[2] < 30);
+        assert_eq!(to_rgba8(diverging(-1.0))[2], 204);
+    }
+}

@@ -3,6 +3,7 @@
 
 pub mod colormap;
 pub mod derive;
+pub mod spacing;
 pub mod style;
 
 pub use derive::derive_glyphs;

@@ -1,54 +1,376 @@
-//! Radii and colour. (Placeholder until the tensor branch lands.)
+//! Radii and colour of glyphs from user options (tensor-shape.md, sections 4-6).
+//!
+//! [`GlyphStyle`] holds the options; [`GlyphStyle::resolve`] fixes the field-dependent numbers
+//! (global scale `k`, normalisation, MD range) once, and the returned [`ResolvedStyle`] gives each
+//! glyph's radii and RGBA8 colour.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::colormap::{diverging, to_rgba8, viridis};
 use super::{Glyph, GlyphSet};
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+use crate::tensor::eigen::quat_to_frame;
+use crate::tensor::shape::{self, DEFAULT_CLASS_THRESHOLD};
+
+pub use super::spacing::median_nn_distance;
+
+/// How glyphs are coloured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum ColorScheme {
+    /// Gumhold's shape classes: cigar red, pancake green, ball blue, unclassified magenta.
+    #[default]
     Shape,
+    /// Directional encoding `min(FA, 1) · |e1|`, `e1` the eigenvector of the largest |λ|.
+    Dec,
+    /// Fractional anisotropy through viridis (0 → dark, 1 → yellow).
+    Fa,
+    /// Mean diffusivity through viridis, normalised over the field's MD range.
+    Md,
+    /// Sign of the eigenvalue of largest magnitude: tension red, compression blue, zero white.
+    Sign,
+    /// One colour for all glyphs.
+    Solid,
 }
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Normalize {
-    None,
-}
-#[derive(Debug, Clone, Copy, PartialEq)]
+
+/// Global scale of the radii.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Scale {
+    /// The largest radius over the field equals half the grid spacing.
+    #[default]
     Auto,
+    /// `r = f · |λ|` (after normalisation).
+    Factor(f64),
 }
-impl std::str::FromStr for Scale {
+
+impl FromStr for Scale {
     type Err = String;
-    fn from_str(_: &str) -> Result<Self, String> {
-        Ok(Scale::Auto)
+
+    /// `auto` (case-insensitive) or a positive finite number.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let s = s.trim();
+        if s.eq_ignore_ascii_case("auto") {
+            return Ok(Scale::Auto);
+        }
+        match s.parse::<f64>() {
+            Ok(f) if f.is_finite() && f > 0.0 => Ok(Scale::Factor(f)),
+            Ok(_) => Err(format!(
+                "scale must be a positive finite number or 'auto', got '{s}'"
+            )),
+            Err(_) => Err(format!("scale must be 'auto' or a number, got '{s}'")),
+        }
     }
 }
-#[derive(Debug, Clone, Copy, PartialEq)]
+
+impl fmt::Display for Scale {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Scale::Auto => write!(f, "auto"),
+            Scale::Factor(x) => write!(f, "{x}"),
+        }
+    }
+}
+
+/// Normalisation of |λ| before scaling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Normalize {
+    /// Radii proportional to |λ| across the field.
+    #[default]
+    None,
+    /// Divide by the field's largest |λ|.
+    Max,
+    /// Divide by each glyph's own largest |λ| (all glyphs the same size; shape only).
+    PerGlyph,
+}
+
+/// User options for glyph geometry and colour.
+#[derive(Debug, Clone, PartialEq)]
 pub struct GlyphStyle {
     pub color: ColorScheme,
     pub scale: Scale,
     pub normalize: Normalize,
+    /// Relative minimum radius ε: `r_i ← max(r_i, ε · r_max)` per glyph (default 0.01).
     pub min_radius: f64,
+    /// Shape-class threshold τ (default 0.5).
+    pub class_threshold: f64,
+    /// Colour of [`ColorScheme::Solid`].
+    pub solid_color: [u8; 3],
 }
+
 impl Default for GlyphStyle {
     fn default() -> Self {
-        Self {
+        GlyphStyle {
             color: ColorScheme::Shape,
             scale: Scale::Auto,
             normalize: Normalize::None,
             min_radius: 0.01,
+            class_threshold: DEFAULT_CLASS_THRESHOLD,
+            solid_color: [200, 200, 200],
         }
     }
 }
-pub struct ResolvedStyle;
+
 impl GlyphStyle {
-    pub fn resolve(&self, _: &GlyphSet, _: f64) -> ResolvedStyle {
-        ResolvedStyle
+    /// Fix the field-dependent parameters. `spacing` is the grid spacing (or median
+    /// nearest-neighbour distance) used by [`Scale::Auto`]; a non-positive or non-finite spacing
+    /// is treated as 1.
+    pub fn resolve(&self, set: &GlyphSet, spacing: f64) -> ResolvedStyle {
+        let stats = &set.stats;
+        let field_max = stats.max_abs_eigenvalue;
+        let norm_div = match self.normalize {
+            Normalize::Max if field_max > 0.0 => field_max,
+            _ => 1.0,
+        };
+        let k = match self.scale {
+            Scale::Factor(f) => f,
+            Scale::Auto => {
+                let spacing = if spacing.is_finite() && spacing > 0.0 {
+                    spacing
+                } else {
+                    1.0
+                };
+                // Largest normalised |λ| over the field.
+                let largest = match self.normalize {
+                    Normalize::None => field_max,
+                    Normalize::Max | Normalize::PerGlyph => {
+                        if field_max > 0.0 {
+                            1.0
+                        } else {
+                            0.0
+                        }
+                    }
+                };
+                if largest > 0.0 {
+                    0.5 * spacing / largest
+                } else {
+                    1.0
+                }
+            }
+        };
+        let md_range = if stats.valid > 0 {
+            (stats.md_min, stats.md_max)
+        } else {
+            (0.0, 0.0)
+        };
+        ResolvedStyle {
+            k,
+            norm_div,
+            normalize: self.normalize,
+            min_radius: if self.min_radius.is_finite() {
+                self.min_radius.max(0.0)
+            } else {
+                0.0
+            },
+            color: self.color,
+            class_threshold: self.class_threshold,
+            solid_color: self.solid_color,
+            md_range,
+        }
     }
 }
+
+/// A [`GlyphStyle`] with its field-dependent numbers fixed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResolvedStyle {
+    /// Global scale `k` (radius = k · normalised |λ|).
+    pub k: f64,
+    /// Field-wide divisor (field max |λ| for [`Normalize::Max`], else 1).
+    pub norm_div: f64,
+    pub normalize: Normalize,
+    pub min_radius: f64,
+    pub color: ColorScheme,
+    pub class_threshold: f64,
+    pub solid_color: [u8; 3],
+    /// (MD min, MD max) of the field, for [`ColorScheme::Md`].
+    pub md_range: (f64, f64),
+}
+
 impl ResolvedStyle {
-    pub fn radii(&self, _: &Glyph) -> [f32; 3] {
-        [1.0; 3]
+    /// Radii in the glyph's frame order (`r_i` along `e_i`): `r_i = k · |λ_i| / n`, then
+    /// `r_i ← max(r_i, ε · r_max)`. A zero glyph gives zero radii.
+    pub fn radii(&self, g: &Glyph) -> [f32; 3] {
+        let m = g.eigenvalues.map(|l| f64::from(l).abs());
+        let div = match self.normalize {
+            Normalize::PerGlyph => {
+                let mx = m[0].max(m[1]).max(m[2]);
+                if mx > 0.0 { mx } else { 1.0 }
+            }
+            _ => self.norm_div,
+        };
+        let r = m.map(|x| self.k * x / div);
+        let floor = self.min_radius * r[0].max(r[1]).max(r[2]);
+        r.map(|x| x.max(floor) as f32)
     }
-    pub fn color(&self, _: &Glyph) -> [u8; 4] {
-        [255; 4]
+
+    /// RGBA8 colour of a glyph by the chosen scheme (alpha 255).
+    pub fn color(&self, g: &Glyph) -> [u8; 4] {
+        let ev = g.eigenvalues.map(f64::from);
+        match self.color {
+            ColorScheme::Shape => to_rgba8(shape::classify(ev, self.class_threshold).color()),
+            ColorScheme::Dec => {
+                let frame = quat_to_frame(g.rotation);
+                to_rgba8(shape::dec_color(ev, frame[shape::major_index(ev)]))
+            }
+            ColorScheme::Fa => to_rgba8(viridis(shape::fa(ev))),
+            ColorScheme::Md => {
+                let (lo, hi) = self.md_range;
+                let t = if hi > lo {
+                    (shape::md(ev) - lo) / (hi - lo)
+                } else {
+                    0.5
+                };
+                to_rgba8(viridis(t))
+            }
+            ColorScheme::Sign => {
+                let l = ev[shape::major_index(ev)];
+                let s = if l > 0.0 {
+                    1.0
+                } else if l < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                };
+                to_rgba8(diverging(s))
+            }
+            ColorScheme::Solid => {
+                let [r, g, b] = self.solid_color;
+                [r, g, b, 255]
+            }
+        }
     }
 }
-pub fn median_nn_distance(_: &[[f64; 3]]) -> f64 {
-    1.0
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glyph::FieldStats;
+
+    fn glyph(ev: [f32; 3]) -> Glyph {
+        Glyph {
+            centre: [0.0; 3],
+            eigenvalues: ev,
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            index: 0,
+        }
+    }
+
+    fn set(glyphs: Vec<Glyph>) -> GlyphSet {
+        let evs: Vec<[f64; 3]> = glyphs
+            .iter()
+            .map(|g| g.eigenvalues.map(f64::from))
+            .collect();
+        let mx = evs
+            .iter()
+            .flat_map(|e| e.iter())
+            .fold(0.0f64, |m, x| m.max(x.abs()));
+        let mds: Vec<f64> = evs.iter().map(|e| shape::md(*e)).collect();
+        GlyphSet {
+            stats: FieldStats {
+                valid: glyphs.len(),
+                max_abs_eigenvalue: mx,
+                md_min: mds.iter().cloned().fold(f64::INFINITY, f64::min),
+                md_max: mds.iter().cloned().fold(f64::NEG_INFINITY, f64::max),
+                ..FieldStats::default()
+            },
+            glyphs,
+        }
+    }
+
+    #[test]
+    fn scale_from_str() {
+        assert_eq!("auto".parse::<Scale>(), Ok(Scale::Auto));
+        assert_eq!("AUTO".parse::<Scale>(), Ok(Scale::Auto));
+        assert_eq!("2.5".parse::<Scale>(), Ok(Scale::Factor(2.5)));
+        assert!("0".parse::<Scale>().is_err());
+        assert!("-1".parse::<Scale>().is_err());
+        assert!("inf".parse::<Scale>().is_err());
+        assert!("nan".parse::<Scale>().is_err());
+        assert!("big".parse::<Scale>().is_err());
+    }
+
+    #[test]
+    fn value_enum_names() {
+        use clap::ValueEnum;
+        let names: Vec<String> = ColorScheme::value_variants()
+            .iter()
+            .map(|v| v.to_possible_value().unwrap().get_name().to_string())
+            .collect();
+        assert_eq!(names, ["shape", "dec", "fa", "md", "sign", "solid"]);
+        let names: Vec<String> = Normalize::value_variants()
+            .iter()
+            .map(|v| v.to_possible_value().unwrap().get_name().to_string())
+            .collect();
+        assert_eq!(names, ["none", "max", "per-glyph"]);
+    }
+
+    #[test]
+    fn radii_modes() {
+        let a = glyph([4.0, 2.0, 0.0]);
+        let b = glyph([1.0, -0.5, -2.0]);
+        let s = set(vec![a, b]);
+        // auto, none: largest radius = spacing/2 = 1 → k = 1/4
+        let st = GlyphStyle::default().resolve(&s, 2.0);
+        assert_eq!(st.radii(&a), [1.0, 0.5, 0.01]);
+        assert_eq!(st.radii(&b), [0.25, 0.125, 0.5]);
+        // factor 2, max: divide by 4
+        let st = GlyphStyle {
+            scale: Scale::Factor(2.0),
+            normalize: Normalize::Max,
+            min_radius: 1e-3,
+            ..GlyphStyle::default()
+        }
+        .resolve(&s, 1.0);
+        assert_eq!(st.radii(&a), [2.0, 1.0, 0.002]);
+        // per glyph, auto: every glyph's largest radius is spacing/2
+        let st = GlyphStyle {
+            normalize: Normalize::PerGlyph,
+            ..GlyphStyle::default()
+        }
+        .resolve(&s, 1.0);
+        assert_eq!(st.radii(&a), [0.5, 0.25, 0.005]);
+        assert_eq!(st.radii(&b), [0.25, 0.125, 0.5]);
+        // degenerate spacing falls back to 1
+        let st = GlyphStyle::default().resolve(&s, 0.0);
+        assert_eq!(st.radii(&a)[0], 0.5);
+    }
+
+    #[test]
+    fn colours() {
+        let cigar = glyph([3.0, 1.0, 1.0]);
+        let comp = glyph([0.5, -0.1, -3.0]);
+        let s = set(vec![cigar, comp]);
+        let with = |color| {
+            GlyphStyle {
+                color,
+                solid_color: [1, 2, 3],
+                ..GlyphStyle::default()
+            }
+            .resolve(&s, 1.0)
+        };
+        assert_eq!(with(ColorScheme::Shape).color(&cigar), [255, 0, 0, 255]);
+        assert_eq!(with(ColorScheme::Sign).color(&cigar)[0], 204);
+        assert_eq!(with(ColorScheme::Sign).color(&comp)[2], 204);
+        assert_eq!(
+            with(ColorScheme::Sign).color(&glyph([0.0; 3])),
+            [255, 255, 255, 255]
+        );
+        assert_eq!(with(ColorScheme::Solid).color(&comp), [1, 2, 3, 255]);
+        // identity rotation: e1 = x, FA of (3,1,1) = 0.603
+        let dec = with(ColorScheme::Dec).color(&cigar);
+        assert_eq!(
+            dec,
+            [(0.6030226891555271f64 * 255.0).round() as u8, 0, 0, 255]
+        );
+        // compression: the major eigenvector is e3 = z, FA capped at 1
+        let dec = with(ColorScheme::Dec).color(&comp);
+        assert_eq!(dec[0..2], [0, 0]);
+        assert!(dec[2] > 200);
+        // MD range endpoints map to the viridis ends
+        let md = with(ColorScheme::Md);
+        assert_eq!(md.color(&cigar), to_rgba8(viridis(1.0)));
+        assert_eq!(md.color(&comp), to_rgba8(viridis(0.0)));
+        assert_eq!(
+            with(ColorScheme::Fa).color(&glyph([1.0, 1.0, 1.0])),
+            to_rgba8(viridis(0.0))
+        );
+    }
 }
