@@ -17,6 +17,8 @@ pub mod metrics;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod select;
 pub mod tensor;
+pub mod viewer;
 
 pub use error::{LoadError, RenderError};

@@ -122,42 +122,6 @@ pub fn write_atomic(path: &Path, text: &[u8]) -> std::io::Result<()> {
     result
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::metrics::Accuracy;
-    use crate::render::{GlyphKind, Method};
-
-    #[test]
-    fn csv_has_the_documented_columns_and_marks_skips() {
-        let row = Row {
-            scene: "grid40".into(),
-            view: "default".into(),
-            method: Method::Gumhold,
-            glyph: GlyphKind::Ellipsoid,
-            depth_correction: true,
-            frame_ms_median: 12.5,
-            frame_ms_min: 11.0,
-            frame_ms_max: 14.0,
-            fragments: Some(1000),
-            vertices: Some(400),
-            bytes_per_glyph: 48,
-            covered_pixels: 800,
-            accuracy: Accuracy::default(),
-            skipped: String::new(),
-        };
-        let mut skipped = row.clone();
-        skipped.skipped = "predicted over budget".into();
-        let text = csv(&[row, skipped]);
-        let lines: Vec<&str> = text.lines().collect();
-        assert_eq!(lines.len(), 3);
-        let n = CSV_HEADER.split(',').count();
-        assert_eq!(lines[1].split(',').count(), n);
-        assert!(lines[1].starts_with("grid40,default,gumhold,ellipsoid,true,1.250000e1"));
-        assert!(lines[2].ends_with("\"skipped: predicted over budget\""));
-    }
-}
-
 /// One paragraph per scene on what the numbers say, computed from the rows.
 pub fn findings(rows: &[Row]) -> String {
     let mut out = String::new();
@@ -245,4 +209,40 @@ pub fn findings(rows: &[Row]) -> String {
         out.push_str("\n\n");
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::metrics::Accuracy;
+    use crate::render::{GlyphKind, Method};
+
+    #[test]
+    fn csv_has_the_documented_columns_and_marks_skips() {
+        let row = Row {
+            scene: "grid40".into(),
+            view: "default".into(),
+            method: Method::Gumhold,
+            glyph: GlyphKind::Ellipsoid,
+            depth_correction: true,
+            frame_ms_median: 12.5,
+            frame_ms_min: 11.0,
+            frame_ms_max: 14.0,
+            fragments: Some(1000),
+            vertices: Some(400),
+            bytes_per_glyph: 48,
+            covered_pixels: 800,
+            accuracy: Accuracy::default(),
+            skipped: String::new(),
+        };
+        let mut skipped = row.clone();
+        skipped.skipped = "predicted over budget".into();
+        let text = csv(&[row, skipped]);
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 3);
+        let n = CSV_HEADER.split(',').count();
+        assert_eq!(lines[1].split(',').count(), n);
+        assert!(lines[1].starts_with("grid40,default,gumhold,ellipsoid,true,1.250000e1"));
+        assert!(lines[2].ends_with("\"skipped: predicted over budget\""));
+    }
 }

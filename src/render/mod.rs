@@ -13,5 +13,5 @@ pub mod shaders;
 pub mod targets;
 
 pub use context::GpuContext;
-pub use headless::{Frame, FrameRequest, GpuRenderer};
+pub use headless::{Frame, FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
 pub use method::{GlyphKind, Method};
