@@ -112,19 +112,40 @@ impl Navigation {
         self.target = point;
     }
 
+    /// How much farther (or larger, orthographic) a viewport narrower than it is tall must be
+    /// to show what a square one shows: `distance` and the visible height are set for aspect ≥ 1.
+    fn portrait_factor(&self, aspect: f64) -> f64 {
+        if !(aspect < 1.0 && aspect > 0.0) {
+            return 1.0;
+        }
+        if self.ortho {
+            1.0 / aspect
+        } else {
+            let h = (self.fov_deg.to_radians() / 2.0).clamp(1e-4, 1.55);
+            h.sin() / (h.tan() * aspect).atan().sin()
+        }
+    }
+
     /// The camera for a viewport of `width` × `height` pixels.
     pub fn camera(&self, width: u32, height: u32) -> Camera {
+        let aspect = f64::from(width.max(1)) / f64::from(height.max(1));
+        let fit = self.portrait_factor(aspect);
         let projection = if self.ortho {
             Projection::Orthographic {
-                height: self.visible_height(),
+                height: self.visible_height() * fit,
             }
         } else {
             Projection::Perspective {
                 fov_y: self.fov_deg.to_radians(),
             }
         };
+        let distance = if self.ortho {
+            self.distance
+        } else {
+            self.distance * fit
+        };
         let mut cam = Camera {
-            eye: self.eye(),
+            eye: self.target - self.forward * distance,
             target: self.target,
             up: self.up,
             projection,
@@ -184,6 +205,19 @@ mod tests {
         let cam = n.camera(800, 600);
         assert!((cam.eye - reference.eye).length() < 1e-9 * 5.0 + 1e-6);
         assert!((cam.target - reference.target).length() < 1e-9);
+    }
+
+    #[test]
+    fn portrait_viewports_still_show_the_whole_scene() {
+        let n = nav();
+        let wide = n.camera(800, 600);
+        let tall = n.camera(600, 1200);
+        let reference = Camera::frame(&Framing::default(), n.scene_centre, 5.0, 600, 1200);
+        assert!(
+            ((tall.eye - tall.target).length() - (reference.eye - reference.target).length()).abs()
+                < 1e-6
+        );
+        assert!((tall.eye - tall.target).length() > (wide.eye - wide.target).length());
     }
 
     #[test]

@@ -277,14 +277,14 @@ fn draw_legend(ui: &mut Ui, l: Legend) {
                     (ShapeClass::Spherical, "spherical (ball)"),
                     (ShapeClass::Unclassified, "unclassified"),
                 ] {
-                    ui.colored_label(color32(class.color()), "⏺");
+                    swatch(ui, color32(class.color()));
                     ui.label(name);
                 }
             });
             westin_triangle(ui);
         }
         Legend::Bar { lo, hi, label } => {
-            colour_bar(ui, viridis, 0.0);
+            colour_bar(ui, viridis);
             ui.horizontal(|ui| {
                 ui.label(format!("{label} {lo:.3}"));
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
@@ -293,7 +293,7 @@ fn draw_legend(ui: &mut Ui, l: Legend) {
             });
         }
         Legend::Sign => {
-            colour_bar(ui, |t| diverging(2.0 * t - 1.0), 0.0);
+            colour_bar(ui, |t| diverging(2.0 * t - 1.0));
             ui.horizontal(|ui| {
                 ui.label("compression (λ < 0)");
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
@@ -308,8 +308,14 @@ fn draw_legend(ui: &mut Ui, l: Legend) {
     }
 }
 
+/// A small filled square of colour `c`.
+fn swatch(ui: &mut Ui, c: Color32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, c);
+}
+
 /// A horizontal bar of `map(t)`, t from 0 to 1.
-fn colour_bar(ui: &mut Ui, map: impl Fn(f64) -> [f64; 3], _unused: f64) {
+fn colour_bar(ui: &mut Ui, map: impl Fn(f64) -> [f64; 3]) {
     let width = ui.available_width().min(240.0);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
     let mut mesh = egui::Mesh::default();
@@ -576,9 +582,11 @@ mod tests {
             events,
             ..Default::default()
         };
-        let out = ctx.run_ui(input, |ui| {
+        let mut out = ctx.run_ui(input, |ui| {
             actions = show(ui, settings, Some(nav), state, info);
         });
+        // No painter here to upload the font atlas to.
+        out.textures_delta.clear();
         (actions, out)
     }
 
