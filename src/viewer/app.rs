@@ -142,7 +142,7 @@ impl ViewerApp {
             Some(Err(e)) => {
                 self.loading = None;
                 self.error = Some(e);
-                if let Some(s) = &mut self.script {
+                if let (Some(s), None) = (&mut self.script, &self.data) {
                     // A scripted run has nothing to show: stop with the error.
                     s.frames_left = 0;
                 }
@@ -371,7 +371,7 @@ impl ViewerApp {
         let Some(s) = &mut self.script else { return };
         if let Some(result) = s.saved.lock().unwrap_or_else(|e| e.into_inner()).take() {
             let mut out = self.outcome.lock().unwrap_or_else(|e| e.into_inner());
-            out.error = result.err().or_else(|| self.error.clone());
+            out.error = result.err();
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             return;
         }
