@@ -93,7 +93,12 @@ fn shade(base: vec3<f32>, n_view: vec3<f32>, p_view: vec3<f32>) -> vec3<f32> {
 struct Hit {
     color: vec4<f32>,
     n_view: vec3<f32>,
-    z_view: f32,
+    // View z of the hit minus view z of the glyph's centre, formed next to the glyph: the
+    // accuracy check compares it with the reference (an absolute view z of a distant glyph is
+    // not even representable in f32 to the bounds checked).
+    z_rel: f32,
+    // The same for the proxy point, which the flat variants leave in the depth buffer.
+    z_proxy_rel: f32,
     depth: f32,
 }
 

@@ -3,7 +3,7 @@
 // radii.x, the cross-section has semi-axes radii.y, radii.z. Parameter space here is the glyph's
 // local frame scaled by the radii: the solid is |p~x| <= 1, p~y² + p~z² <= 1.
 // When the eye is inside the bounding ellipsoid but outside the cylinder (near a cap), the proxy
-// becomes the whole near plane. Composed as common.wgsl + this + outputs.wgsl.
+// becomes the whole near plane. Composed as common.wgsl + cylinder_slab.wgsl + this + outputs.wgsl.
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -19,6 +19,8 @@ struct VsOut {
     @location(5) @interpolate(flat) n0: vec3<f32>,
     @location(6) @interpolate(flat) n1: vec3<f32>,
     @location(7) @interpolate(flat) n2: vec3<f32>,
+    // Row 2 of R_view O diag(r): the hit's view z relative to the centre is tz · p~.
+    @location(8) @interpolate(flat) tz: vec3<f32>,
 }
 
 // Bounding ellipsoid of the unit cylinder: √3 along the axis, √(3/2) across.
@@ -77,54 +79,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.n0 = n[0];
     out.n1 = n[1];
     out.n2 = n[2];
+    let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
+    out.tz = (ot * r2) * g.radii;
     return out;
-}
-
-// Entry into the capped cylinder along o + t v (sigg-quadric.md §7): (t, surface) with
-// surface 0 = side, ±1 = cap; discards on a miss.
-fn slab(o: vec3<f32>, v: vec3<f32>) -> vec2<f32> {
-    var side_in = -1e30;
-    var side_out = 1e30;
-    let a = dot(v.yz, v.yz);
-    let b = dot(o.yz, v.yz);
-    let c = dot(o.yz, o.yz) - 1.0;
-    if a > 0.0 {
-        let disc = b * b - a * c;
-        if disc < 0.0 {
-            discard;
-        }
-        // Stable roots q/a and c/q.
-        let q = -(b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
-        var r1 = q / a;
-        var r2 = r1;
-        if q != 0.0 {
-            r2 = c / q;
-        }
-        side_in = min(r1, r2);
-        side_out = max(r1, r2);
-    } else if c > 0.0 {
-        discard;
-    }
-    var cap_in = -1e30;
-    var cap_out = 1e30;
-    if v.x != 0.0 {
-        let t1 = (-1.0 - o.x) / v.x;
-        let t2 = (1.0 - o.x) / v.x;
-        cap_in = min(t1, t2);
-        cap_out = max(t1, t2);
-    } else if abs(o.x) > 1.0 {
-        discard;
-    }
-    let t_in = max(side_in, cap_in);
-    let t_out = min(side_out, cap_out);
-    if t_in > t_out {
-        discard;
-    }
-    var surface = 0.0;
-    if cap_in > side_in {
-        surface = sign(o.x + t_in * v.x);
-    }
-    return vec2<f32>(t_in, surface);
 }
 
 fn ray_cast(in: VsOut) -> Hit {
@@ -152,7 +109,8 @@ fn ray_cast(in: VsOut) -> Hit {
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;
-    hit.z_view = p_view.z;
+    hit.z_rel = dot(in.tz, p_t);
+    hit.z_proxy_rel = dot(in.tz, in.o_t);
     hit.depth = in.position.z + delta_depth;
     return hit;
 }

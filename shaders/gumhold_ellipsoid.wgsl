@@ -20,6 +20,8 @@ struct VsOut {
     @location(7) @interpolate(flat) n0: vec3<f32>,
     @location(8) @interpolate(flat) n1: vec3<f32>,
     @location(9) @interpolate(flat) n2: vec3<f32>,
+    // Row 2 of R_view T: the hit's view z relative to the centre is tz · p~.
+    @location(10) @interpolate(flat) tz: vec3<f32>,
 }
 
 // E² at or below this counts as "eye inside or on the glyph": the glyph is culled (documented).
@@ -76,6 +78,8 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     out.n0 = n[0];
     out.n1 = n[1];
     out.n2 = n[2];
+    let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
+    out.tz = o * ((ot * r2) * g.radii);
     return out;
 }
 
@@ -106,7 +110,8 @@ fn ray_cast(in: VsOut) -> Hit {
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;
-    hit.z_view = p_view.z;
+    hit.z_rel = dot(in.tz, p_t);
+    hit.z_proxy_rel = dot(in.tz, in.vt_quad);
     hit.depth = in.position.z + delta_depth;
     return hit;
 }

@@ -12,6 +12,8 @@ struct VsOut {
     @location(1) n_view: vec3<f32>,
     @location(2) @interpolate(flat) id: u32,
     @location(3) @interpolate(flat) color: u32,
+    // View z relative to the glyph's centre, formed from the small offset O diag(r) p.
+    @location(4) z_rel: f32,
 }
 
 @vertex
@@ -27,6 +29,7 @@ fn vs_main(
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
     out.position = camera.view_proj * vec4<f32>(v, 1.0);
     out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
+    out.z_rel = dot(vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z), o * (p * g.radii));
     // Normalised per vertex so that thin glyphs (tiny radii) interpolate in a sane range.
     out.n_view = normalize(rv * (o * (n / g.radii)));
     out.id = ii + 1u;
@@ -40,7 +43,8 @@ fn ray_cast(in: VsOut) -> Hit {
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, in.v_view), 1.0);
     hit.n_view = n_view;
-    hit.z_view = in.v_view.z;
+    hit.z_rel = in.z_rel;
+    hit.z_proxy_rel = in.z_rel;
     hit.depth = in.position.z;
     return hit;
 }

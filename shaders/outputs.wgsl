@@ -1,5 +1,5 @@
 // The fragment entry points every method shares. A method's file defines `VsOut` (with
-// `position`, `v_view` = the proxy point in view space, and flat `id`) and `ray_cast(in) -> Hit`.
+// `position` and flat `id`) and `ray_cast(in) -> Hit`.
 
 fn corrected(in: VsOut) -> Hit {
     let hit = ray_cast(in);
@@ -19,7 +19,7 @@ fn fs_depth(in: VsOut) -> OutDepth {
 @fragment
 fn fs_depth_aux(in: VsOut) -> OutDepthAux {
     let hit = corrected(in);
-    return OutDepthAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_view), hit.depth);
+    return OutDepthAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_rel), hit.depth);
 }
 
 @fragment
@@ -32,5 +32,5 @@ fn fs_flat(in: VsOut) -> OutFlat {
 fn fs_flat_aux(in: VsOut) -> OutFlatAux {
     let hit = ray_cast(in);
     // The depth buffer holds the proxy's depth, so report the proxy's view z.
-    return OutFlatAux(hit.color, in.id, vec4<f32>(hit.n_view, in.v_view.z));
+    return OutFlatAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_proxy_rel));
 }

@@ -13,7 +13,8 @@ pub struct Accuracy {
     pub coverage_mismatch: f64,
     /// Fraction of pixels covered in both whose front-most glyph differs.
     pub id_mismatch: f64,
-    /// |z_view − z_ref| / (that glyph's largest radius), on pixels showing the same glyph.
+    /// |z_view − z_ref| / (that glyph's largest radius), on pixels showing the same glyph; both
+    /// view depths are taken relative to the glyph's centre (see `Frame::aux`).
     pub depth_err_rel_p99: f64,
     pub depth_err_rel_max: f64,
     /// Angle between normals in degrees, on pixels showing the same glyph.

@@ -191,3 +191,144 @@ fn demo_writes_vtk_that_reads_back() {
         );
     }
 }
+
+/// `info --json --sample` reproduces VTK's own read-back values on every VTK-written test file
+/// (tests/data/expected.json): float32-exact for binary and XML files, 1e-6 relative for legacy
+/// ASCII (VTK prints six significant digits there); positions to 1e-9 (cell centres are sums).
+#[test]
+fn info_samples_reproduce_vtk_values() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let exp: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("expected.json")).unwrap()).unwrap();
+    // expected.json writes NaN as "nan"; our JSON writes it as null.
+    let num = |v: &serde_json::Value| match v {
+        serde_json::Value::Number(n) => n.as_f64().unwrap(),
+        _ => f64::NAN,
+    };
+    let close = |a: f64, b: f64, rel: f64| {
+        (a.is_nan() && b.is_nan()) || (a - b).abs() <= rel * b.abs().max(1e-3)
+    };
+    let mut checked = 0;
+    for (file, e) in exp.as_object().unwrap() {
+        let ascii = e["format"] == "legacy-ascii";
+        let (trel, prel) = if ascii { (1e-6, 1e-6) } else { (0.0, 1e-9) };
+        for arr in e["arrays"].as_array().unwrap() {
+            let components = arr["components"].as_u64().unwrap();
+            if components != 9 && components != 6 {
+                continue;
+            }
+            let path = dir.join(file);
+            let mut args = vec![
+                "info".to_string(),
+                path.to_string_lossy().into_owned(),
+                "--json".into(),
+                "--array".into(),
+                arr["name"].as_str().unwrap().to_string(),
+            ];
+            let samples = arr["samples"].as_array().unwrap();
+            for s in samples {
+                args.push("--sample".into());
+                args.push(s["index"].to_string());
+            }
+            let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+            let o = tg(&argv);
+            assert!(o.status.success(), "{file}: {}", stderr(&o));
+            let j = json(&o);
+            assert_eq!(j["tensors"], arr["tuples"], "{file}");
+            assert_eq!(j["tensor_array"]["location"], arr["location"], "{file}");
+            for (k, s) in samples.iter().enumerate() {
+                let got = &j["samples"][k];
+                assert_eq!(got["index"], s["index"]);
+                for c in 0..9 {
+                    let (a, b) = (num(&got["tensor"][c]), num(&s["tensor"][c]));
+                    assert!(
+                        close(a, b, trel),
+                        "{file} #{} tensor[{c}]: {a} vs {b}",
+                        s["index"]
+                    );
+                }
+                for c in 0..3 {
+                    let (a, b) = (num(&got["position"][c]), num(&s["position"][c]));
+                    assert!(
+                        close(a, b, prel),
+                        "{file} #{} position[{c}]: {a} vs {b}",
+                        s["index"]
+                    );
+                }
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 90, "only {checked} arrays checked");
+}
+
+/// Without any adapter, rendering falls back to the exact reference and says so.
+#[test]
+fn render_without_an_adapter_falls_back_to_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r.png");
+    // No backend this build supports: wgpu finds no adapter at all.
+    let o = Command::new(env!("CARGO_BIN_EXE_tensorglyph"))
+        .args([
+            "render",
+            "--demo",
+            "grid:3",
+            "-o",
+            out.to_str().unwrap(),
+            "--size",
+            "96x64",
+            "--json",
+        ])
+        .env("WGPU_BACKEND", "dx12")
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("no GPU adapter"), "{}", stderr(&o));
+    assert_eq!(json(&o)["method"], "reference");
+    assert_eq!(png_size(&out), (96, 64));
+}
+
+/// One small `bench` run writes the CSV with its documented columns, the three charts and the
+/// report.
+#[test]
+fn bench_writes_csv_charts_and_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b");
+    let o = tg(&[
+        "bench",
+        "--out",
+        out.to_str().unwrap(),
+        "--scene",
+        "grid:3",
+        "--size",
+        "96x64",
+        "--frames",
+        "2",
+        "--method",
+        "gumhold",
+        "--method",
+        "sigg",
+        "--method",
+        "mesh:1",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = std::fs::read_to_string(out.join("speed_accuracy.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "scene,view,method,glyph,depth_correction,frame_ms_median,frame_ms_min,frame_ms_max,fragments,vertices,bytes_per_glyph,coverage_mismatch,id_mismatch,depth_err_rel_p99,normal_err_deg_p99,color_psnr_db,status"
+    );
+    // 3 methods x 2 glyphs x 2 depth settings x 3 views, plus a reference row per glyph and view.
+    assert_eq!(lines.count(), 3 * 2 * 2 * 3 + 2 * 3);
+    for png in [
+        "speed_accuracy.png",
+        "speed_accuracy_close.png",
+        "speed_accuracy_far.png",
+    ] {
+        assert_eq!(png_size(&out.join(png)), (1000, 700), "{png}");
+    }
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## What this shows"));
+}

@@ -23,8 +23,8 @@ pub struct ViewArgs {
     /// Image size.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Rendering method: gumhold (GPU), reference (exact CPU ray caster), or the triangle-mesh
-    /// baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box (oriented box).
+    /// Rendering method: gumhold or sigg (GPU ray casting), reference (exact CPU ray caster), or
+    /// the triangle-mesh baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box.
     #[arg(long, default_value = "gumhold")]
     pub method: Method,
     #[arg(long, value_enum, default_value_t = GlyphKind::Ellipsoid)]

@@ -32,13 +32,20 @@ enum Outcome {
 /// Classify and decompose one world-space tensor.
 #[inline]
 fn process(t: &[f64; 9], centre: [f64; 3], index: usize) -> Outcome {
-    if t.iter().any(|x| x.is_nan()) {
+    // One branch-free pass over the nine components.
+    let (mut nan, mut inf, mut nonzero) = (false, false, false);
+    for &x in t {
+        nan |= x.is_nan();
+        inf |= x.is_infinite();
+        nonzero |= x != 0.0;
+    }
+    if nan {
         return Outcome::Nan;
     }
-    if t.iter().any(|x| x.is_infinite()) {
+    if inf {
         return Outcome::Inf;
     }
-    if t.iter().all(|&x| x == 0.0) {
+    if !nonzero {
         return Outcome::Zero;
     }
     let (s, symmetrised) = symmetrise(t);

@@ -39,6 +39,13 @@ enum Shape {
 }
 
 impl Shape {
+    fn centre(&self) -> DVec3 {
+        match self {
+            Shape::Ellipsoid { centre, .. } => *centre,
+            Shape::Cylinder(c) => c.c,
+        }
+    }
+
     fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
         match self {
             Shape::Ellipsoid { centre, t_inv } => {
@@ -187,6 +194,7 @@ impl<'a> ReferenceScene<'a> {
                         Some(hit) => {
                             let g = &self.glyphs[hit.instance as usize];
                             let p_view = self.view.transform_point3(hit.point);
+                            let c_view = self.view.transform_point3(g.shape.centre());
                             let n_view = self.view.transform_vector3(hit.normal).normalize();
                             let c = shading::shade(&req.lighting, ortho, g.base, n_view, p_view);
                             color.extend_from_slice(&[
@@ -200,7 +208,7 @@ impl<'a> ReferenceScene<'a> {
                                 n_view.x as f32,
                                 n_view.y as f32,
                                 n_view.z as f32,
-                                p_view.z as f32,
+                                (p_view.z - c_view.z) as f32,
                             ]);
                         }
                     }

@@ -5,7 +5,7 @@
 use crate::render::context::GpuContext;
 use crate::render::headless::Drawer;
 use crate::render::method::GlyphKind;
-use crate::render::pipeline::{Variant, glyph_pipeline};
+use crate::render::pipeline::{Variant, variant_pipelines};
 use crate::render::shaders::ShaderSource;
 
 pub struct GumholdRenderer {
@@ -18,26 +18,13 @@ impl GumholdRenderer {
             GlyphKind::Ellipsoid => ShaderSource::GumholdEllipsoid,
             GlyphKind::Cylinder => ShaderSource::GumholdCylinder,
         };
-        let text = source.text();
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(source.name()),
-                source: wgpu::ShaderSource::Wgsl(text.into()),
-            });
-        let mut pipelines: Vec<Option<wgpu::RenderPipeline>> = vec![None, None, None, None];
-        for v in Variant::ALL {
-            pipelines[v.index()] = Some(glyph_pipeline(
+        Self {
+            pipelines: variant_pipelines(
                 ctx,
                 layout,
-                &module,
-                source.name(),
+                source,
                 wgpu::PrimitiveTopology::TriangleStrip,
-                v,
-            ));
-        }
-        Self {
-            pipelines: pipelines.into_iter().flatten().collect(),
+            ),
         }
     }
 }

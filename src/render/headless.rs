@@ -15,6 +15,7 @@ use crate::render::gumhold::GumholdRenderer;
 use crate::render::mesh::MeshRenderer;
 use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
+use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
 
 use crate::scene::Scene;
@@ -57,7 +58,8 @@ pub struct Frame {
     pub color: Vec<u8>,
     /// Instance index + 1 of the front-most glyph, 0 for background.
     pub ids: Vec<u32>,
-    /// View-space normal and view z per pixel (where `ids` is non-zero).
+    /// View-space normal and the view z of the hit relative to its glyph's centre, per pixel
+    /// (where `ids` is non-zero).
     pub aux: Option<Vec<[f32; 4]>>,
     /// Wall-clock time of each frame, submit to completion.
     pub frame_ms: Vec<f64>,
@@ -133,6 +135,7 @@ impl GpuRenderer {
         let layout = &self.pipeline_layout;
         let drawer: Arc<dyn Drawer> = match (method, glyph) {
             (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(&self.ctx, layout, glyph)),
+            (Method::Sigg, glyph) => Arc::new(SiggRenderer::new(&self.ctx, layout, glyph)),
             (Method::Mesh(_) | Method::Box, glyph) => Arc::new(
                 MeshRenderer::new(&self.ctx, layout, method, glyph).expect("a mesh method"),
             ),

@@ -221,7 +221,8 @@ pub fn unit_mesh(method: Method, glyph: GlyphKind) -> Option<Mesh> {
 }
 
 /// (vertices, triangles) per glyph: the unit mesh's for the mesh methods, the 4-vertex strip
-/// (2 triangles) of Gumhold's quad, nothing for the CPU reference. Without building the mesh.
+/// (2 triangles) of the Gumhold and Sigg proxies, nothing for the CPU reference. Without building
+/// the mesh.
 pub fn mesh_stats(method: Method, glyph: GlyphKind) -> (usize, usize) {
     match (method, glyph) {
         (Method::Mesh(n), GlyphKind::Ellipsoid) => {
@@ -233,7 +234,7 @@ pub fn mesh_stats(method: Method, glyph: GlyphKind) -> (usize, usize) {
             (4 * s + 2, 4 * s)
         }
         (Method::Box, _) => (24, 12),
-        (Method::Gumhold, _) => (4, 2),
+        (Method::Gumhold | Method::Sigg, _) => (4, 2),
         (Method::Reference, _) => (0, 0),
     }
 }

@@ -9,6 +9,8 @@ use std::str::FromStr;
 pub enum Method {
     /// Gumhold's perspective-correct silhouette quad, ray cast per fragment.
     Gumhold,
+    /// Sigg et al.'s screen-space bounding box of the projected quadric, ray cast per fragment.
+    Sigg,
     /// The exact f64 CPU ray caster (accuracy truth, and the fallback without a GPU).
     Reference,
     /// Baseline: an instanced triangle mesh (icosphere / prism subdivided N times, 0..=6).
@@ -20,7 +22,7 @@ pub enum Method {
 impl Method {
     /// Every GPU method, in the order reports list them.
     pub fn gpu_methods() -> Vec<Method> {
-        let mut m = vec![Method::Gumhold];
+        let mut m = vec![Method::Gumhold, Method::Sigg];
         m.extend((0..=Method::MAX_MESH_LEVEL).map(Method::Mesh));
         m.push(Method::Box);
         m
@@ -38,6 +40,7 @@ impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Method::Gumhold => write!(f, "gumhold"),
+            Method::Sigg => write!(f, "sigg"),
             Method::Reference => write!(f, "reference"),
             Method::Mesh(n) => write!(f, "mesh:{n}"),
             Method::Box => write!(f, "box"),
@@ -50,6 +53,7 @@ impl FromStr for Method {
     fn from_str(s: &str) -> Result<Self, String> {
         match s {
             "gumhold" => Ok(Method::Gumhold),
+            "sigg" => Ok(Method::Sigg),
             "reference" => Ok(Method::Reference),
             "box" => Ok(Method::Box),
             _ if s.starts_with("mesh:") => {
@@ -64,7 +68,7 @@ impl FromStr for Method {
                 }
             }
             _ => Err(format!(
-                "unknown method '{s}': use gumhold, reference, mesh:N (N = 0..={}) or box",
+                "unknown method '{s}': use gumhold, sigg, reference, mesh:N (N = 0..={}) or box",
                 Method::MAX_MESH_LEVEL
             )),
         }
@@ -113,7 +117,12 @@ mod tests {
 
     #[test]
     fn methods_round_trip_through_their_names() {
-        for m in [Method::Gumhold, Method::Reference, Method::Box] {
+        for m in [
+            Method::Gumhold,
+            Method::Sigg,
+            Method::Reference,
+            Method::Box,
+        ] {
             assert_eq!(m.to_string().parse::<Method>(), Ok(m));
         }
         for n in 0..=Method::MAX_MESH_LEVEL {

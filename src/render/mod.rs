@@ -10,6 +10,8 @@ pub mod mesh;
 pub mod method;
 pub mod pipeline;
 pub mod shaders;
+pub mod sigg;
+pub mod sigg_math;
 pub mod targets;
 
 pub use context::GpuContext;

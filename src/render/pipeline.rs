@@ -168,3 +168,30 @@ pub fn glyph_pipeline_with(
             cache: None,
         })
 }
+
+/// One pipeline per output variant (indexed by [`Variant::index`]) for a method's shader.
+pub fn variant_pipelines(
+    ctx: &GpuContext,
+    layout: &wgpu::PipelineLayout,
+    source: crate::render::shaders::ShaderSource,
+    topology: wgpu::PrimitiveTopology,
+) -> Vec<wgpu::RenderPipeline> {
+    let module = ctx
+        .device
+        .create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(source.name()),
+            source: wgpu::ShaderSource::Wgsl(source.text().into()),
+        });
+    let mut pipelines: Vec<Option<wgpu::RenderPipeline>> = vec![None, None, None, None];
+    for v in Variant::ALL {
+        pipelines[v.index()] = Some(glyph_pipeline(
+            ctx,
+            layout,
+            &module,
+            source.name(),
+            topology,
+            v,
+        ));
+    }
+    pipelines.into_iter().flatten().collect()
+}

@@ -1,26 +1,35 @@
-//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, its own file
-//! and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`] runs
-//! naga's validator over each composition.
+//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
+//! parts it needs (`cylinder_slab.wgsl` for cylinders, `sigg.wgsl` for Sigg's method), its own
+//! file and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`]
+//! runs naga's validator over each composition.
 
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
 const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/gumhold_ellipsoid.wgsl");
 const GUMHOLD_CYLINDER: &str = include_str!("../../shaders/gumhold_cylinder.wgsl");
 const MESH: &str = include_str!("../../shaders/mesh.wgsl");
+const CYLINDER_SLAB: &str = include_str!("../../shaders/cylinder_slab.wgsl");
+const SIGG: &str = include_str!("../../shaders/sigg.wgsl");
+const SIGG_ELLIPSOID: &str = include_str!("../../shaders/sigg_ellipsoid.wgsl");
+const SIGG_CYLINDER: &str = include_str!("../../shaders/sigg_cylinder.wgsl");
 
 /// A method's complete shader source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ShaderSource {
     GumholdEllipsoid,
     GumholdCylinder,
+    SiggEllipsoid,
+    SiggCylinder,
     /// The triangle-mesh baselines (`mesh:N`, `box`), every glyph shape.
     Mesh,
 }
 
 impl ShaderSource {
-    pub const ALL: [ShaderSource; 3] = [
+    pub const ALL: [ShaderSource; 5] = [
         ShaderSource::GumholdEllipsoid,
         ShaderSource::GumholdCylinder,
+        ShaderSource::SiggEllipsoid,
+        ShaderSource::SiggCylinder,
         ShaderSource::Mesh,
     ];
 
@@ -28,16 +37,21 @@ impl ShaderSource {
         match self {
             ShaderSource::GumholdEllipsoid => "gumhold_ellipsoid.wgsl",
             ShaderSource::GumholdCylinder => "gumhold_cylinder.wgsl",
+            ShaderSource::SiggEllipsoid => "sigg_ellipsoid.wgsl",
+            ShaderSource::SiggCylinder => "sigg_cylinder.wgsl",
             ShaderSource::Mesh => "mesh.wgsl",
         }
     }
 
     pub fn text(self) -> String {
-        let body = match self {
-            ShaderSource::GumholdEllipsoid => GUMHOLD_ELLIPSOID,
-            ShaderSource::GumholdCylinder => GUMHOLD_CYLINDER,
-            ShaderSource::Mesh => MESH,
+        let parts: &[&str] = match self {
+            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID],
+            ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER],
+            ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
+            ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
+            ShaderSource::Mesh => &[MESH],
         };
+        let body = parts.join("\n");
         format!("{COMMON}\n{body}\n{OUTPUTS}")
     }
 }

@@ -17,3 +17,66 @@ pub fn gpu() -> Option<GpuRenderer> {
         }
     }
 }
+
+use glam::{DQuat, DVec3};
+use tensorglyph::camera::Camera;
+use tensorglyph::metrics::{Accuracy, compare};
+use tensorglyph::reference::ReferenceScene;
+use tensorglyph::render::{Frame, FrameRequest};
+use tensorglyph::scene::{GlyphSpec, Scene};
+
+/// A glyph from its world centre, rotation (axis, angle), radii and colour.
+pub fn spec(
+    centre: [f64; 3],
+    axis: [f64; 3],
+    angle: f64,
+    radii: [f64; 3],
+    color: [u8; 4],
+) -> GlyphSpec {
+    GlyphSpec {
+        centre: DVec3::from(centre),
+        rotation: DQuat::from_axis_angle(DVec3::from(axis).normalize(), angle),
+        radii: DVec3::from(radii),
+        color,
+        glyph: 0,
+    }
+}
+
+/// Render `scene` with `req` (which must ask for aux data) on the GPU and with the reference;
+/// the GPU frame and its accuracy, or `None` without an adapter.
+pub fn check_request(
+    name: &str,
+    scene: &Scene,
+    camera: &Camera,
+    req: &FrameRequest,
+) -> Option<(Frame, Accuracy)> {
+    let gpu = gpu()?;
+    let frame = gpu.render(scene, camera, req).expect("GPU frame");
+    let reference = ReferenceScene::new(scene, camera, req.glyph).render(req);
+    let acc = compare(&frame, &reference, scene);
+    eprintln!(
+        "{name} ({} {}): {acc:?} (covered {}, fragments {:?})",
+        req.method,
+        req.glyph,
+        reference.covered_pixels(),
+        frame.fragments
+    );
+    assert!(
+        reference.covered_pixels() > 100,
+        "{name}: scene shows too little"
+    );
+    Some((frame, acc))
+}
+
+/// Bounds for a smooth single-glyph view at 256x192: the rim pixels whose centres lie within
+/// f32 rounding of the silhouette can flip (a handful of a 49k-pixel image: 0.1 %); depth and
+/// normal in f32 are good to ~1e-5 glyph sizes and well under 0.1° except at grazing rims,
+/// which the 99th percentile excludes. Colour is 8-bit: off-by-one rounding on a few channels
+/// keeps PSNR far above 40 dB.
+pub fn assert_tight(name: &str, a: &Accuracy) {
+    assert!(a.coverage_mismatch <= 1e-3, "{name}: coverage {a:?}");
+    assert!(a.id_mismatch <= 1e-3, "{name}: id {a:?}");
+    assert!(a.depth_err_rel_p99 <= 1e-4, "{name}: depth {a:?}");
+    assert!(a.normal_err_deg_p99 <= 0.1, "{name}: normal {a:?}");
+    assert!(a.color_psnr_db >= 40.0, "{name}: colour {a:?}");
+}

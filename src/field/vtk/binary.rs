@@ -1,0 +1,143 @@
+//! Scalar types and byte decoding shared by the legacy and XML readers.
+
+use super::{Res, malformed};
+
+/// A numeric element type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Scalar {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+}
+
+impl Scalar {
+    pub fn size(self) -> usize {
+        match self {
+            Scalar::I8 | Scalar::U8 => 1,
+            Scalar::I16 | Scalar::U16 => 2,
+            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
+            Scalar::I64 | Scalar::U64 | Scalar::F64 => 8,
+        }
+    }
+
+    /// XML `type` attribute (VTK ≥ 5 names and the old `Int`/`Float` ones are not used by VTK).
+    pub fn from_xml(s: &str) -> Option<Scalar> {
+        Some(match s {
+            "Int8" | "Char" => Scalar::I8,
+            "UInt8" => Scalar::U8,
+            "Int16" => Scalar::I16,
+            "UInt16" => Scalar::U16,
+            "Int32" => Scalar::I32,
+            "UInt32" => Scalar::U32,
+            "Int64" => Scalar::I64,
+            "UInt64" => Scalar::U64,
+            "Float32" => Scalar::F32,
+            "Float64" => Scalar::F64,
+            _ => return None,
+        })
+    }
+
+    /// Round a value parsed from text to what an array of this type holds.
+    pub fn round_text(self, v: f64) -> f64 {
+        match self {
+            Scalar::F32 => v as f32 as f64,
+            _ => v,
+        }
+    }
+}
+
+/// Append the values in `bytes` (a whole number of elements) to `out`, converting to f64.
+pub(crate) fn decode_into(bytes: &[u8], ty: Scalar, big_endian: bool, out: &mut Vec<f64>) {
+    macro_rules! go {
+        ($t:ty, $n:expr) => {
+            out.extend(bytes.chunks_exact($n).map(|c| {
+                let a: [u8; $n] = c.try_into().expect("chunk size");
+                (if big_endian {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                }) as f64
+            }))
+        };
+    }
+    match ty {
+        Scalar::I8 => out.extend(bytes.iter().map(|&b| b as i8 as f64)),
+        Scalar::U8 => out.extend(bytes.iter().map(|&b| b as f64)),
+        Scalar::I16 => go!(i16, 2),
+        Scalar::U16 => go!(u16, 2),
+        Scalar::I32 => go!(i32, 4),
+        Scalar::U32 => go!(u32, 4),
+        Scalar::I64 => go!(i64, 8),
+        Scalar::U64 => go!(u64, 8),
+        Scalar::F32 => go!(f32, 4),
+        Scalar::F64 => go!(f64, 8),
+    }
+}
+
+/// A vector with room for `n` elements, or an error instead of an allocation failure.
+pub(crate) fn try_vec<T>(n: usize) -> Res<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n)
+        .map_err(|_| malformed(format!("cannot allocate {n} values")))?;
+    Ok(v)
+}
+
+/// Convert decoded index values (offsets, connectivity) to `usize`, rejecting negatives,
+/// fractions and values above `limit`.
+pub(crate) fn to_indices(v: &[f64], what: &str, limit: usize) -> Res<Vec<usize>> {
+    let mut out = try_vec(v.len())?;
+    for &x in v {
+        if !(x >= 0.0 && x.fract() == 0.0 && x <= limit as f64) {
+            return Err(malformed(format!("invalid {what} value {x}")));
+        }
+        out.push(x as usize);
+    }
+    Ok(out)
+}
+
+/// Parse whitespace-separated numbers; exactly `n` are expected.
+pub(crate) fn parse_ascii(text: &[u8], n: usize, ty: Scalar, what: &str) -> Res<Vec<f64>> {
+    // Every number needs at least one character and one separator.
+    if n > text.len() / 2 + 1 {
+        return Err(malformed(format!(
+            "{what}: {n} values declared but the data holds at most {}",
+            text.len() / 2 + 1
+        )));
+    }
+    let mut out = try_vec(n)?;
+    for tok in text
+        .split(|b| b.is_ascii_whitespace())
+        .filter(|t| !t.is_empty())
+    {
+        if out.len() == n {
+            return Err(malformed(format!("{what}: more than {n} values")));
+        }
+        out.push(ty.round_text(parse_number(tok, what)?));
+    }
+    if out.len() != n {
+        return Err(malformed(format!(
+            "{what}: {} values, expected {n}",
+            out.len()
+        )));
+    }
+    Ok(out)
+}
+
+pub(crate) fn parse_number(tok: &[u8], what: &str) -> Res<f64> {
+    std::str::from_utf8(tok)
+        .ok()
+        .and_then(|s| s.parse::<f64>().ok())
+        .ok_or_else(|| {
+            malformed(format!(
+                "{what}: '{}' is not a number",
+                String::from_utf8_lossy(&tok[..tok.len().min(40)])
+            ))
+        })
+}

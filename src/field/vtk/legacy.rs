@@ -1,0 +1,683 @@
+//! Legacy `.vtk` files, ASCII and binary (big-endian), versions up to 5.1.
+//!
+//! vtkio 0.7.0-rc2 limitation this replaces: it rejects `TENSORS6` (written by VTK ≥ 9 for
+//! 6-component tensors) with a parse error, and it allocates from declared counts before
+//! checking them. This parser reads every section VTK 9 writes, keeps only the arrays that can
+//! be tensors (or the one asked for by name), and checks each count against the bytes left.
+
+use super::binary::{Scalar, decode_into, parse_number, to_indices, try_vec};
+use super::{ArrayDesc, Cells, Geometry, Parsed, Res, malformed};
+use crate::error::LoadErrorKind;
+use crate::field::{DatasetKind, Location};
+
+/// Element type of a legacy array; `Bit` is packed in binary files.
+#[derive(Debug, Clone, Copy)]
+enum LType {
+    Num(Scalar),
+    Bit,
+    /// `string` / `utf8_string` (FIELD arrays): skipped, never a tensor.
+    Str,
+}
+
+fn ltype(s: &str) -> Res<LType> {
+    Ok(LType::Num(match s.to_ascii_lowercase().as_str() {
+        "bit" => return Ok(LType::Bit),
+        "string" | "utf8_string" => return Ok(LType::Str),
+        "char" | "signed_char" | "vtktypeint8" => Scalar::I8,
+        "unsigned_char" | "vtktypeuint8" => Scalar::U8,
+        "short" | "vtktypeint16" => Scalar::I16,
+        "unsigned_short" | "vtktypeuint16" => Scalar::U16,
+        // VTK writes vtkIdType arrays as 32-bit ints in legacy files.
+        "int" | "vtkidtype" | "vtktypeint32" => Scalar::I32,
+        "unsigned_int" | "vtktypeuint32" => Scalar::U32,
+        "long" | "vtktypeint64" => Scalar::I64,
+        "unsigned_long" | "vtktypeuint64" => Scalar::U64,
+        "float" | "vtktypefloat32" => Scalar::F32,
+        "double" | "vtktypefloat64" => Scalar::F64,
+        other => {
+            return Err(LoadErrorKind::UnsupportedDataset(format!(
+                "legacy data type '{other}' is not supported"
+            )));
+        }
+    }))
+}
+
+struct Cursor<'a> {
+    b: &'a [u8],
+    pos: usize,
+    binary: bool,
+}
+
+impl<'a> Cursor<'a> {
+    fn remaining(&self) -> usize {
+        self.b.len() - self.pos
+    }
+
+    /// The next raw line (without its end-of-line), or None at end of file.
+    fn raw_line(&mut self) -> Option<&'a [u8]> {
+        if self.pos >= self.b.len() {
+            return None;
+        }
+        let rest = &self.b[self.pos..];
+        let end = rest.iter().position(|&c| c == b'\n').unwrap_or(rest.len());
+        self.pos += (end + 1).min(rest.len());
+        let mut line = &rest[..end];
+        if line.last() == Some(&b'\r') {
+            line = &line[..line.len() - 1];
+        }
+        Some(line)
+    }
+
+    /// Tokens of the next non-blank line, or None at end of file.
+    fn line(&mut self) -> Res<Option<Vec<&'a str>>> {
+        while let Some(l) = self.raw_line() {
+            let toks: Vec<&[u8]> = l
+                .split(|c| c.is_ascii_whitespace())
+                .filter(|t| !t.is_empty())
+                .collect();
+            if toks.is_empty() {
+                continue;
+            }
+            let mut out = Vec::with_capacity(toks.len());
+            for t in toks {
+                out.push(std::str::from_utf8(t).map_err(|_| {
+                    malformed(format!(
+                        "unexpected binary data near byte {} where a keyword was expected",
+                        self.pos
+                    ))
+                })?);
+            }
+            return Ok(Some(out));
+        }
+        Ok(None)
+    }
+
+    fn token(&mut self) -> Option<&'a [u8]> {
+        while self.pos < self.b.len() && self.b[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        let start = self.pos;
+        while self.pos < self.b.len() && !self.b[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        (self.pos > start).then(|| &self.b[start..self.pos])
+    }
+
+    /// Read `n` values of type `ty`; returns them if `keep`, else skips them.
+    fn values(&mut self, n: usize, ty: LType, keep: bool, what: &str) -> Res<Option<Vec<f64>>> {
+        if let LType::Str = ty {
+            self.skip_strings(n, what)?;
+            return Ok(None);
+        }
+        if self.binary {
+            let nbytes = match ty {
+                LType::Bit => n.div_ceil(8),
+                LType::Str => 0,
+                LType::Num(s) => n
+                    .checked_mul(s.size())
+                    .ok_or_else(|| malformed(format!("{what}: {n} values overflow")))?,
+            };
+            if nbytes > self.remaining() {
+                return Err(malformed(format!(
+                    "{what}: {n} values need {nbytes} bytes but only {} remain (truncated?)",
+                    self.remaining()
+                )));
+            }
+            let bytes = &self.b[self.pos..self.pos + nbytes];
+            self.pos += nbytes;
+            if !keep {
+                return Ok(None);
+            }
+            let mut out = try_vec(n)?;
+            match ty {
+                LType::Bit => {
+                    out.extend((0..n).map(|i| ((bytes[i / 8] >> (7 - i % 8)) & 1) as f64));
+                }
+                LType::Num(s) => decode_into(bytes, s, true, &mut out),
+                LType::Str => {}
+            }
+            Ok(Some(out))
+        } else {
+            if n > self.remaining() / 2 + 1 {
+                return Err(malformed(format!(
+                    "{what}: {n} values declared but only {} bytes remain (truncated?)",
+                    self.remaining()
+                )));
+            }
+            let mut out = if keep { Some(try_vec(n)?) } else { None };
+            for _ in 0..n {
+                let tok = self.token().ok_or_else(|| {
+                    malformed(format!("{what}: file ends before {n} values were read"))
+                })?;
+                let v = parse_number(tok, what)?;
+                if let Some(o) = out.as_mut() {
+                    o.push(match ty {
+                        LType::Num(s) => s.round_text(v),
+                        LType::Bit | LType::Str => v,
+                    });
+                }
+            }
+            Ok(out)
+        }
+    }
+
+    /// Skip `n` strings: one per line in ASCII files; in binary files each has a big-endian
+    /// length prefix whose two top bits give its size (11: 1 byte, 10: 2, 01: 4, 00: 8).
+    fn skip_strings(&mut self, n: usize, what: &str) -> Res<()> {
+        let short = || malformed(format!("{what}: file ends inside the strings"));
+        if n > self.remaining() {
+            return Err(short());
+        }
+        for _ in 0..n {
+            if !self.binary {
+                self.raw_line().ok_or_else(short)?;
+                continue;
+            }
+            let first = *self.b.get(self.pos).ok_or_else(short)?;
+            let width = match first >> 6 {
+                3 => 1,
+                2 => 2,
+                1 => 4,
+                _ => 8,
+            };
+            let head = self.b.get(self.pos..self.pos + width).ok_or_else(short)?;
+            let mut len = (first & 0x3F) as u64;
+            for &b in &head[1..] {
+                len = (len << 8) | b as u64;
+            }
+            let end = usize::try_from(len)
+                .ok()
+                .and_then(|l| (self.pos + width).checked_add(l))
+                .filter(|&e| e <= self.b.len())
+                .ok_or_else(short)?;
+            self.pos = end;
+        }
+        Ok(())
+    }
+
+    /// Skip a METADATA block: lines up to the first blank one.
+    fn skip_metadata(&mut self) {
+        while let Some(l) = self.raw_line() {
+            if l.iter().all(|c| c.is_ascii_whitespace()) {
+                break;
+            }
+        }
+    }
+}
+
+fn count(tok: Option<&&str>, what: &str) -> Res<usize> {
+    tok.and_then(|t| t.parse::<usize>().ok())
+        .ok_or_else(|| malformed(format!("{what}: missing or invalid count")))
+}
+
+fn arg<'a>(toks: &[&'a str], i: usize, what: &str) -> Res<&'a str> {
+    toks.get(i)
+        .copied()
+        .ok_or_else(|| malformed(format!("{what}: incomplete header line")))
+}
+
+fn floats3(toks: &[&str], what: &str) -> Res<[f64; 3]> {
+    let mut v = [0.0; 3];
+    for (a, slot) in v.iter_mut().enumerate() {
+        *slot = parse_number(arg(toks, a + 1, what)?.as_bytes(), what)?;
+    }
+    Ok(v)
+}
+
+/// Cells of one section (`CELLS`, `VERTICES`, ...), in the 4.2 or 5.1 layout.
+fn read_cells(cur: &mut Cursor, toks: &[&str], v5: bool, npoints_limit: usize) -> Res<Cells> {
+    let what = toks[0];
+    let a = count(toks.get(1), what)?;
+    let b = count(toks.get(2), what)?;
+    if v5 || (a > 0 && cur.peek_keyword("OFFSETS")) {
+        // 5.1: CELLS <noffsets> <nconn>, then OFFSETS <type> / CONNECTIVITY <type>.
+        let t = cur
+            .line()?
+            .ok_or_else(|| malformed(format!("{what}: missing OFFSETS")))?;
+        if t[0] != "OFFSETS" {
+            return Err(malformed(format!(
+                "{what}: expected OFFSETS, found '{}'",
+                t[0]
+            )));
+        }
+        let off = cur
+            .values(a, ltype(arg(&t, 1, "OFFSETS")?)?, true, "OFFSETS")?
+            .unwrap_or_default();
+        let t = cur
+            .line()?
+            .ok_or_else(|| malformed(format!("{what}: missing CONNECTIVITY")))?;
+        if t[0] != "CONNECTIVITY" {
+            return Err(malformed(format!(
+                "{what}: expected CONNECTIVITY, found '{}'",
+                t[0]
+            )));
+        }
+        let conn = cur
+            .values(b, ltype(arg(&t, 1, "CONNECTIVITY")?)?, true, "CONNECTIVITY")?
+            .unwrap_or_default();
+        let off = to_indices(&off, "cell offset", b)?;
+        let conn = to_indices(&conn, "point id", npoints_limit)?;
+        if a == 0 {
+            return Cells::from_offsets(vec![0], conn);
+        }
+        Cells::from_offsets(off, conn)
+    } else {
+        // 4.2: CELLS <ncells> <size>, then per cell: npts id...
+        let raw = cur
+            .values(b, LType::Num(Scalar::I32), true, what)?
+            .unwrap_or_default();
+        let raw = to_indices(&raw, "cell list entry", usize::MAX >> 12)?;
+        let mut offsets = try_vec(a.min(raw.len()) + 1)?;
+        let mut conn = try_vec(raw.len())?;
+        offsets.push(0);
+        let mut i = 0;
+        for c in 0..a {
+            let n = *raw
+                .get(i)
+                .ok_or_else(|| malformed(format!("{what}: cell {c} missing")))?;
+            let ids = raw
+                .get(i + 1..i + 1 + n)
+                .ok_or_else(|| malformed(format!("{what}: cell {c} runs past the list")))?;
+            conn.extend_from_slice(ids);
+            offsets.push(conn.len());
+            i += 1 + n;
+        }
+        if i != raw.len() {
+            return Err(malformed(format!(
+                "{what}: list size {b} does not match its {a} cells"
+            )));
+        }
+        Cells::from_offsets(offsets, conn)
+    }
+}
+
+impl Cursor<'_> {
+    fn peek_keyword(&mut self, kw: &str) -> bool {
+        let save = self.pos;
+        let r = matches!(self.line(), Ok(Some(t)) if t[0] == kw);
+        self.pos = save;
+        r
+    }
+}
+
+/// Parse a legacy file. Arrays that cannot be tensors are skipped unless `wanted` names them.
+pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>> {
+    let mut cur = Cursor {
+        b: bytes,
+        pos: 0,
+        binary: false,
+    };
+    let header = cur.raw_line().unwrap_or_default();
+    let header = String::from_utf8_lossy(header);
+    let version: f64 = header
+        .trim()
+        .rsplit(' ')
+        .next()
+        .and_then(|v| v.parse().ok())
+        .ok_or_else(|| LoadErrorKind::NotVtk(format!("bad legacy header '{}'", header.trim())))?;
+    let v5 = version >= 5.0;
+    cur.raw_line()
+        .ok_or_else(|| malformed("file ends after the header line"))?; // title
+    let enc = cur
+        .line()?
+        .ok_or_else(|| malformed("file ends before ASCII/BINARY"))?;
+    cur.binary = match enc[0].to_ascii_uppercase().as_str() {
+        "ASCII" => false,
+        "BINARY" => true,
+        other => {
+            return Err(malformed(format!(
+                "expected ASCII or BINARY, found '{other}'"
+            )));
+        }
+    };
+    let format = if cur.binary {
+        "legacy-binary"
+    } else {
+        "legacy-ascii"
+    };
+
+    let mut kind: Option<DatasetKind> = None;
+    let mut dims: Option<[usize; 3]> = None;
+    let mut origin = [0.0; 3];
+    let mut spacing = [1.0; 3];
+    let mut direction: Option<[[f64; 3]; 3]> = None;
+    let mut points: Option<Vec<[f64; 3]>> = None;
+    let mut coords: [Option<Vec<f64>>; 3] = [None, None, None];
+    let mut cells: Option<Cells> = None;
+    let mut cell_types: Option<Vec<u8>> = None;
+    // Polydata sections in VTK cell order: verts, lines, polys, strips.
+    let mut poly: [Option<Cells>; 4] = [None, None, None, None];
+    let mut arrays: Vec<ArrayDesc> = Vec::new();
+    let mut values: Vec<Option<Vec<f64>>> = Vec::new();
+    let mut location: Option<Location> = None;
+    let mut declared = 0usize;
+    let keep = |name: &str, ncomp: usize| match wanted {
+        Some(w) => w == name,
+        None => matches!(ncomp, 6 | 9),
+    };
+    let npoints_limit = |points: &Option<Vec<[f64; 3]>>| points.as_ref().map_or(0, |p| p.len());
+
+    while let Some(t) = cur.line()? {
+        let kw = t[0].to_ascii_uppercase();
+        match kw.as_str() {
+            "DATASET" => {
+                kind = Some(match arg(&t, 1, "DATASET")?.to_ascii_uppercase().as_str() {
+                    "STRUCTURED_POINTS" => DatasetKind::ImageData,
+                    "RECTILINEAR_GRID" => DatasetKind::RectilinearGrid,
+                    "STRUCTURED_GRID" => DatasetKind::StructuredGrid,
+                    "UNSTRUCTURED_GRID" => DatasetKind::UnstructuredGrid,
+                    "POLYDATA" => DatasetKind::PolyData,
+                    other => {
+                        return Err(LoadErrorKind::UnsupportedDataset(format!(
+                            "legacy DATASET {other}"
+                        )));
+                    }
+                })
+            }
+            "DIMENSIONS" => {
+                let mut d = [0usize; 3];
+                for (a, slot) in d.iter_mut().enumerate() {
+                    *slot = count(t.get(a + 1), "DIMENSIONS")?;
+                }
+                dims = Some(d);
+            }
+            "ORIGIN" => origin = floats3(&t, "ORIGIN")?,
+            "SPACING" | "ASPECT_RATIO" => spacing = floats3(&t, "SPACING")?,
+            // Not written by VTK 9.1; newer writers emit the 9 entries of the direction matrix
+            // (vtkMatrix3x3 storage, row-major). Untested against such a file.
+            "DIRECTION" => {
+                let mut d = [[0.0; 3]; 3];
+                for (k, tok) in t[1..].iter().enumerate() {
+                    if k >= 9 {
+                        return Err(malformed("DIRECTION: more than 9 numbers"));
+                    }
+                    d[k / 3][k % 3] = parse_number(tok.as_bytes(), "DIRECTION")?;
+                }
+                if t.len() != 10 {
+                    return Err(malformed("DIRECTION: expected 9 numbers"));
+                }
+                direction = Some(d);
+            }
+            "POINTS" => {
+                let n = count(t.get(1), "POINTS")?;
+                let ty = ltype(arg(&t, 2, "POINTS")?)?;
+                let n3 = n
+                    .checked_mul(3)
+                    .ok_or_else(|| malformed("POINTS count overflows"))?;
+                let v = cur.values(n3, ty, true, "POINTS")?.unwrap_or_default();
+                points = Some(v.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect());
+            }
+            "X_COORDINATES" | "Y_COORDINATES" | "Z_COORDINATES" => {
+                let a = (kw.as_bytes()[0] - b'X') as usize;
+                let n = count(t.get(1), &kw)?;
+                let ty = ltype(arg(&t, 2, &kw)?)?;
+                coords[a] = cur.values(n, ty, true, &kw)?;
+            }
+            "CELLS" => cells = Some(read_cells(&mut cur, &t, v5, npoints_limit(&points))?),
+            "VERTICES" | "LINES" | "POLYGONS" | "TRIANGLE_STRIPS" => {
+                let slot = ["VERTICES", "LINES", "POLYGONS", "TRIANGLE_STRIPS"]
+                    .iter()
+                    .position(|k| *k == kw)
+                    .unwrap_or(0);
+                poly[slot] = Some(read_cells(&mut cur, &t, v5, npoints_limit(&points))?);
+            }
+            "CELL_TYPES" => {
+                let n = count(t.get(1), "CELL_TYPES")?;
+                let v = cur
+                    .values(n, LType::Num(Scalar::I32), true, "CELL_TYPES")?
+                    .unwrap_or_default();
+                cell_types = Some(v.iter().map(|&x| x.clamp(0.0, 255.0) as u8).collect());
+            }
+            "POINT_DATA" | "CELL_DATA" => {
+                declared = count(t.get(1), &kw)?;
+                location = Some(if kw == "POINT_DATA" {
+                    Location::Point
+                } else {
+                    Location::Cell
+                });
+            }
+            "METADATA" => cur.skip_metadata(),
+            "SCALARS"
+            | "VECTORS"
+            | "NORMALS"
+            | "TENSORS"
+            | "TENSORS6"
+            | "TEXTURE_COORDINATES"
+            | "GLOBAL_IDS"
+            | "PEDIGREE_IDS"
+            | "EDGE_FLAGS"
+            | "COLOR_SCALARS" => {
+                let loc = location
+                    .ok_or_else(|| malformed(format!("{kw} before POINT_DATA or CELL_DATA")))?;
+                let name = decode_name(arg(&t, 1, &kw)?);
+                let (ncomp, ty) = match kw.as_str() {
+                    "SCALARS" => {
+                        let ty = ltype(arg(&t, 2, &kw)?)?;
+                        let nc = match t.get(3) {
+                            Some(s) => s
+                                .parse::<usize>()
+                                .map_err(|_| malformed("SCALARS: bad component count"))?,
+                            None => 1,
+                        };
+                        // Optional LOOKUP_TABLE line.
+                        if cur.peek_keyword("LOOKUP_TABLE") {
+                            cur.line()?;
+                        }
+                        (nc, ty)
+                    }
+                    "VECTORS" | "NORMALS" => (3, ltype(arg(&t, 2, &kw)?)?),
+                    "TENSORS" => (9, ltype(arg(&t, 2, &kw)?)?),
+                    "TENSORS6" => (6, ltype(arg(&t, 2, &kw)?)?),
+                    "TEXTURE_COORDINATES" => (count(t.get(2), &kw)?, ltype(arg(&t, 3, &kw)?)?),
+                    "COLOR_SCALARS" => {
+                        let nc = count(t.get(2), &kw)?;
+                        let ty = if cur.binary {
+                            LType::Num(Scalar::U8)
+                        } else {
+                            LType::Num(Scalar::F32)
+                        };
+                        (nc, ty)
+                    }
+                    _ => (1, ltype(arg(&t, 2, &kw)?)?),
+                };
+                if ncomp == 0 {
+                    return Err(malformed(format!("{kw} '{name}' has 0 components")));
+                }
+                let n = declared
+                    .checked_mul(ncomp)
+                    .ok_or_else(|| malformed(format!("{kw} '{name}': count overflows")))?;
+                let k = keep(&name, ncomp);
+                let v = cur.values(n, ty, k, &format!("{kw} {name}"))?;
+                let active = kw.starts_with("TENSORS")
+                    && !arrays.iter().any(|a| a.active && a.location == Some(loc));
+                arrays.push(ArrayDesc {
+                    name,
+                    ncomp,
+                    ntuples: Some(declared),
+                    location: Some(loc),
+                    active,
+                });
+                values.push(v);
+            }
+            "LOOKUP_TABLE" => {
+                let n = count(t.get(2), "LOOKUP_TABLE")?;
+                let ty = if cur.binary {
+                    LType::Num(Scalar::U8)
+                } else {
+                    LType::Num(Scalar::F32)
+                };
+                let n4 = n
+                    .checked_mul(4)
+                    .ok_or_else(|| malformed("LOOKUP_TABLE size overflows"))?;
+                cur.values(n4, ty, false, "LOOKUP_TABLE")?;
+            }
+            "FIELD" => {
+                let narr = count(t.get(2), "FIELD")?;
+                for _ in 0..narr {
+                    let h = cur
+                        .line()?
+                        .ok_or_else(|| malformed("FIELD: file ends before all arrays"))?;
+                    if h[0] == "NULL_ARRAY" {
+                        continue;
+                    }
+                    if h[0].eq_ignore_ascii_case("METADATA") {
+                        cur.skip_metadata();
+                        continue;
+                    }
+                    let name = decode_name(h[0]);
+                    let ncomp = count(h.get(1), &format!("FIELD array {name}"))?;
+                    let ntup = count(h.get(2), &format!("FIELD array {name}"))?;
+                    let ty = ltype(arg(&h, 3, &name)?)?;
+                    let n = ncomp
+                        .checked_mul(ntup)
+                        .ok_or_else(|| malformed(format!("FIELD array {name}: count overflows")))?;
+                    let k = location.is_some() && keep(&name, ncomp);
+                    let v = cur.values(n, ty, k, &format!("FIELD array {name}"))?;
+                    if cur.peek_keyword("METADATA") {
+                        cur.line()?;
+                        cur.skip_metadata();
+                    }
+                    arrays.push(ArrayDesc {
+                        name,
+                        ncomp,
+                        ntuples: Some(ntup),
+                        location,
+                        active: false,
+                    });
+                    values.push(v);
+                }
+            }
+            other => {
+                return Err(malformed(format!(
+                    "unknown keyword '{}' near byte {}",
+                    &other[..other.len().min(40)],
+                    cur.pos
+                )));
+            }
+        }
+    }
+
+    let kind = kind.ok_or_else(|| {
+        LoadErrorKind::UnsupportedDataset("no DATASET section (field-only or empty file)".into())
+    })?;
+    let geometry = match kind {
+        DatasetKind::ImageData => {
+            let d = dims.ok_or_else(|| malformed("STRUCTURED_POINTS without DIMENSIONS"))?;
+            let mut extent = [0i64; 6];
+            for a in 0..3 {
+                extent[2 * a + 1] = i64::try_from(d[a]).unwrap_or(i64::MAX) - 1;
+                if d[a] == 0 {
+                    return Err(malformed(format!("DIMENSIONS {d:?} has a zero")));
+                }
+            }
+            Geometry::Image {
+                extent,
+                origin,
+                spacing,
+                direction,
+            }
+        }
+        DatasetKind::RectilinearGrid => {
+            let [x, y, z] = coords;
+            let c = [
+                x.ok_or_else(|| malformed("missing X_COORDINATES"))?,
+                y.ok_or_else(|| malformed("missing Y_COORDINATES"))?,
+                z.ok_or_else(|| malformed("missing Z_COORDINATES"))?,
+            ];
+            if let Some(d) = dims
+                && d != [c[0].len(), c[1].len(), c[2].len()]
+            {
+                return Err(malformed(format!(
+                    "DIMENSIONS {d:?} do not match the coordinate counts"
+                )));
+            }
+            Geometry::Rectilinear { coords: c }
+        }
+        DatasetKind::StructuredGrid => {
+            let d = dims.ok_or_else(|| malformed("STRUCTURED_GRID without DIMENSIONS"))?;
+            let points = points.unwrap_or_default();
+            let n = d[0].checked_mul(d[1]).and_then(|v| v.checked_mul(d[2]));
+            if n != Some(points.len()) {
+                return Err(malformed(format!(
+                    "DIMENSIONS {d:?} do not match the {} points",
+                    points.len()
+                )));
+            }
+            Geometry::Points {
+                points,
+                dims: Some(d),
+                cells: None,
+            }
+        }
+        DatasetKind::UnstructuredGrid => {
+            let mut c = cells.unwrap_or_else(|| Cells {
+                offsets: vec![0],
+                ..Cells::default()
+            });
+            let types = cell_types.unwrap_or_default();
+            if types.len() != c.len() {
+                return Err(malformed(format!(
+                    "{} CELL_TYPES for {} cells",
+                    types.len(),
+                    c.len()
+                )));
+            }
+            c.types = types;
+            Geometry::Points {
+                points: points.unwrap_or_default(),
+                dims: None,
+                cells: Some(c),
+            }
+        }
+        DatasetKind::PolyData => {
+            let mut all = Cells {
+                offsets: vec![0],
+                ..Cells::default()
+            };
+            for (sec, cells) in poly.into_iter().enumerate() {
+                if let Some(cells) = cells {
+                    all.append(cells, Some(sec));
+                }
+            }
+            Geometry::Points {
+                points: points.unwrap_or_default(),
+                dims: None,
+                cells: Some(all),
+            }
+        }
+    };
+    Ok(Parsed {
+        format,
+        kind,
+        geometry,
+        arrays,
+        load: Box::new(move |i| {
+            values
+                .get_mut(i)
+                .and_then(Option::take)
+                .ok_or_else(|| malformed("the array is not numeric"))
+        }),
+    })
+}
+
+/// Legacy names encode special characters as `%xx`.
+fn decode_name(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%'
+            && i + 2 < b.len()
+            && let Some(v) = std::str::from_utf8(&b[i + 1..i + 3])
+                .ok()
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+        {
+            out.push(v);
+            i += 3;
+            continue;
+        }
+        out.push(b[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}

@@ -1,0 +1,39 @@
+//! Sigg et al.'s method: per glyph an instanced 4-vertex strip at the NDC corners of the
+//! screen-space bounding box of its projected quadric (Sigg eq. 5; cylinders: the union of the
+//! two end discs' boxes), with no vertex buffer; the fragment stage rebuilds the pixel's ray
+//! from its window position. Glyphs crossing the camera plane cover the viewport; glyphs behind
+//! it or around the eye are culled. The box math has an f64 twin in [`crate::render::sigg_math`].
+
+use crate::render::context::GpuContext;
+use crate::render::headless::Drawer;
+use crate::render::method::GlyphKind;
+use crate::render::pipeline::{Variant, variant_pipelines};
+use crate::render::shaders::ShaderSource;
+
+pub struct SiggRenderer {
+    pipelines: Vec<wgpu::RenderPipeline>,
+}
+
+impl SiggRenderer {
+    pub fn new(ctx: &GpuContext, layout: &wgpu::PipelineLayout, glyph: GlyphKind) -> Self {
+        let source = match glyph {
+            GlyphKind::Ellipsoid => ShaderSource::SiggEllipsoid,
+            GlyphKind::Cylinder => ShaderSource::SiggCylinder,
+        };
+        Self {
+            pipelines: variant_pipelines(
+                ctx,
+                layout,
+                source,
+                wgpu::PrimitiveTopology::TriangleStrip,
+            ),
+        }
+    }
+}
+
+impl Drawer for SiggRenderer {
+    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
+        pass.set_pipeline(&self.pipelines[variant.index()]);
+        pass.draw(0..4, 0..instances);
+    }
+}
