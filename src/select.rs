@@ -24,7 +24,8 @@ pub enum Slicing {
 /// What to draw of a field.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Selection {
-    /// Inclusive FA range.
+    /// Inclusive FA range. An upper bound of 1 or more has no effect: FA of positive-definite
+    /// tensors is at most 1, and indefinite ones (stress, strain) above 1 are kept with it.
     pub fa_min: f64,
     pub fa_max: f64,
     /// Every `stride`-th lattice position along each axis (1 = all).
@@ -75,7 +76,7 @@ impl Selection {
                 lattice_ok
                     && (fa_all || {
                         let fa = shape::fa(g.eigenvalues.map(f64::from));
-                        fa >= self.fa_min && fa <= self.fa_max
+                        fa >= self.fa_min && (self.fa_max >= 1.0 || fa <= self.fa_max)
                     })
             })
             .map(|(k, _)| k)

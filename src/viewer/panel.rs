@@ -98,7 +98,9 @@ fn file_section(
     if let Some(d) = info.data {
         let f = &d.field;
         let s = &d.set.stats;
-        ui.label(RichText::new(d.name()).strong());
+        let name = d.name();
+        ui.add(egui::Label::new(RichText::new(&name).strong()).truncate())
+            .on_hover_text(name);
         egui::Grid::new("summary").num_columns(2).show(ui, |ui| {
             ui.label("dataset");
             ui.label(format!("{} ({})", f.dataset.as_str(), f.format));
@@ -148,7 +150,7 @@ fn file_section(
     if let Some((name, stage, frac)) = &info.loading {
         ui.horizontal(|ui| {
             ui.spinner();
-            ui.label(format!("loading {name}: {stage}"));
+            ui.add(egui::Label::new(format!("loading {name}: {stage}")).truncate());
         });
         if let Some(f) = frac {
             ui.add(egui::ProgressBar::new(*f).show_percentage());
@@ -316,7 +318,7 @@ fn swatch(ui: &mut Ui, c: Color32) {
 
 /// A horizontal bar of `map(t)`, t from 0 to 1.
 fn colour_bar(ui: &mut Ui, map: impl Fn(f64) -> [f64; 3]) {
-    let width = ui.available_width().min(240.0);
+    let width = ui.available_width();
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 14.0), egui::Sense::hover());
     let mut mesh = egui::Mesh::default();
     let n = 32;
