@@ -17,9 +17,11 @@ pub mod metrics;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod select;
 pub mod stability;
 pub mod tensor;
 #[cfg(test)]
 pub(crate) mod test_vectors;
+pub mod viewer;
 
 pub use error::{LoadError, RenderError};

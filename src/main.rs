@@ -1,4 +1,4 @@
-//! The `tensorglyph` command line: demo, info, render, bench, stability.
+//! The `tensorglyph` command line: demo, info, render, view, bench, stability.
 
 mod commands;
 
@@ -25,6 +25,8 @@ enum Command {
     Info(commands::info::InfoArgs),
     /// Render a field headless to a PNG.
     Render(commands::render::RenderArgs),
+    /// Explore a field interactively: orbit, slice, restyle, pick glyphs, save screenshots.
+    View(commands::view::ViewArgs),
     /// Time every method on the same scenes and chart speed against accuracy.
     Bench(commands::bench::BenchArgs),
     /// Adversarial stability suite: every method and glyph against the reference.
@@ -39,6 +41,7 @@ fn main() -> ExitCode {
         Command::Render(a) => commands::render::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Stability(a) => commands::stability::run(a),
+        Command::View(a) => commands::view::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,3 +5,4 @@ pub mod info;
 pub mod render;
 pub mod scene;
 pub mod stability;
+pub mod view;

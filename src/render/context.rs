@@ -3,6 +3,11 @@
 
 use crate::error::RenderError;
 
+/// Optional features taken where the adapter has them.
+pub const WANTED_FEATURES: wgpu::Features = wgpu::Features::PIPELINE_STATISTICS_QUERY
+    .union(wgpu::Features::TIMESTAMP_QUERY)
+    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+
 /// A wgpu device with what we learned about its adapter.
 pub struct GpuContext {
     pub device: wgpu::Device,
@@ -42,10 +47,7 @@ impl GpuContext {
     pub async fn from_adapter(adapter: wgpu::Adapter) -> Result<Self, RenderError> {
         let info = adapter.get_info();
         let available = adapter.features();
-        let wanted = wgpu::Features::PIPELINE_STATISTICS_QUERY
-            | wgpu::Features::TIMESTAMP_QUERY
-            | wgpu::Features::SHADER_EARLY_DEPTH_TEST;
-        let features = available & wanted;
+        let features = available & WANTED_FEATURES;
         let limits = adapter.limits();
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
@@ -66,6 +68,23 @@ impl GpuContext {
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
         })
+    }
+
+    /// Wrap a device someone else opened (the viewer's window integration), reading its
+    /// features back.
+    pub fn from_device(adapter: &wgpu::Adapter, device: wgpu::Device, queue: wgpu::Queue) -> Self {
+        let info = adapter.get_info();
+        let features = device.features();
+        Self {
+            limits: device.limits(),
+            device,
+            queue,
+            adapter_name: info.name.clone(),
+            backend: format!("{:?}", info.backend).to_lowercase(),
+            pipeline_statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
+            timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
+            early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+        }
     }
 
     /// Wait for all submitted work. lavapipe can take many seconds on large frames.

@@ -17,6 +17,7 @@ use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
 use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
+
 use crate::scene::Scene;
 
 /// What to draw and what to read back.
@@ -177,17 +178,10 @@ impl GpuRenderer {
         result
     }
 
-    fn render_into(
-        &self,
-        scene: &Scene,
-        camera: &Camera,
-        req: &FrameRequest,
-        targets: &Targets,
-    ) -> Result<Frame, RenderError> {
-        let ctx = &self.ctx;
-        let device = &ctx.device;
-        let drawer = self.drawer(req.method, req.glyph)?;
-        let count = scene.instances.len() as u32;
+    /// Upload a scene's instances once; the result is drawn by [`Self::encode`] as often as the
+    /// camera or the request change (the viewer keeps it while the scene is unchanged).
+    pub fn upload(&self, scene: &Scene) -> SceneBuffers {
+        let device = &self.ctx.device;
         // A binding may not be empty: pad with one unused instance.
         let pad = [GpuGlyph::zeroed_instance()];
         let data: &[GpuGlyph] = if scene.instances.is_empty() {
@@ -200,11 +194,11 @@ impl GpuRenderer {
             contents: bytemuck::cast_slice(data),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let uniform = CameraUniform::new(camera, scene.origin, &req.lighting);
-        let camera_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("camera"),
-            contents: bytemuck::bytes_of(&uniform),
-            usage: wgpu::BufferUsages::UNIFORM,
+            size: std::mem::size_of::<CameraUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
         });
         let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("glyphs"),
@@ -220,6 +214,56 @@ impl GpuRenderer {
                 },
             ],
         });
+        SceneBuffers {
+            origin: scene.origin,
+            count: scene.instances.len() as u32,
+            camera_buffer,
+            _glyph_buffer: glyph_buffer,
+            bind_group,
+        }
+    }
+
+    /// Record one frame of an uploaded scene into `views` (cleared first). The camera uniform is
+    /// written through the queue, so it takes effect at the next submit. `timestamps`, when
+    /// given, get the pass's begin and end.
+    pub fn encode(
+        &self,
+        buffers: &SceneBuffers,
+        camera: &Camera,
+        req: &FrameRequest,
+        views: &TargetViews,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> Result<(), RenderError> {
+        let drawer = self.drawer(req.method, req.glyph)?;
+        let uniform = CameraUniform::new(camera, buffers.origin, &req.lighting);
+        self.ctx
+            .queue
+            .write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
+        let variant = Variant {
+            depth_correction: req.depth_correction,
+            aux: req.aux,
+        };
+        let mut pass = views.begin_pass(encoder, req.background, timestamps);
+        pass.set_bind_group(0, &buffers.bind_group, &[]);
+        drawer.draw(&mut pass, variant, buffers.count);
+        Ok(())
+    }
+
+    fn render_into(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        req: &FrameRequest,
+        targets: &Targets,
+    ) -> Result<Frame, RenderError> {
+        let ctx = &self.ctx;
+        let device = &ctx.device;
+        let drawer = self.drawer(req.method, req.glyph)?;
+        let buffers = self.upload(scene);
+        let uniform = CameraUniform::new(camera, scene.origin, &req.lighting);
+        ctx.queue
+            .write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
         let stats = ctx.pipeline_statistics.then(|| StatsQuery::new(ctx));
         let variant = Variant {
             depth_correction: req.depth_correction,
@@ -234,12 +278,12 @@ impl GpuRenderer {
             let last = f + 1 == frames;
             let mut encoder = device.create_command_encoder(&Default::default());
             {
-                let mut pass = views.begin_pass(&mut encoder, req.background);
+                let mut pass = views.begin_pass(&mut encoder, req.background, None);
                 if let (Some(s), true) = (&stats, f == 0) {
                     pass.begin_pipeline_statistics_query(&s.set, 0);
                 }
-                pass.set_bind_group(0, &bind_group, &[]);
-                drawer.draw(&mut pass, variant, count);
+                pass.set_bind_group(0, &buffers.bind_group, &[]);
+                drawer.draw(&mut pass, variant, buffers.count);
                 if let (Some(_), true) = (&stats, f == 0) {
                     pass.end_pipeline_statistics_query();
                 }
@@ -285,13 +329,30 @@ impl GpuRenderer {
     }
 }
 
+/// A scene's instances and camera uniform on the GPU, bound for drawing.
+pub struct SceneBuffers {
+    origin: glam::DVec3,
+    count: u32,
+    camera_buffer: wgpu::Buffer,
+    _glyph_buffer: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+impl SceneBuffers {
+    /// Number of glyph instances drawn.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+}
+
 impl GpuGlyph {
     fn zeroed_instance() -> Self {
         bytemuck::Zeroable::zeroed()
     }
 }
 
-struct TargetViews {
+/// Views of a [`Targets`]' textures, as a render pass attaches them.
+pub struct TargetViews {
     color: wgpu::TextureView,
     id: wgpu::TextureView,
     aux: Option<wgpu::TextureView>,
@@ -299,7 +360,7 @@ struct TargetViews {
 }
 
 impl TargetViews {
-    fn new(t: &Targets) -> Self {
+    pub fn new(t: &Targets) -> Self {
         let v = |t: &wgpu::Texture| t.create_view(&Default::default());
         Self {
             color: v(&t.color),
@@ -313,6 +374,7 @@ impl TargetViews {
         &self,
         encoder: &'e mut wgpu::CommandEncoder,
         background: [f64; 4],
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> wgpu::RenderPass<'e> {
         let clear = |c: wgpu::Color, view| {
             Some(wgpu::RenderPassColorAttachment {
@@ -344,7 +406,7 @@ impl TargetViews {
                 }),
                 stencil_ops: None,
             }),
-            timestamp_writes: None,
+            timestamp_writes,
             occlusion_query_set: None,
             multiview_mask: None,
         })

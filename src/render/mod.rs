@@ -15,5 +15,5 @@ pub mod sigg_math;
 pub mod targets;
 
 pub use context::GpuContext;
-pub use headless::{Frame, FrameRequest, GpuRenderer};
+pub use headless::{Frame, FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
 pub use method::{GlyphKind, Method};

@@ -6,6 +6,8 @@ use crate::render::context::GpuContext;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 pub const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The colour target seen as sRGB, for sampling it in the viewer.
+pub const COLOR_VIEW_SRGB: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// Colour, glyph id (0 = background, else instance + 1), optional aux (view normal, view z) and
@@ -29,29 +31,34 @@ impl Targets {
                 reason: format!("each side must be between 1 and {max} (this adapter's limit)"),
             });
         }
-        let make = |label: &str, format: wgpu::TextureFormat| {
-            ctx.device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-                view_formats: &[],
-            })
-        };
+        let make =
+            |label: &str, format: wgpu::TextureFormat, view_formats: &[wgpu::TextureFormat]| {
+                ctx.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d {
+                        width,
+                        height,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    // TEXTURE_BINDING: the viewer shows the colour target in its window.
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::COPY_SRC
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats,
+                })
+            };
         Ok(Self {
             width,
             height,
-            color: make("color", COLOR_FORMAT),
-            id: make("id", ID_FORMAT),
-            aux: aux.then(|| make("aux", AUX_FORMAT)),
-            depth: make("depth", DEPTH_FORMAT),
+            // The sRGB view lets the viewer show the sRGB-encoded colours as they are.
+            color: make("color", COLOR_FORMAT, &[COLOR_VIEW_SRGB]),
+            id: make("id", ID_FORMAT, &[]),
+            aux: aux.then(|| make("aux", AUX_FORMAT, &[])),
+            depth: make("depth", DEPTH_FORMAT, &[]),
         })
     }
 
@@ -77,6 +84,27 @@ impl Readback {
         bytes_per_pixel: u32,
     ) -> Self {
         let (width, height) = (texture.width(), texture.height());
+        Self::record_region(
+            ctx,
+            encoder,
+            texture,
+            bytes_per_pixel,
+            [0, 0],
+            [width, height],
+        )
+    }
+
+    /// Record the copy of a `size` region at `origin` (x, y) of a single-aspect texture (the
+    /// viewer reads one pixel of the id target under the pointer).
+    pub fn record_region(
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        texture: &wgpu::Texture,
+        bytes_per_pixel: u32,
+        origin: [u32; 2],
+        size: [u32; 2],
+    ) -> Self {
+        let [width, height] = size;
         let row = width * bytes_per_pixel;
         let padded_row =
             row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -90,7 +118,11 @@ impl Readback {
             wgpu::TexelCopyTextureInfo {
                 texture,
                 mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
+                origin: wgpu::Origin3d {
+                    x: origin[0],
+                    y: origin[1],
+                    z: 0,
+                },
                 aspect: wgpu::TextureAspect::All,
             },
             wgpu::TexelCopyBufferInfo {

@@ -1,0 +1,86 @@
+//! `tensorglyph view`: an interactive window (eframe: winit + egui on the renderer's wgpu).
+//!
+//! The 3D view draws into its own long-lived colour / id / depth targets with the same
+//! [`GpuRenderer`](crate::render::GpuRenderer) as `render`, and only when something changed;
+//! egui shows the colour target next to the side panel. Loading runs on a worker thread.
+
+pub mod app;
+pub mod loader;
+pub mod navigation;
+pub mod panel;
+pub mod picking;
+pub mod screenshot;
+pub mod state;
+pub mod view3d;
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use crate::field::vtk::ReadOptions;
+use crate::load::Source;
+use crate::render::context::WANTED_FEATURES;
+use state::Settings;
+
+/// How the viewer starts.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    pub source: Option<Source>,
+    pub read: ReadOptions,
+    pub settings: Settings,
+    pub ortho: bool,
+    /// Window size in points.
+    pub size: (u32, u32),
+    /// Scripted mode: render `frames` frames, write a screenshot of the whole window, exit.
+    pub screenshot: Option<PathBuf>,
+    pub frames: u32,
+}
+
+/// How a run ended (scripted mode reports its error here).
+#[derive(Debug, Clone, Default)]
+pub struct Outcome {
+    pub error: Option<String>,
+}
+
+/// Open the window and run until it is closed.
+pub fn run(opts: Options) -> anyhow::Result<()> {
+    let (w, h) = if opts.size.0 > 0 && opts.size.1 > 0 {
+        opts.size
+    } else {
+        (1280, 800)
+    };
+    let mut wgpu_options = eframe::egui_wgpu::WgpuConfiguration::default();
+    if let eframe::egui_wgpu::WgpuSetup::CreateNew(create) = &mut wgpu_options.wgpu_setup {
+        // Timestamps and pipeline statistics where the adapter has them, and its full limits.
+        create.device_descriptor = Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
+            label: Some("tensorglyph viewer"),
+            required_features: adapter.features() & WANTED_FEATURES,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        });
+    }
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("tensorglyph")
+            .with_inner_size([w as f32, h as f32])
+            .with_drag_and_drop(true),
+        renderer: eframe::Renderer::Wgpu,
+        wgpu_options,
+        ..Default::default()
+    };
+    let outcome = Arc::new(Mutex::new(Outcome::default()));
+    let out = outcome.clone();
+    eframe::run_native(
+        "tensorglyph",
+        native,
+        Box::new(move |cc| {
+            let app = app::ViewerApp::new(cc, opts, out).map_err(|e| format!("{e:#}"))?;
+            Ok(Box::new(app))
+        }),
+    )
+    .map_err(|e| anyhow::anyhow!("cannot open the viewer window: {e}"))?;
+    let outcome = outcome.lock().unwrap_or_else(|e| e.into_inner()).clone();
+    match outcome.error {
+        Some(e) => Err(anyhow::anyhow!(e)),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,192 @@
+//! What the user chose, and what must be redone when it changes.
+//!
+//! The viewer keeps two keys: a [`BuildKey`] (style, glyph shape and selection: the scene's
+//! instances depend on these) and a [`RenderKey`] (camera, request, target size and scene
+//! generation: the frame depends on these). A frame is drawn only when its key differs from the
+//! last one drawn, so an idle viewer costs nothing on lavapipe.
+
+use crate::camera::Camera;
+use crate::glyph::{ColorScheme, GlyphStyle};
+use crate::render::{FrameRequest, GlyphKind, Method};
+use crate::select::{Selection, Slicing};
+
+/// Every option the side panel changes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    pub method: Method,
+    pub glyph: GlyphKind,
+    pub depth_correction: bool,
+    pub style: GlyphStyle,
+    pub selection: Selection,
+    /// Linear RGB in [0, 1], as `render --background` takes it.
+    pub background: [f32; 3],
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            method: Method::Gumhold,
+            glyph: GlyphKind::Ellipsoid,
+            depth_correction: true,
+            style: GlyphStyle::default(),
+            selection: Selection::default(),
+            background: [1.0, 1.0, 1.0],
+        }
+    }
+}
+
+/// What the scene's instances depend on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildKey {
+    pub generation: u64,
+    pub style: GlyphStyle,
+    pub glyph: GlyphKind,
+    pub selection: Selection,
+}
+
+/// What a drawn frame depends on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RenderKey {
+    pub scene: u64,
+    pub camera: Camera,
+    pub request: FrameRequest,
+}
+
+impl Settings {
+    pub fn build_key(&self, data_generation: u64) -> BuildKey {
+        BuildKey {
+            generation: data_generation,
+            style: self.style.clone(),
+            glyph: self.glyph,
+            selection: self.selection,
+        }
+    }
+
+    /// The request `render` would get for these settings.
+    pub fn request(&self) -> FrameRequest {
+        let [r, g, b] = self.background.map(f64::from);
+        FrameRequest {
+            method: self.method,
+            glyph: self.glyph,
+            depth_correction: self.depth_correction,
+            background: [r, g, b, 1.0],
+            ..FrameRequest::default()
+        }
+    }
+
+    /// Keep the slice indices inside a lattice of `dims` (after loading another file).
+    pub fn clamp_to_lattice(&mut self, dims: Option<[usize; 3]>) {
+        let Some(d) = dims else {
+            self.selection.slicing = Slicing::Whole;
+            return;
+        };
+        let last = d.map(|n| n.max(1) - 1);
+        match &mut self.selection.slicing {
+            Slicing::Whole => {}
+            Slicing::Slice { axis, index } => {
+                *axis = (*axis).min(2);
+                *index = (*index).min(last[*axis]);
+            }
+            Slicing::Orthogonal { at } => {
+                for a in 0..3 {
+                    at[a] = at[a].min(last[a]);
+                }
+            }
+        }
+    }
+}
+
+/// Which legend a colour scheme has.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Legend {
+    /// Class colours and the barycentric (cl, cp, cs) triangle.
+    Shape,
+    /// A colour bar from `lo` to `hi`.
+    Bar {
+        lo: f64,
+        hi: f64,
+        label: &'static str,
+    },
+    /// Tension / compression.
+    Sign,
+    /// Direction encoding: |e1| as RGB, scaled by FA.
+    Dec,
+    Solid,
+}
+
+/// The legend of `scheme` for a field whose MD runs over `md_range`.
+pub fn legend(scheme: ColorScheme, md_range: (f64, f64)) -> Legend {
+    match scheme {
+        ColorScheme::Shape => Legend::Shape,
+        ColorScheme::Fa => Legend::Bar {
+            lo: 0.0,
+            hi: 1.0,
+            label: "FA",
+        },
+        ColorScheme::Md => Legend::Bar {
+            lo: md_range.0,
+            hi: md_range.1,
+            label: "MD",
+        },
+        ColorScheme::Sign => Legend::Sign,
+        ColorScheme::Dec => Legend::Dec,
+        ColorScheme::Solid => Legend::Solid,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn view_only_changes_keep_the_scene() {
+        let s = Settings::default();
+        let mut t = s.clone();
+        t.background = [0.0, 0.0, 0.0];
+        t.depth_correction = false;
+        t.method = Method::Box;
+        assert_eq!(s.build_key(1), t.build_key(1));
+        assert_ne!(s.request(), t.request());
+        t.selection.stride = 2;
+        assert_ne!(s.build_key(1), t.build_key(1));
+        let mut u = s.clone();
+        u.style.min_radius = 0.2;
+        assert_ne!(s.build_key(1), u.build_key(1));
+        assert_ne!(s.build_key(1), s.build_key(2), "a new file rebuilds");
+    }
+
+    #[test]
+    fn slices_are_clamped_to_a_new_lattice() {
+        let mut s = Settings::default();
+        s.selection.slicing = Slicing::Slice { axis: 1, index: 30 };
+        s.clamp_to_lattice(Some([40, 10, 5]));
+        assert_eq!(s.selection.slicing, Slicing::Slice { axis: 1, index: 9 });
+        s.selection.slicing = Slicing::Orthogonal { at: [50, 50, 1] };
+        s.clamp_to_lattice(Some([4, 3, 2]));
+        assert_eq!(s.selection.slicing, Slicing::Orthogonal { at: [3, 2, 1] });
+        s.clamp_to_lattice(None);
+        assert_eq!(s.selection.slicing, Slicing::Whole);
+    }
+
+    #[test]
+    fn every_scheme_has_its_legend() {
+        assert_eq!(legend(ColorScheme::Shape, (0.0, 1.0)), Legend::Shape);
+        assert_eq!(
+            legend(ColorScheme::Md, (0.5, 2.0)),
+            Legend::Bar {
+                lo: 0.5,
+                hi: 2.0,
+                label: "MD"
+            }
+        );
+        assert!(matches!(
+            legend(ColorScheme::Fa, (0.0, 0.0)),
+            Legend::Bar {
+                lo: 0.0,
+                hi: 1.0,
+                ..
+            }
+        ));
+        assert_eq!(legend(ColorScheme::Sign, (0.0, 1.0)), Legend::Sign);
+    }
+}

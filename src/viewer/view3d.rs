@@ -1,0 +1,187 @@
+//! The 3D view's GPU side: long-lived colour / id / depth targets the size of the view, the
+//! scene's buffers, and a frame drawn into them only when asked (the app asks only when
+//! something changed). egui shows the colour target as a texture.
+
+use std::time::Instant;
+
+use crate::camera::Camera;
+use crate::error::RenderError;
+use crate::render::targets::{COLOR_VIEW_SRGB, Targets};
+use crate::render::{FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
+use crate::scene::Scene;
+
+/// How long the last frame took.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameTime {
+    pub ms: f64,
+    /// Measured with GPU timestamps (else wall clock, submit to completion).
+    pub gpu_timestamps: bool,
+}
+
+#[derive(Default)]
+pub struct View3d {
+    pub targets: Option<Targets>,
+    views: Option<TargetViews>,
+    pub texture: Option<egui::TextureId>,
+    buffers: Option<SceneBuffers>,
+    timer: Option<GpuTimer>,
+    pub last_frame: Option<FrameTime>,
+}
+
+impl View3d {
+    pub fn set_scene(&mut self, gpu: &GpuRenderer, scene: &Scene) {
+        self.buffers = Some(gpu.upload(scene));
+    }
+
+    pub fn size(&self) -> Option<(u32, u32)> {
+        self.targets.as_ref().map(|t| (t.width, t.height))
+    }
+
+    /// Make the targets `width` × `height` (if they are not) and show them as an egui texture.
+    pub fn resize(
+        &mut self,
+        gpu: &GpuRenderer,
+        egui_renderer: &mut eframe::egui_wgpu::Renderer,
+        width: u32,
+        height: u32,
+    ) -> Result<(), RenderError> {
+        if self.size() == Some((width, height)) {
+            return Ok(());
+        }
+        let targets = Targets::new(&gpu.ctx, width, height, false)?;
+        let view = targets.color.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(COLOR_VIEW_SRGB),
+            ..Default::default()
+        });
+        let device = &gpu.ctx.device;
+        match self.texture {
+            Some(id) => egui_renderer.update_egui_texture_from_wgpu_texture(
+                device,
+                &view,
+                wgpu::FilterMode::Nearest,
+                id,
+            ),
+            None => {
+                self.texture = Some(egui_renderer.register_native_texture(
+                    device,
+                    &view,
+                    wgpu::FilterMode::Nearest,
+                ))
+            }
+        }
+        self.views = Some(TargetViews::new(&targets));
+        self.targets = Some(targets);
+        Ok(())
+    }
+
+    /// Draw a frame into the targets and wait for it (lavapipe draws on the CPU anyway).
+    pub fn draw(
+        &mut self,
+        gpu: &GpuRenderer,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<(), RenderError> {
+        let (Some(views), Some(buffers)) = (&self.views, &self.buffers) else {
+            return Ok(());
+        };
+        let ctx = &gpu.ctx;
+        if ctx.timestamps && self.timer.is_none() {
+            self.timer = Some(GpuTimer::new(&ctx.device));
+        }
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        let writes = self
+            .timer
+            .as_ref()
+            .map(|t| wgpu::RenderPassTimestampWrites {
+                query_set: &t.set,
+                beginning_of_pass_write_index: Some(0),
+                end_of_pass_write_index: Some(1),
+            });
+        let encoded = gpu.encode(buffers, camera, req, views, &mut encoder, writes);
+        if let Some(t) = &self.timer {
+            t.resolve(&mut encoder);
+        }
+        let start = Instant::now();
+        ctx.queue.submit([encoder.finish()]);
+        ctx.wait()?;
+        let wall = start.elapsed().as_secs_f64() * 1e3;
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        encoded?;
+        let gpu_ms = match &self.timer {
+            Some(t) => t.read_ms(gpu).ok(),
+            None => None,
+        };
+        self.last_frame = Some(match gpu_ms {
+            Some(ms) => FrameTime {
+                ms,
+                gpu_timestamps: true,
+            },
+            None => FrameTime {
+                ms: wall,
+                gpu_timestamps: false,
+            },
+        });
+        Ok(())
+    }
+}
+
+/// Begin/end timestamps of the glyph pass.
+struct GpuTimer {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    readback: wgpu::Buffer,
+}
+
+impl GpuTimer {
+    fn new(device: &wgpu::Device) -> Self {
+        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+            label: Some("frame time"),
+            ty: wgpu::QueryType::Timestamp,
+            count: 2,
+        });
+        let buf = |usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("frame time"),
+                size: 16,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        Self {
+            set,
+            resolve: buf(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
+            readback: buf(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
+        }
+    }
+
+    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.resolve_query_set(&self.set, 0..2, &self.resolve, 0);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 16);
+    }
+
+    /// Milliseconds between the two timestamps (after the submission completed).
+    fn read_ms(&self, gpu: &GpuRenderer) -> Result<f64, RenderError> {
+        let ctx = &gpu.ctx;
+        let (tx, rx) = std::sync::mpsc::channel();
+        self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        ctx.wait()?;
+        rx.recv()
+            .map_err(|_| RenderError::Gpu("timestamp readback dropped".into()))?
+            .map_err(|e| RenderError::Gpu(format!("timestamp readback: {e}")))?;
+        let t: [u64; 2] = {
+            let data = self
+                .readback
+                .get_mapped_range(..)
+                .map_err(|e| RenderError::Gpu(format!("timestamp readback: {e}")))?;
+            bytemuck::pod_read_unaligned(&data[..16])
+        };
+        self.readback.unmap();
+        let period = f64::from(ctx.queue.get_timestamp_period());
+        Ok(t[1].saturating_sub(t[0]) as f64 * period / 1e6)
+    }
+}
