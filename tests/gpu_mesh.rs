@@ -95,8 +95,13 @@ fn improves_with_level(name: &str, scene: &Scene, glyph: GlyphKind) {
         .collect();
     for n in 1..=4 {
         let (a, b) = (&acc[n - 1], &acc[n]);
+        // Once a level is within a pixel or two of the reference, coverage cannot get
+        // measurably better; it must not get worse.
+        let pixels = 256.0 * 192.0;
         assert!(
-            b.coverage_mismatch < a.coverage_mismatch,
+            b.coverage_mismatch < a.coverage_mismatch
+                || (b.coverage_mismatch <= a.coverage_mismatch
+                    && b.coverage_mismatch <= 2.0 / pixels),
             "{name}: coverage does not improve from level {} to {n}: {a:?} -> {b:?}",
             n - 1
         );
