@@ -240,7 +240,17 @@ impl ProxyShape {
 fn clip_to_viewport(poly: &[DVec2], width: u32, height: u32) -> Vec<DVec2> {
     let (w, h) = (f64::from(width), f64::from(height));
     let planes: [&dyn Fn(DVec2) -> f64; 4] = [&|p| p.x, &|p| w - p.x, &|p| p.y, &|p| h - p.y];
-    let mut poly = poly.to_vec();
+    clip_polygon(poly.to_vec(), &planes)
+}
+
+/// Sutherland–Hodgman: keep the part of a convex polygon where every plane function is ≥ 0.
+fn clip_polygon<P>(mut poly: Vec<P>, planes: &[&dyn Fn(P) -> f64]) -> Vec<P>
+where
+    P: Copy
+        + std::ops::Add<Output = P>
+        + std::ops::Sub<Output = P>
+        + std::ops::Mul<f64, Output = P>,
+{
     for plane in planes {
         let mut out = Vec::with_capacity(poly.len() + 2);
         for k in 0..poly.len() {
@@ -380,36 +390,23 @@ pub fn proxy_shape(
     }
     // Polygon order (−,−), (+,−), (+,+), (−,+), clipped in clip space against the near and far
     // planes and the four side planes.
-    let mut poly: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+    let poly: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .iter()
         .map(|&(sx, sy)| {
             view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
         })
         .collect();
-    let planes: [fn(glam::DVec4) -> f64; 6] = [
-        |p| p.z,
-        |p| p.w - p.z,
-        |p| p.w + p.x,
-        |p| p.w - p.x,
-        |p| p.w + p.y,
-        |p| p.w - p.y,
+    let planes: [&dyn Fn(glam::DVec4) -> f64; 6] = [
+        &|p| p.z,
+        &|p| p.w - p.z,
+        &|p| p.w + p.x,
+        &|p| p.w - p.x,
+        &|p| p.w + p.y,
+        &|p| p.w - p.y,
     ];
-    for plane in planes {
-        let mut out = Vec::with_capacity(poly.len() + 2);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let (da, db) = (plane(a), plane(b));
-            if da >= 0.0 {
-                out.push(a);
-            }
-            if (da >= 0.0) != (db >= 0.0) {
-                out.push(a + (b - a) * (da / (da - db)));
-            }
-        }
-        poly = out;
-        if poly.is_empty() {
-            return ProxyShape::None;
-        }
+    let poly = clip_polygon(poly, &planes);
+    if poly.is_empty() {
+        return ProxyShape::None;
     }
     ProxyShape::Clipped(poly.into_iter().map(to_px).collect())
 }
