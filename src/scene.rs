@@ -201,12 +201,16 @@ impl Scene {
     }
 
     /// How many glyphs the camera cannot draw: eye inside or on them (Gumhold's quad does not
-    /// exist there) and entirely behind the near plane.
+    /// exist there), entirely behind the near plane, or with degenerate radii.
     pub fn visibility(&self, camera: &crate::camera::Camera) -> Visibility {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
         let mut v = Visibility::default();
         for g in &self.instances {
+            if !crate::reference::drawable_radii(g.radii) {
+                v.degenerate += 1;
+                continue;
+            }
             let geo = GlyphGeometry::of(g);
             let r = geo.max_radius();
             if (geo.centre - eye).dot(f) + r < camera.near {
@@ -227,6 +231,8 @@ impl Scene {
 pub struct Visibility {
     pub eye_inside: usize,
     pub behind_camera: usize,
+    /// Radii not all finite, positive and ≥ 2⁻²⁴ of the largest: no method draws these.
+    pub degenerate: usize,
 }
 
 /// Reorder an eigen frame for a cylinder glyph (cylinder-capsule.md §6): the axis (first column)

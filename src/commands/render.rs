@@ -163,6 +163,7 @@ struct RenderReport {
     glyphs_drawn: usize,
     glyphs_eye_inside: usize,
     glyphs_behind_camera: usize,
+    glyphs_degenerate: usize,
     frame_ms: f64,
     fragments: Option<u64>,
     bytes_per_glyph: usize,
@@ -285,6 +286,7 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
     let Visibility {
         eye_inside,
         behind_camera,
+        degenerate,
     } = scene.visibility(&camera);
     let report = RenderReport {
         method,
@@ -294,9 +296,10 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         width: w,
         height: h,
         glyphs_total: scene.instances.len(),
-        glyphs_drawn: scene.instances.len() - eye_inside - behind_camera,
+        glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate,
         glyphs_eye_inside: eye_inside,
         glyphs_behind_camera: behind_camera,
+        glyphs_degenerate: degenerate,
         frame_ms: frame.median_ms(),
         fragments: frame.fragments,
         bytes_per_glyph: tensorglyph::render::mesh::bytes_per_glyph(method),
