@@ -15,6 +15,7 @@ use crate::render::gumhold::GumholdRenderer;
 use crate::render::mesh::MeshRenderer;
 use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Variant, glyph_bind_group_layout};
+use crate::render::query::QueryPair;
 use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
 
@@ -264,7 +265,18 @@ impl GpuRenderer {
         let uniform = CameraUniform::new(camera, scene.origin, &req.lighting);
         ctx.queue
             .write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
-        let stats = ctx.pipeline_statistics.then(|| StatsQuery::new(ctx));
+        // [vertex invocations, fragment invocations] (ordered by flag bit).
+        let stats = ctx.pipeline_statistics.then(|| {
+            QueryPair::new(
+                device,
+                "pipeline statistics",
+                wgpu::QueryType::PipelineStatistics(
+                    wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
+                        | wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS,
+                ),
+                1,
+            )
+        });
         let variant = Variant {
             depth_correction: req.depth_correction,
             aux: req.aux,
@@ -410,65 +422,5 @@ impl TargetViews {
             occlusion_query_set: None,
             multiview_mask: None,
         })
-    }
-}
-
-/// Vertex- and fragment-shader invocation counts of one pass.
-struct StatsQuery {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-}
-
-impl StatsQuery {
-    fn new(ctx: &GpuContext) -> Self {
-        let set = ctx.device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("pipeline statistics"),
-            ty: wgpu::QueryType::PipelineStatistics(
-                wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
-                    | wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS,
-            ),
-            count: 1,
-        });
-        let buf = |usage| {
-            ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("pipeline statistics"),
-                size: 16,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        Self {
-            set,
-            resolve: buf(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
-            readback: buf(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
-        }
-    }
-
-    fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.set, 0..1, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 16);
-    }
-
-    /// [vertex invocations, fragment invocations] (ordered by flag bit).
-    fn read(&self, ctx: &GpuContext) -> Result<[u64; 2], RenderError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait()?;
-        rx.recv()
-            .map_err(|_| RenderError::Gpu("query readback dropped".into()))?
-            .map_err(|e| RenderError::Gpu(format!("query readback: {e}")))?;
-        let out = {
-            let data = self
-                .readback
-                .get_mapped_range(..)
-                .map_err(|e| RenderError::Gpu(format!("query readback: {e}")))?;
-            let v: [u64; 2] = bytemuck::pod_read_unaligned(&data[..16]);
-            v
-        };
-        self.readback.unmap();
-        Ok(out)
     }
 }

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::camera::Camera;
 use crate::error::RenderError;
+use crate::render::query::QueryPair;
 use crate::render::targets::{COLOR_VIEW_SRGB, Targets};
 use crate::render::{FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
 use crate::scene::Scene;
@@ -94,7 +95,7 @@ impl View3d {
             .timer
             .as_ref()
             .map(|t| wgpu::RenderPassTimestampWrites {
-                query_set: &t.set,
+                query_set: &t.0.set,
                 beginning_of_pass_write_index: Some(0),
                 end_of_pass_write_index: Some(1),
             });
@@ -129,59 +130,26 @@ impl View3d {
 }
 
 /// Begin/end timestamps of the glyph pass.
-struct GpuTimer {
-    set: wgpu::QuerySet,
-    resolve: wgpu::Buffer,
-    readback: wgpu::Buffer,
-}
+struct GpuTimer(QueryPair);
 
 impl GpuTimer {
     fn new(device: &wgpu::Device) -> Self {
-        let set = device.create_query_set(&wgpu::QuerySetDescriptor {
-            label: Some("frame time"),
-            ty: wgpu::QueryType::Timestamp,
-            count: 2,
-        });
-        let buf = |usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("frame time"),
-                size: 16,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        Self {
-            set,
-            resolve: buf(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
-            readback: buf(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
-        }
+        Self(QueryPair::new(
+            device,
+            "frame time",
+            wgpu::QueryType::Timestamp,
+            2,
+        ))
     }
 
     fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
-        encoder.resolve_query_set(&self.set, 0..2, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 16);
+        self.0.resolve(encoder);
     }
 
     /// Milliseconds between the two timestamps (after the submission completed).
     fn read_ms(&self, gpu: &GpuRenderer) -> Result<f64, RenderError> {
-        let ctx = &gpu.ctx;
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait()?;
-        rx.recv()
-            .map_err(|_| RenderError::Gpu("timestamp readback dropped".into()))?
-            .map_err(|e| RenderError::Gpu(format!("timestamp readback: {e}")))?;
-        let t: [u64; 2] = {
-            let data = self
-                .readback
-                .get_mapped_range(..)
-                .map_err(|e| RenderError::Gpu(format!("timestamp readback: {e}")))?;
-            bytemuck::pod_read_unaligned(&data[..16])
-        };
-        self.readback.unmap();
-        let period = f64::from(ctx.queue.get_timestamp_period());
+        let t = self.0.read(&gpu.ctx)?;
+        let period = f64::from(gpu.ctx.queue.get_timestamp_period());
         Ok(t[1].saturating_sub(t[0]) as f64 * period / 1e6)
     }
 }
