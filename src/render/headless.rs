@@ -166,11 +166,22 @@ impl GpuRenderer {
         camera: &Camera,
         req: &FrameRequest,
     ) -> Result<Frame, RenderError> {
+        let buffers = self.upload(scene)?;
+        self.render_uploaded(&buffers, camera, req)
+    }
+
+    /// Render instances uploaded by [`Self::upload`] (timing upload and frames apart).
+    pub fn render_uploaded(
+        &self,
+        buffers: &SceneBuffers,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<Frame, RenderError> {
         let ctx = &self.ctx;
         let targets = Targets::new(ctx, camera.width, camera.height, req.aux)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let result = self.render_into(scene, camera, req, &targets);
+        let result = self.render_into(buffers, camera, req, &targets);
         let oom = pollster::block_on(oom.pop());
         let invalid = pollster::block_on(scope.pop());
         if let Some(e) = oom.or(invalid) {
@@ -181,8 +192,10 @@ impl GpuRenderer {
 
     /// Upload a scene's instances once; the result is drawn by [`Self::encode`] as often as the
     /// camera or the request change (the viewer keeps it while the scene is unchanged).
-    pub fn upload(&self, scene: &Scene) -> SceneBuffers {
+    pub fn upload(&self, scene: &Scene) -> Result<SceneBuffers, RenderError> {
         let device = &self.ctx.device;
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         // A binding may not be empty: pad with one unused instance.
         let pad = [GpuGlyph::zeroed_instance()];
         let data: &[GpuGlyph] = if scene.instances.is_empty() {
@@ -215,13 +228,20 @@ impl GpuRenderer {
                 },
             ],
         });
-        SceneBuffers {
+        let oom = pollster::block_on(oom.pop());
+        let invalid = pollster::block_on(scope.pop());
+        if let Some(e) = oom.or(invalid) {
+            return Err(RenderError::Gpu(format!(
+                "uploading the glyph instances: {e}"
+            )));
+        }
+        Ok(SceneBuffers {
             origin: scene.origin,
             count: scene.instances.len() as u32,
             camera_buffer,
             _glyph_buffer: glyph_buffer,
             bind_group,
-        }
+        })
     }
 
     /// Record one frame of an uploaded scene into `views` (cleared first). The camera uniform is
@@ -253,7 +273,7 @@ impl GpuRenderer {
 
     fn render_into(
         &self,
-        scene: &Scene,
+        buffers: &SceneBuffers,
         camera: &Camera,
         req: &FrameRequest,
         targets: &Targets,
@@ -261,8 +281,7 @@ impl GpuRenderer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let drawer = self.drawer(req.method, req.glyph)?;
-        let buffers = self.upload(scene);
-        let uniform = CameraUniform::new(camera, scene.origin, &req.lighting);
+        let uniform = CameraUniform::new(camera, buffers.origin, &req.lighting);
         ctx.queue
             .write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
         // [vertex invocations, fragment invocations] (ordered by flag bit).

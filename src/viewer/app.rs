@@ -165,7 +165,12 @@ impl ViewerApp {
         };
         let subset = Selection::subset(&data.set, &selected);
         let scene = Scene::build(&subset, &resolved, key.glyph);
-        self.view.set_scene(&self.gpu, &scene);
+        if let Err(e) = self.view.set_scene(&self.gpu, &scene) {
+            self.error = Some(format!(
+                "cannot upload {} glyphs: {e}",
+                scene.instances.len()
+            ));
+        }
         self.scene_generation += 1;
         match &mut self.nav {
             Some(nav) => nav.set_bounds(scene.centre, scene.radius),

@@ -30,8 +30,10 @@ pub struct View3d {
 }
 
 impl View3d {
-    pub fn set_scene(&mut self, gpu: &GpuRenderer, scene: &Scene) {
-        self.buffers = Some(gpu.upload(scene));
+    pub fn set_scene(&mut self, gpu: &GpuRenderer, scene: &Scene) -> Result<(), RenderError> {
+        self.buffers = None;
+        self.buffers = Some(gpu.upload(scene)?);
+        Ok(())
     }
 
     pub fn size(&self) -> Option<(u32, u32)> {
