@@ -18,7 +18,36 @@ struct Camera {
     light: vec4<f32>,
 }
 
+// One glyph as stored: 32 bytes (layout in src/render/gpu_data.rs). Read it with load_glyph.
 struct GpuGlyph {
+    centre: vec3<f32>,
+    // Radius i as a 24-bit float (bits 8..32) and colour channel i (bits 0..8).
+    radius_rgb0: u32,
+    radius_rgb1: u32,
+    radius_rgb2: u32,
+    // The rotation quaternion, "smallest three" at 20 bits.
+    rotation0: u32,
+    rotation1: u32,
+}
+
+// Which instances this draw's glyph buffer holds (large scenes are split into chunks within
+// the adapter's buffer limits).
+struct Chunk {
+    // instance_index of the buffer's first glyph.
+    base: u32,
+    // Pixels: glyphs whose projected bounding sphere is smaller are not drawn (0: all drawn).
+    min_pixel_radius: f32,
+    // 1: cull glyphs outside the view frustum in the vertex stage.
+    cull: u32,
+    _pad: u32,
+}
+
+@group(0) @binding(0) var<uniform> camera: Camera;
+@group(0) @binding(1) var<storage, read> glyphs: array<GpuGlyph>;
+@group(0) @binding(2) var<uniform> chunk: Chunk;
+
+// A glyph decoded.
+struct Glyph {
     // Centre relative to the scene origin.
     centre: vec3<f32>,
     // RGBA8, unpack4x8unorm.
@@ -27,12 +56,35 @@ struct GpuGlyph {
     rotation: vec4<f32>,
     // Semi-axes along O's columns; T = O diag(radii) Oᵀ.
     radii: vec3<f32>,
-    // Index into the CPU glyph list (picking).
-    glyph: u32,
 }
 
-@group(0) @binding(0) var<uniform> camera: Camera;
-@group(0) @binding(1) var<storage, read> glyphs: array<GpuGlyph>;
+// √2 / (2²⁰ − 1) and 1/√2: the quaternion's fixed point (gpu_data.rs QUAT_SCALE).
+const QUAT_SCALE: f32 = 1.34870044e-6;
+const QUAT_OFFSET: f32 = 0.70710678;
+
+fn load_glyph(instance: u32) -> Glyph {
+    let s = glyphs[instance - chunk.base];
+    var g: Glyph;
+    g.centre = s.centre;
+    g.radii = vec3<f32>(
+        bitcast<f32>((s.radius_rgb0 >> 8u) << 7u),
+        bitcast<f32>((s.radius_rgb1 >> 8u) << 7u),
+        bitcast<f32>((s.radius_rgb2 >> 8u) << 7u),
+    );
+    g.color = (s.radius_rgb0 & 0xffu) | ((s.radius_rgb1 & 0xffu) << 8u)
+        | ((s.radius_rgb2 & 0xffu) << 16u) | 0xff000000u;
+    let a = f32(s.rotation0 & 0xfffffu) * QUAT_SCALE - QUAT_OFFSET;
+    let b = f32((s.rotation0 >> 20u) | ((s.rotation1 & 0xffu) << 12u)) * QUAT_SCALE - QUAT_OFFSET;
+    let c = f32((s.rotation1 >> 8u) & 0xfffffu) * QUAT_SCALE - QUAT_OFFSET;
+    let big = sqrt(max(1.0 - (a * a + b * b + c * c), 0.0));
+    switch (s.rotation1 >> 28u) & 3u {
+        case 0u: { g.rotation = vec4<f32>(big, a, b, c); }
+        case 1u: { g.rotation = vec4<f32>(a, big, b, c); }
+        case 2u: { g.rotation = vec4<f32>(a, b, big, c); }
+        default: { g.rotation = vec4<f32>(a, b, c, big); }
+    }
+    return g;
+}
 
 // E² (the eye in an ellipsoid's parameter space, squared) at or below this counts as "eye
 // inside or on the ellipsoid": the ellipsoid glyphs are culled there, as by the reference
@@ -94,12 +146,72 @@ fn corner_signs(k: u32) -> vec2<f32> {
     return vec2<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u));
 }
 
-// Corner k (0..3, strip order as in corner_signs) of the near plane in world space, with its
-// NDC: a proxy that covers the whole viewport, for glyphs the eye is too close to.
-fn near_plane_corner(k: u32) -> vec3<f32> {
-    let ndc = corner_signs(k);
+// Vertices of the ray casters' proxy polygon: 4 (Gumhold's quad) or 8 (the circumscribed
+// octagon of gumhold-ellipsoid.md §10: ~1.05 fragments per covered pixel instead of 4/π).
+override PROXY_VERTICES: u32 = 4u;
+// Gumhold ellipsoids: place the proxy on the glyph's nearest view plane, so the rasterised depth
+// never exceeds the ray-cast depth (conservative depth; lets early depth tests reject).
+override CONSERVATIVE_DEPTH: bool = false;
+
+// Octagon strip order (gumhold-ellipsoid.md §10): 0, 1, 7, 2, 6, 3, 5, 4.
+const OCTAGON_STRIP: array<u32, 8> = array<u32, 8>(0u, 1u, 7u, 2u, 6u, 3u, 5u, 4u);
+// sec(π/8): the octagon's vertices circumscribe the unit circle.
+const SEC_PI_8: f32 = 1.0823922;
+
+// Vertex vi of the proxy polygon around the unit circle (a triangle strip).
+fn proxy_corner(vi: u32) -> vec2<f32> {
+    if PROXY_VERTICES == 8u {
+        let theta = (f32(OCTAGON_STRIP[vi & 7u]) * 2.0 + 1.0) * 0.39269908;
+        return SEC_PI_8 * vec2<f32>(cos(theta), sin(theta));
+    }
+    return corner_signs(vi);
+}
+
+// Vertex vi of a proxy covering the whole viewport on the near plane (world space), for glyphs
+// the eye is too close to.
+fn near_plane_corner(vi: u32) -> vec3<f32> {
+    // √2 × the proxy polygon contains the square [−1, 1]².
+    let ndc = proxy_corner(vi) * 1.4142135;
     let h = camera.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
     return h.xyz / h.w;
+}
+
+// Radius of a sphere around a glyph drawn as an ellipsoid or as a capped cylinder (axis
+// radii.x): √(r_axis² + r_cross²) ≥ the largest radius.
+fn bounding_radius(r: vec3<f32>) -> f32 {
+    return length(vec2<f32>(r.x, max(r.y, r.z)));
+}
+
+// Row i of view_proj.
+fn view_proj_row(i: u32) -> vec4<f32> {
+    let m = camera.view_proj;
+    return vec4<f32>(m[0][i], m[1][i], m[2][i], m[3][i]);
+}
+
+// True when a glyph inside the sphere (centre c, radius r) cannot show: outside a frustum plane
+// (the near plane included: wholly in front of it), or projected smaller than
+// chunk.min_pixel_radius. Mirrored in f64 by Scene::visibility.
+fn skip_glyph(c: vec3<f32>, r: f32) -> bool {
+    if chunk.cull == 0u {
+        return false;
+    }
+    let r0 = view_proj_row(0u);
+    let r1 = view_proj_row(1u);
+    let r2 = view_proj_row(2u);
+    let r3 = view_proj_row(3u);
+    let h = vec4<f32>(c, 1.0);
+    // Planes (Gribb–Hartmann, clip z in [0, w]): left, right, bottom, top, near, far.
+    let planes = array<vec4<f32>, 6>(r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2);
+    for (var i = 0u; i < 6u; i++) {
+        let p = planes[i];
+        if dot(p, h) < -r * length(p.xyz) {
+            return true;
+        }
+    }
+    // |row 1| = P[1][1] (the view is a rotation); clip w = view distance (1 when orthographic).
+    let w = dot(r3, h);
+    let r_px = r * length(r1.xyz) * 0.5 * camera.viewport.y / max(w, 1e-30);
+    return r_px < chunk.min_pixel_radius;
 }
 
 // Blinn-Phong with a headlight: the light sits at the eye, so L = H = direction to the eye.

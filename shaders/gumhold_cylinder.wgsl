@@ -29,15 +29,15 @@ const BOUND: vec3<f32> = vec3<f32>(1.7320508, 1.2247449, 1.2247449);
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
-    let g = glyphs[ii];
-    if !drawable(g.radii) {
+    let g = load_glyph(ii);
+    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
         out.position = CULLED_POSITION;
         return out;
     }
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
     let rinv = 1.0 / g.radii;
-    let s = corner_signs(vi);
+    let s = proxy_corner(vi);
     // Local parameter space of the cylinder: p~ = diag(1/r) Oᵀ (p − c).
     let e_c = (ot * (camera.eye.xyz - g.centre)) * rinv;
 

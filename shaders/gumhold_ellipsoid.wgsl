@@ -2,9 +2,14 @@
 // the vertex and instance index, and the incremental ray–ellipsoid intersection per fragment.
 // Math and names: shared/math/gumhold-ellipsoid.md. Composed as common.wgsl + this + outputs.wgsl.
 
+// With CONSERVATIVE_DEPTH the proxy's vertices are moved along their eye rays onto the glyph's
+// nearest view plane by a factor s_k (1 otherwise). The screen positions stay, but perspective
+// interpolation then weighs vertex k by 1/(s_k w_k): so every varying below except `s` is sent
+// multiplied by s_k and divided by the interpolated `s` per fragment, which restores the
+// interpolation over the original quad exactly.
 struct VsOut {
     @builtin(position) position: vec4<f32>,
-    // (q~x, q~y): the corner signs, interpolated.
+    // (q~x, q~y): the proxy corner in the unit circle's plane, interpolated.
     @location(0) q: vec2<f32>,
     // V~: the quad point in parameter space.
     @location(1) vt_quad: vec3<f32>,
@@ -22,20 +27,25 @@ struct VsOut {
     @location(9) @interpolate(flat) n2: vec3<f32>,
     // Row 2 of R_view T: the hit's view z relative to the centre is tz · p~.
     @location(10) @interpolate(flat) tz: vec3<f32>,
+    // Clip (z, w) of the quad point (before any move): its depth is z / w.
+    @location(11) zw: vec2<f32>,
+    // The move factor s_k (see above).
+    @location(12) s: f32,
 }
 
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
-    let g = glyphs[ii];
-    if !drawable(g.radii) {
+    let g = load_glyph(ii);
+    let r_max = max(g.radii.x, max(g.radii.y, g.radii.z));
+    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
         out.position = CULLED_POSITION;
         return out;
     }
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
     let rinv = 1.0 / g.radii;
-    let s = corner_signs(vi);
+    let s = proxy_corner(vi);
 
     var z_hat: vec3<f32>;
     var m_t = vec3<f32>(0.0);
@@ -49,8 +59,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         let e_t = o * ((ot * (camera.eye.xyz - g.centre)) * rinv);
         let e2 = dot(e_t, e_t);
         if !(e2 > EYE_INSIDE_E2) {
-            // Outside the clip volume (z < 0): all four corners are clipped away.
-            out.position = vec4<f32>(0.0, 0.0, -2.0, 1.0);
+            out.position = CULLED_POSITION;
             return out;
         }
         let e = sqrt(e2);
@@ -62,15 +71,36 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let xy = orthonormal_pair(z_hat);
     let vt_quad = m_t + r_t * (s.x * xy[0] + s.y * xy[1]);
     let v = g.centre + o * ((ot * vt_quad) * g.radii);
-    out.position = camera.view_proj * vec4<f32>(v, 1.0);
-    out.q = s;
-    out.vt_quad = vt_quad;
-    if is_ortho() {
-        out.vt_ray = z_hat;
+    let clip = camera.view_proj * vec4<f32>(v, 1.0);
+    var k = 1.0;
+    if CONSERVATIVE_DEPTH {
+        // Nearest view distance of the ellipsoid: centre's minus its support |diag(r) Oᵀ f|.
+        let f = camera.forward.xyz;
+        let d_c = dot(g.centre - camera.eye.xyz, f);
+        let d_min = d_c - length(g.radii * (ot * f));
+        if is_ortho() && d_min > camera.depth.z {
+            out.position = camera.view_proj * vec4<f32>(v + (d_min - dot(v - camera.eye.xyz, f)) * f, 1.0);
+        } else if !is_ortho() && d_c - 1.5 * r_max > camera.depth.z {
+            // Every proxy vertex lies within 1.5 r_max of the centre (|V~|² ≤ 1/E² + r~²|q~|²
+            // ≤ 2), so all are in front of the near plane and can be scaled about the eye.
+            k = max(d_min, camera.depth.z) / dot(v - camera.eye.xyz, f);
+            out.position = camera.view_proj * vec4<f32>(camera.eye.xyz + k * (v - camera.eye.xyz), 1.0);
+        } else {
+            out.position = clip;
+        }
     } else {
-        out.vt_ray = vt_quad + z_hat / out.u;
+        out.position = clip;
     }
-    out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
+    out.s = k;
+    out.zw = k * clip.zw;
+    out.q = k * s;
+    out.vt_quad = k * vt_quad;
+    if is_ortho() {
+        out.vt_ray = k * z_hat;
+    } else {
+        out.vt_ray = k * (vt_quad + z_hat / out.u);
+    }
+    out.v_view = k * (camera.view * vec4<f32>(v, 1.0)).xyz;
     out.id = ii + 1u;
     out.color = g.color;
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
@@ -84,7 +114,15 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 }
 
 // The front intersection of the pixel's ray, or discard.
-fn ray_cast(in: VsOut) -> Hit {
+fn ray_cast(in_moved: VsOut) -> Hit {
+    var in = in_moved;
+    if CONSERVATIVE_DEPTH {
+        let inv = 1.0 / in.s;
+        in.q *= inv;
+        in.vt_quad *= inv;
+        in.vt_ray *= inv;
+        in.v_view *= inv;
+    }
     let q2 = dot(in.q, in.q);
     if q2 > 1.0 {
         discard;
@@ -112,6 +150,6 @@ fn ray_cast(in: VsOut) -> Hit {
     hit.n_view = n_view;
     hit.z_rel = dot(in.tz, p_t);
     hit.z_proxy_rel = dot(in.tz, in.vt_quad);
-    hit.depth = in.position.z + delta_depth;
+    hit.depth = in.zw.x / in.zw.y + delta_depth;
     return hit;
 }

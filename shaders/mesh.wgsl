@@ -28,9 +28,9 @@ fn vs_main(
     @builtin(instance_index) ii: u32,
 ) -> VsOut {
     var out: VsOut;
-    let g = glyphs[ii];
+    let g = load_glyph(ii);
     let o = quat_to_mat3(g.rotation);
-    if !drawable(g.radii) {
+    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
         out.position = CULLED_POSITION;
         return out;
     }

@@ -96,7 +96,7 @@ fn view_rotation() -> mat3x3<f32> {
 }
 
 // The flat per-glyph varyings.
-fn glyph_varyings(out: ptr<function, VsOut>, g: GpuGlyph, o: mat3x3<f32>, id: u32) {
+fn glyph_varyings(out: ptr<function, VsOut>, g: Glyph, o: mat3x3<f32>, id: u32) {
     let rv = view_rotation();
     (*out).id = id;
     (*out).color = g.color;

@@ -5,8 +5,8 @@
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
-    let g = glyphs[ii];
-    if !drawable(g.radii) {
+    let g = load_glyph(ii);
+    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
         return culled();
     }
     let o = quat_to_mat3(g.rotation);

@@ -3,15 +3,41 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::render::gpu_data::GpuGlyph;
 use crate::render::method::GlyphKind;
+
+/// One glyph instance at full f32 precision, as built on the CPU: the reference ray casts these,
+/// the GPU reads them packed ([`crate::render::gpu_data::GpuGlyph`], 32 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GlyphInstance {
+    /// Centre relative to the scene origin.
+    pub centre: [f32; 3],
+    /// RGBA8 (R in the lowest byte).
+    pub color: u32,
+    /// Unit quaternion (x, y, z, w) of the eigenvector frame.
+    pub rotation: [f32; 4],
+    /// Semi-axes along the frame's columns.
+    pub radii: [f32; 3],
+    /// Index into the glyph list the scene was built from (instances may be reordered).
+    pub glyph: u32,
+}
+
+impl GlyphInstance {
+    pub fn pack_color(rgba: [u8; 4]) -> u32 {
+        u32::from_le_bytes(rgba)
+    }
+
+    pub fn color_rgba(&self) -> [u8; 4] {
+        self.color.to_le_bytes()
+    }
+}
 
 /// Glyph instances relative to `origin`, plus a bounding sphere in world space.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
     /// World point that instance centres are relative to (keeps f32 precise far from 0).
     pub origin: DVec3,
-    pub instances: Vec<GpuGlyph>,
+    pub instances: Vec<GlyphInstance>,
     /// Bounding sphere of all glyphs (world).
     pub centre: DVec3,
     pub radius: f64,
@@ -28,7 +54,7 @@ pub struct GlyphGeometry {
 }
 
 impl GlyphGeometry {
-    pub fn of(g: &GpuGlyph) -> Self {
+    pub fn of(g: &GlyphInstance) -> Self {
         let q = DQuat::from_xyzw(
             f64::from(g.rotation[0]),
             f64::from(g.rotation[1]),
@@ -116,9 +142,9 @@ impl Scene {
             .map(|s| {
                 let c = s.centre - origin;
                 let q = s.rotation.normalize();
-                GpuGlyph {
+                GlyphInstance {
                     centre: [c.x as f32, c.y as f32, c.z as f32],
-                    color: GpuGlyph::pack_color(s.color),
+                    color: GlyphInstance::pack_color(s.color),
                     rotation: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
                     radii: [s.radii.x as f32, s.radii.y as f32, s.radii.z as f32],
                     glyph: s.glyph,
@@ -130,7 +156,7 @@ impl Scene {
 
     /// Wrap ready instances; computes the bounding sphere (holding the glyphs as ellipsoids or
     /// as cylinders, so framing and the far plane never cut a glyph).
-    pub fn from_instances(origin: DVec3, instances: Vec<GpuGlyph>) -> Self {
+    pub fn from_instances(origin: DVec3, instances: Vec<GlyphInstance>) -> Self {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for g in &instances {
@@ -188,9 +214,9 @@ impl Scene {
                     GlyphKind::Ellipsoid => (g.rotation, style.radii(g)),
                     GlyphKind::Cylinder => cylinder_frame(g.rotation, style.radii(g)),
                 };
-                GpuGlyph {
+                GlyphInstance {
                     centre: [c.x as f32, c.y as f32, c.z as f32],
-                    color: GpuGlyph::pack_color(style.color(g)),
+                    color: GlyphInstance::pack_color(style.color(g)),
                     rotation,
                     radii,
                     glyph: k as u32,
@@ -201,10 +227,13 @@ impl Scene {
     }
 
     /// How many glyphs the camera cannot draw: eye inside or on them (Gumhold's quad does not
-    /// exist there), entirely behind the near plane, or with degenerate radii.
-    pub fn visibility(&self, camera: &crate::camera::Camera) -> Visibility {
+    /// exist there), entirely behind the near plane, or with degenerate radii; and, with
+    /// `cull = Some(min_pixel_radius)`, how many the vertex stage culls (outside the frustum or
+    /// projected smaller than that): the f64 twin of `skip_glyph` in common.wgsl.
+    pub fn visibility(&self, camera: &crate::camera::Camera, cull: Option<f32>) -> Visibility {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
+        let frustum = cull.map(|min_px| Frustum::new(camera, self.origin, min_px));
         let mut v = Visibility::default();
         for g in &self.instances {
             if !crate::reference::drawable_radii(g.radii) {
@@ -215,6 +244,11 @@ impl Scene {
             let r = geo.max_radius();
             if (geo.centre - eye).dot(f) + r < camera.near {
                 v.behind_camera += 1;
+            } else if frustum
+                .as_ref()
+                .is_some_and(|fr| fr.skips(geo.centre, bounding_radius(g.radii)))
+            {
+                v.culled += 1;
             } else if !camera.is_ortho()
                 && (geo.t_inv() * (eye - geo.centre)).length_squared()
                     <= crate::reference::EYE_INSIDE_E2
@@ -233,6 +267,78 @@ pub struct Visibility {
     pub behind_camera: usize,
     /// Radii not all finite, positive and ≥ 2⁻²⁴ of the largest: no method draws these.
     pub degenerate: usize,
+    /// Culled in the vertex stage: outside the view frustum or below the pixel size asked for.
+    pub culled: usize,
+}
+
+/// `bounding_radius` of common.wgsl: a sphere around the glyph as ellipsoid or capped cylinder.
+pub fn bounding_radius(r: [f32; 3]) -> f64 {
+    f64::from(r[0]).hypot(f64::from(r[1].max(r[2])))
+}
+
+/// The view frustum's planes relative to a scene origin, and the pixel-size threshold.
+struct Frustum {
+    planes: [glam::DVec4; 6],
+    /// Rows 1 and 3 of view_proj (pixel size from |row 1| and clip w).
+    row1: glam::DVec4,
+    row3: glam::DVec4,
+    half_height: f64,
+    min_px: f64,
+}
+
+impl Frustum {
+    fn new(camera: &crate::camera::Camera, origin: DVec3, min_px: f32) -> Self {
+        let m = camera.projection_matrix() * camera.view(origin);
+        let row = |i: usize| m.row(i);
+        let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+        Self {
+            planes: [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2],
+            row1: r1,
+            row3: r3,
+            half_height: 0.5 * f64::from(camera.height),
+            min_px: f64::from(min_px),
+        }
+    }
+
+    fn skips(&self, c: DVec3, r: f64) -> bool {
+        let h = c.extend(1.0);
+        if self
+            .planes
+            .iter()
+            .any(|p| p.dot(h) < -r * p.truncate().length())
+        {
+            return true;
+        }
+        let w = self.row3.dot(h).max(1e-30);
+        r * self.row1.truncate().length() * self.half_height / w < self.min_px
+    }
+}
+
+impl Scene {
+    /// Reorder the instances front to back (by the view depth of their centres; stable, so
+    /// ties keep file order): with early depth testing, nearer glyphs then hide later ones
+    /// before they are shaded. Ids and picking follow `GlyphInstance::glyph`.
+    pub fn sort_front_to_back(&mut self, camera: &crate::camera::Camera) {
+        use rayon::prelude::*;
+        let eye = (camera.eye - self.origin).as_vec3();
+        let f = camera.forward().as_vec3();
+        let key = |g: &GlyphInstance| (glam::Vec3::from(g.centre) - eye).dot(f);
+        self.instances.par_sort_by(|a, b| key(a).total_cmp(&key(b)));
+    }
+
+    /// Whether Gumhold's ellipsoid shader moves every drawable glyph's proxy to its nearest
+    /// plane for this camera (its centre is more than 1.5 radii beyond the near plane), so the
+    /// depth it writes is never less than the rasterised depth and may be declared so.
+    pub fn conservative_depth_holds(&self, camera: &crate::camera::Camera) -> bool {
+        let eye = camera.eye - self.origin;
+        let f = camera.forward();
+        self.instances.iter().all(|g| {
+            !crate::reference::drawable_radii(g.radii) || {
+                let geo = GlyphGeometry::of(g);
+                (geo.centre - eye).dot(f) - 1.5 * geo.max_radius() > camera.near * (1.0 + 1e-6)
+            }
+        })
+    }
 }
 
 /// Reorder an eigen frame for a cylinder glyph (cylinder-capsule.md §6): the axis (first column)

@@ -7,6 +7,7 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
+use super::path::PathArgs;
 use super::scene::{SceneArgs, load, source};
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::error::RenderError;
@@ -65,6 +66,8 @@ pub struct ViewArgs {
     /// With --reference-check: write a picture of where the two differ.
     #[arg(long, value_name = "FILE.png")]
     pub diff: Option<PathBuf>,
+    #[command(flatten)]
+    pub path: PathArgs,
 }
 
 #[derive(Args, Debug)]
@@ -167,6 +170,13 @@ struct RenderReport {
     frame_ms: f64,
     fragments: Option<u64>,
     bytes_per_glyph: usize,
+    /// Glyphs culled in the vertex stage (outside the frustum, or below --min-pixel-radius).
+    glyphs_culled: usize,
+    /// Pixels showing a glyph in the image.
+    covered_pixels: usize,
+    /// Fragment-shader invocations per covered pixel (the driver's count: lavapipe counts
+    /// every pixel of each 4x4 block a triangle touches).
+    fragments_per_covered_pixel: Option<f64>,
     #[serde(flatten)]
     accuracy: Option<Accuracy>,
 }
@@ -226,7 +236,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
     let style = scene_args.style()?;
     let (field, set) = load(src, scene_args)?;
     let resolved = style.resolve(&set, field_spacing(&field));
-    let scene = Scene::build(&set, &resolved, view.glyph);
+    view.path.check()?;
+    let mut scene = Scene::build(&set, &resolved, view.glyph);
     let framing = Framing {
         view: view.view,
         azimuth: view.azimuth,
@@ -237,7 +248,7 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
     };
     let (w, h) = view.size;
     let camera = Camera::frame(&framing, scene.centre, scene.radius, w, h);
-    let mut req = FrameRequest {
+    let mut req = view.path.apply(FrameRequest {
         method: view.method,
         glyph: view.glyph,
         depth_correction: !view.no_depth_correction,
@@ -245,7 +256,10 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         background: view.background,
         frames: view.frames.max(1),
         ..FrameRequest::default()
-    };
+    });
+    if view.path.sort() {
+        scene.sort_front_to_back(&camera);
+    }
 
     let mut method = view.method;
     let mut adapter = None;
@@ -255,6 +269,9 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
             Ok(ctx) => {
                 adapter = Some(ctx.adapter_name.clone());
                 backend = Some(ctx.backend.clone());
+                req.proxy.early_depth = req.proxy.conservative
+                    && ctx.early_depth_test
+                    && scene.conservative_depth_holds(&camera);
                 let gpu = GpuRenderer::new(ctx)?;
                 gpu.render(&scene, &camera, &req)?
             }
@@ -287,7 +304,9 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         eye_inside,
         behind_camera,
         degenerate,
-    } = scene.visibility(&camera);
+        culled,
+    } = scene.visibility(&camera, req.cull.then_some(req.min_pixel_radius));
+    let covered = frame.covered_pixels();
     let report = RenderReport {
         method,
         glyph: view.glyph,
@@ -296,7 +315,13 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         width: w,
         height: h,
         glyphs_total: scene.instances.len(),
-        glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate,
+        glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate - culled,
+        glyphs_culled: culled,
+        covered_pixels: covered,
+        fragments_per_covered_pixel: frame
+            .fragments
+            .filter(|_| covered > 0)
+            .map(|f| f as f64 / covered as f64),
         glyphs_eye_inside: eye_inside,
         glyphs_behind_camera: behind_camera,
         glyphs_degenerate: degenerate,

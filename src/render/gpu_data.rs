@@ -5,36 +5,138 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 
 use crate::camera::Camera;
+use crate::scene::GlyphInstance;
 
-/// One glyph instance: minimal per-glyph data, everything else is derived in the vertex shader.
-/// Keep in sync with `GpuGlyph` in shaders/common.wgsl.
+/// One glyph as the GPU reads it: 32 bytes, decoded by `load_glyph` in shaders/common.wgsl.
+/// Keep in sync with `GpuGlyph` there.
+///
+/// - `centre`: f32, relative to the scene origin (as [`GlyphInstance`]).
+/// - `radius_rgb[i]`: radius i as an unsigned 24-bit float (f32 without sign and the 7 lowest
+///   mantissa bits, rounded to nearest: relative error ≤ 2⁻¹⁷) in bits 8..32, and colour channel
+///   i (R, G, B) in bits 0..8. Glyphs no method draws (degenerate radii) get radii 0.
+/// - `rotation`: the unit quaternion as "smallest three": the index of the largest component
+///   (made positive) in bits 28..30 of word 1 and the other three, in order, as 20-bit fixed
+///   point over [−1/√2, 1/√2] (error ≤ 6.7e-7 each): a = w0[0..20], b = w0[20..32] | w1[0..8] << 12,
+///   c = w1[8..28].
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuGlyph {
-    /// Centre relative to the scene origin.
     pub centre: [f32; 3],
-    /// RGBA8 (R in the lowest byte), as `unpack4x8unorm` reads it.
-    pub color: u32,
-    /// Unit quaternion (x, y, z, w) of the eigenvector frame.
-    pub rotation: [f32; 4],
-    /// Semi-axes along the frame's columns.
-    pub radii: [f32; 3],
-    /// Index into the CPU glyph list.
-    pub glyph: u32,
+    pub radius_rgb: [u32; 3],
+    pub rotation: [u32; 2],
 }
 
-pub const GPU_GLYPH_SIZE: usize = 48;
+pub const GPU_GLYPH_SIZE: usize = 32;
 const _: () = assert!(std::mem::size_of::<GpuGlyph>() == GPU_GLYPH_SIZE);
 
+const QUAT_BITS: u32 = 20;
+const QUAT_MAX: f64 = ((1u32 << QUAT_BITS) - 1) as f64;
+
 impl GpuGlyph {
-    pub fn pack_color(rgba: [u8; 4]) -> u32 {
-        u32::from_le_bytes(rgba)
+    pub fn pack(g: &GlyphInstance) -> Self {
+        let radii = if crate::reference::drawable_radii(g.radii) {
+            g.radii
+        } else {
+            [0.0; 3]
+        };
+        let rgba = g.color.to_le_bytes();
+        let radius_rgb = std::array::from_fn(|i| (pack_radius(radii[i]) << 8) | u32::from(rgba[i]));
+        Self {
+            centre: g.centre,
+            radius_rgb,
+            rotation: pack_quat(g.rotation),
+        }
     }
 
-    pub fn color_rgba(&self) -> [u8; 4] {
-        self.color.to_le_bytes()
+    /// The CPU twin of `load_glyph` in common.wgsl (same arithmetic, f32).
+    pub fn unpack(&self) -> GlyphInstance {
+        let radii = self.radius_rgb.map(|w| f32::from_bits((w >> 8) << 7));
+        let [r, g, b] = self.radius_rgb.map(|w| (w & 0xff) as u8);
+        GlyphInstance {
+            centre: self.centre,
+            color: u32::from_le_bytes([r, g, b, 255]),
+            rotation: unpack_quat(self.rotation),
+            radii,
+            glyph: 0,
+        }
     }
 }
+
+/// f32 → 24 bits (no sign, 16 mantissa bits), rounded to nearest; only for radii ≥ 0.
+fn pack_radius(r: f32) -> u32 {
+    let bits = r.max(0.0).to_bits();
+    ((bits + 0x40) >> 7).min(0x00ff_ffff)
+}
+
+fn pack_quat(q: [f32; 4]) -> [u32; 2] {
+    let q = q.map(f64::from);
+    let len = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let q = if len > 0.0 && len.is_finite() {
+        q.map(|c| c / len)
+    } else {
+        [0.0, 0.0, 0.0, 1.0]
+    };
+    let largest = (0..4)
+        .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
+        .unwrap_or(3);
+    let sign = if q[largest] < 0.0 { -1.0 } else { 1.0 };
+    let mut rest = [0u32; 3];
+    let mut k = 0;
+    for (i, c) in q.iter().enumerate() {
+        if i != largest {
+            let x = (sign * c * std::f64::consts::FRAC_1_SQRT_2 + 0.5) * QUAT_MAX;
+            rest[k] = x.round().clamp(0.0, QUAT_MAX) as u32;
+            k += 1;
+        }
+    }
+    let [a, b, c] = rest;
+    [
+        a | (b << 20),
+        (b >> 12) | (c << 8) | ((largest as u32) << 28),
+    ]
+}
+
+fn unpack_quat(w: [u32; 2]) -> [f32; 4] {
+    let a = w[0] & 0xfffff;
+    let b = (w[0] >> 20) | ((w[1] & 0xff) << 12);
+    let c = (w[1] >> 8) & 0xfffff;
+    let largest = ((w[1] >> 28) & 3) as usize;
+    let dec = |x: u32| x as f32 * QUAT_SCALE - std::f32::consts::FRAC_1_SQRT_2;
+    let rest = [dec(a), dec(b), dec(c)];
+    let big = (1.0 - rest.iter().map(|c| c * c).sum::<f32>())
+        .max(0.0)
+        .sqrt();
+    let mut q = [0.0f32; 4];
+    let mut k = 0;
+    for (i, slot) in q.iter_mut().enumerate() {
+        if i == largest {
+            *slot = big;
+        } else {
+            *slot = rest[k];
+            k += 1;
+        }
+    }
+    q
+}
+
+/// √2 / (2²⁰ − 1): one fixed-point step of a quaternion component (the shader's constant).
+const QUAT_SCALE: f32 = (std::f64::consts::SQRT_2 / QUAT_MAX) as f32;
+
+/// Per draw of one chunk of instances. Keep in sync with `Chunk` in shaders/common.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct ChunkUniform {
+    /// instance_index of the chunk's first glyph.
+    pub base: u32,
+    /// Glyphs projected smaller than this many pixels (radius) are not drawn.
+    pub min_pixel_radius: f32,
+    /// 1: frustum culling in the vertex stage.
+    pub cull: u32,
+    pub _pad: u32,
+}
+
+pub const CHUNK_UNIFORM_SIZE: usize = 16;
+const _: () = assert!(std::mem::size_of::<ChunkUniform>() == CHUNK_UNIFORM_SIZE);
 
 /// Blinn-Phong headlight parameters: one set for every method and the reference.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -138,10 +240,81 @@ mod tests {
         }
     }
 
+    fn instance(rotation: [f32; 4], radii: [f32; 3]) -> GlyphInstance {
+        GlyphInstance {
+            centre: [1.5, -2.25, 1e6],
+            color: u32::from_le_bytes([10, 200, 37, 255]),
+            rotation,
+            radii,
+            glyph: 7,
+        }
+    }
+
+    #[test]
+    fn packing_keeps_centre_colour_and_bounds_the_error() {
+        use glam::DQuat;
+        let mut worst_q = 0.0f64;
+        let mut worst_r = 0.0f64;
+        // Rotations over all four "largest component" cases and both signs, and radii over
+        // many magnitudes.
+        for k in 0..2000 {
+            let t = f64::from(k);
+            let axis = glam::DVec3::new((t * 0.37).sin(), (t * 1.3).cos(), (t * 0.11).sin() + 0.2)
+                .normalize();
+            let q = DQuat::from_axis_angle(axis, t * 0.0137);
+            let q = if k % 2 == 0 { q } else { -q };
+            let r = [
+                (10f64.powf((t * 0.01).sin() * 3.0)) as f32,
+                0.5 + (t * 0.3).cos() as f32 * 0.25,
+                1.0e-3 * (1.0 + (k % 7) as f32),
+            ];
+            let g = instance([q.x as f32, q.y as f32, q.z as f32, q.w as f32], r);
+            let u = GpuGlyph::pack(&g).unpack();
+            assert_eq!(u.centre, g.centre);
+            assert_eq!(u.color_rgba(), g.color_rgba());
+            let back = DQuat::from_xyzw(
+                u.rotation[0].into(),
+                u.rotation[1].into(),
+                u.rotation[2].into(),
+                u.rotation[3].into(),
+            );
+            // q and −q are one rotation. The decoded quaternion's length is 1 only to f32
+            // rounding (the shader uses it unnormalised, as the CPU twin does): compare the
+            // rotation angle between them, and the length apart.
+            let angle = 2.0 * (back.dot(q).abs() / back.length()).min(1.0).acos();
+            worst_q = worst_q.max(angle);
+            assert!((back.length() - 1.0).abs() < 4e-7, "{back:?}");
+            for (a, b) in u.radii.iter().zip(r) {
+                worst_r = worst_r.max((f64::from(*a) / f64::from(b) - 1.0).abs());
+            }
+        }
+        // 20-bit components (steps of 1.3e-6): rotations agree to a few microradians (the f32
+        // input and decode add ~1e-7).
+        assert!(worst_q < 6e-6, "quaternion angle error {worst_q} rad");
+        assert!(worst_r <= 2f64.powi(-17), "radius error {worst_r}");
+    }
+
+    #[test]
+    fn glyphs_no_method_draws_are_packed_with_zero_radii() {
+        use crate::reference::drawable_radii;
+        for radii in [
+            [1.0, 0.0, 1.0],
+            [1.0, -0.5, 1.0],
+            [f32::NAN, 1.0, 1.0],
+            [f32::INFINITY, 1.0, 1.0],
+            [1.0, 1e-9, 1.0],
+        ] {
+            let u = GpuGlyph::pack(&instance([0.0, 0.0, 0.0, 1.0], radii)).unpack();
+            assert_eq!(u.radii, [0.0; 3], "{radii:?}");
+            assert!(!drawable_radii(u.radii));
+        }
+    }
+
     #[test]
     fn sizes_match_wgsl() {
         let module = shaders::parse(shaders::COMMON).expect("common.wgsl parses");
         assert_eq!(wgsl_size(&module, "GpuGlyph") as usize, GPU_GLYPH_SIZE);
         assert_eq!(wgsl_size(&module, "Camera") as usize, CAMERA_UNIFORM_SIZE);
+        assert_eq!(wgsl_size(&module, "Chunk") as usize, CHUNK_UNIFORM_SIZE);
     }
 }

@@ -5,21 +5,19 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
-use wgpu::util::DeviceExt;
-
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
-use crate::render::gpu_data::{CameraUniform, GpuGlyph, Lighting};
+use crate::render::gpu_data::{CameraUniform, ChunkUniform, GPU_GLYPH_SIZE, GpuGlyph, Lighting};
 use crate::render::gumhold::GumholdRenderer;
 use crate::render::mesh::MeshRenderer;
 use crate::render::method::{GlyphKind, Method};
-use crate::render::pipeline::{Variant, glyph_bind_group_layout};
+use crate::render::pipeline::{Proxy, Variant, glyph_bind_group_layout};
 use crate::render::query::QueryPair;
 use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
 
-use crate::scene::Scene;
+use crate::scene::{GlyphInstance, Scene};
 
 /// What to draw and what to read back.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -34,6 +32,26 @@ pub struct FrameRequest {
     /// Frames to render and time (the targets of the last one are read back).
     pub frames: u32,
     pub lighting: Lighting,
+    /// How the ray casters bound each glyph.
+    pub proxy: Proxy,
+    /// Cull glyphs outside the view frustum (or wholly in front of the near plane) in the
+    /// vertex stage.
+    pub cull: bool,
+    /// With `cull`: also skip glyphs whose projected bounding sphere has a radius below this
+    /// many pixels (0: none).
+    pub min_pixel_radius: f32,
+}
+
+impl FrameRequest {
+    /// The same request on the path before issue 7: quads at the silhouette plane, no culling.
+    pub fn baseline(self) -> Self {
+        Self {
+            proxy: Proxy::BASELINE,
+            cull: false,
+            min_pixel_radius: 0.0,
+            ..self
+        }
+    }
 }
 
 impl Default for FrameRequest {
@@ -46,6 +64,9 @@ impl Default for FrameRequest {
             background: [1.0, 1.0, 1.0, 1.0],
             frames: 1,
             lighting: Lighting::default(),
+            proxy: Proxy::default(),
+            cull: true,
+            min_pixel_radius: 0.0,
         }
     }
 }
@@ -84,8 +105,15 @@ impl Frame {
 
 /// A GPU method's long-lived pipelines for one glyph shape.
 pub trait Drawer: Send + Sync {
-    /// Record the draw of `instances` glyphs; bind group 0 (camera + glyphs) is already set.
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32);
+    /// Record the draw of the glyph instances `instances` (instance_index values); bind group 0
+    /// (camera, the chunk holding them, its uniform) is already set.
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: Variant,
+        proxy: Proxy,
+        instances: std::ops::Range<u32>,
+    );
 }
 
 type DrawerKey = (Method, GlyphKind);
@@ -193,55 +221,157 @@ impl GpuRenderer {
     /// Upload a scene's instances once; the result is drawn by [`Self::encode`] as often as the
     /// camera or the request change (the viewer keeps it while the scene is unchanged).
     pub fn upload(&self, scene: &Scene) -> Result<SceneBuffers, RenderError> {
+        self.upload_chunked(scene, self.max_chunk_glyphs())
+    }
+
+    /// Glyphs one storage buffer binding can hold on this device.
+    pub fn max_chunk_glyphs(&self) -> usize {
+        let limits = &self.ctx.limits;
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        (bytes / GPU_GLYPH_SIZE as u64).clamp(1, u64::from(u32::MAX)) as usize
+    }
+
+    /// [`Self::upload`] in buffers of at most `chunk` glyphs each. The instances are packed
+    /// straight into each buffer's mapping (no second copy of the scene on the CPU).
+    pub fn upload_chunked(&self, scene: &Scene, chunk: usize) -> Result<SceneBuffers, RenderError> {
+        use rayon::prelude::*;
         let device = &self.ctx.device;
+        let chunk = chunk.max(1);
+        if scene.instances.len() > u32::MAX as usize - 1 {
+            return Err(RenderError::Unsupported(format!(
+                "{} glyphs: at most {} can be drawn",
+                scene.instances.len(),
+                u32::MAX - 1
+            )));
+        }
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        // A binding may not be empty: pad with one unused instance.
-        let pad = [GpuGlyph::zeroed_instance()];
-        let data: &[GpuGlyph] = if scene.instances.is_empty() {
-            &pad
-        } else {
-            &scene.instances
-        };
-        let glyph_buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("glyph instances"),
-            contents: bytemuck::cast_slice(data),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
         let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("camera"),
             size: std::mem::size_of::<CameraUniform>() as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("glyphs"),
-            layout: &self.bind_group_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: camera_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: glyph_buffer.as_entire_binding(),
-                },
-            ],
-        });
+        // A binding may not be empty: an empty scene gets one chunk with an unused instance.
+        let pieces: Vec<&[GlyphInstance]> = if scene.instances.is_empty() {
+            vec![&[]]
+        } else {
+            scene.instances.chunks(chunk).collect()
+        };
+        let mut chunks = Vec::with_capacity(pieces.len());
+        let mut base = 0u32;
+        for piece in pieces {
+            let glyphs = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("glyph instances"),
+                size: (piece.len().max(1) * GPU_GLYPH_SIZE) as u64,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: true,
+            });
+            {
+                let mut view = glyphs.slice(..).get_mapped_range_mut().map_err(|e| {
+                    RenderError::Gpu(format!("mapping a glyph buffer for upload: {e}"))
+                })?;
+                // The mapping is write-only: pack in blocks (in parallel) and copy each in.
+                const BLOCK: usize = 1 << 16;
+                let mut packed: Vec<GpuGlyph> = Vec::with_capacity(BLOCK.min(piece.len()));
+                for (k, block) in piece.chunks(BLOCK).enumerate() {
+                    block
+                        .par_iter()
+                        .map(GpuGlyph::pack)
+                        .collect_into_vec(&mut packed);
+                    let at = k * BLOCK * GPU_GLYPH_SIZE;
+                    view.slice(at..at + block.len() * GPU_GLYPH_SIZE)
+                        .copy_from_slice(bytemuck::cast_slice(&packed));
+                }
+            }
+            glyphs.unmap();
+            let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("chunk"),
+                size: std::mem::size_of::<ChunkUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("glyphs"),
+                layout: &self.bind_group_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: camera_buffer.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: glyphs.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: uniform.as_entire_binding(),
+                    },
+                ],
+            });
+            let count = piece.len() as u32;
+            chunks.push(ChunkBuffers {
+                base,
+                count,
+                _glyphs: glyphs,
+                uniform,
+                bind_group,
+            });
+            base += count;
+        }
         let oom = pollster::block_on(oom.pop());
         let invalid = pollster::block_on(scope.pop());
         if let Some(e) = oom.or(invalid) {
             return Err(RenderError::Gpu(format!(
-                "uploading the glyph instances: {e}"
+                "uploading {} glyph instances: {e}",
+                scene.instances.len()
             )));
         }
         Ok(SceneBuffers {
             origin: scene.origin,
-            count: scene.instances.len() as u32,
+            count: base,
             camera_buffer,
-            _glyph_buffer: glyph_buffer,
-            bind_group,
+            chunks,
         })
+    }
+
+    /// Write the camera and chunk uniforms of a frame (through the queue: they take effect at
+    /// the next submit).
+    fn write_uniforms(&self, buffers: &SceneBuffers, camera: &Camera, req: &FrameRequest) {
+        let queue = &self.ctx.queue;
+        let uniform = CameraUniform::new(camera, buffers.origin, &req.lighting);
+        queue.write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
+        for c in &buffers.chunks {
+            let u = ChunkUniform {
+                base: c.base,
+                min_pixel_radius: if req.cull { req.min_pixel_radius } else { 0.0 },
+                cull: u32::from(req.cull),
+                _pad: 0,
+            };
+            queue.write_buffer(&c.uniform, 0, bytemuck::bytes_of(&u));
+        }
+    }
+
+    /// Draw every chunk of `buffers` into an open pass.
+    fn draw_chunks(
+        drawer: &dyn Drawer,
+        pass: &mut wgpu::RenderPass<'_>,
+        buffers: &SceneBuffers,
+        req: &FrameRequest,
+    ) {
+        let variant = Variant {
+            depth_correction: req.depth_correction,
+            aux: req.aux,
+        };
+        for c in &buffers.chunks {
+            if c.count == 0 {
+                continue;
+            }
+            pass.set_bind_group(0, &c.bind_group, &[]);
+            drawer.draw(pass, variant, req.proxy, c.base..c.base + c.count);
+        }
     }
 
     /// Record one frame of an uploaded scene into `views` (cleared first). The camera uniform is
@@ -257,17 +387,9 @@ impl GpuRenderer {
         timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> Result<(), RenderError> {
         let drawer = self.drawer(req.method, req.glyph)?;
-        let uniform = CameraUniform::new(camera, buffers.origin, &req.lighting);
-        self.ctx
-            .queue
-            .write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
-        let variant = Variant {
-            depth_correction: req.depth_correction,
-            aux: req.aux,
-        };
+        self.write_uniforms(buffers, camera, req);
         let mut pass = views.begin_pass(encoder, req.background, timestamps);
-        pass.set_bind_group(0, &buffers.bind_group, &[]);
-        drawer.draw(&mut pass, variant, buffers.count);
+        Self::draw_chunks(drawer.as_ref(), &mut pass, buffers, req);
         Ok(())
     }
 
@@ -281,9 +403,7 @@ impl GpuRenderer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let drawer = self.drawer(req.method, req.glyph)?;
-        let uniform = CameraUniform::new(camera, buffers.origin, &req.lighting);
-        ctx.queue
-            .write_buffer(&buffers.camera_buffer, 0, bytemuck::bytes_of(&uniform));
+        self.write_uniforms(buffers, camera, req);
         // [vertex invocations, fragment invocations] (ordered by flag bit).
         let stats = ctx.pipeline_statistics.then(|| {
             QueryPair::new(
@@ -296,10 +416,6 @@ impl GpuRenderer {
                 1,
             )
         });
-        let variant = Variant {
-            depth_correction: req.depth_correction,
-            aux: req.aux,
-        };
         let views = TargetViews::new(targets);
         let frames = req.frames.max(1);
         let mut frame_ms = Vec::with_capacity(frames as usize);
@@ -313,8 +429,7 @@ impl GpuRenderer {
                 if let (Some(s), true) = (&stats, f == 0) {
                     pass.begin_pipeline_statistics_query(&s.set, 0);
                 }
-                pass.set_bind_group(0, &buffers.bind_group, &[]);
-                drawer.draw(&mut pass, variant, buffers.count);
+                Self::draw_chunks(drawer.as_ref(), &mut pass, buffers, req);
                 if let (Some(_), true) = (&stats, f == 0) {
                     pass.end_pipeline_statistics_query();
                 }
@@ -365,7 +480,15 @@ pub struct SceneBuffers {
     origin: glam::DVec3,
     count: u32,
     camera_buffer: wgpu::Buffer,
-    _glyph_buffer: wgpu::Buffer,
+    chunks: Vec<ChunkBuffers>,
+}
+
+/// One storage buffer of packed instances and its uniform, bound as group 0.
+struct ChunkBuffers {
+    base: u32,
+    count: u32,
+    _glyphs: wgpu::Buffer,
+    uniform: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
 
@@ -374,11 +497,10 @@ impl SceneBuffers {
     pub fn count(&self) -> u32 {
         self.count
     }
-}
 
-impl GpuGlyph {
-    fn zeroed_instance() -> Self {
-        bytemuck::Zeroable::zeroed()
+    /// Number of storage buffers the instances were split into.
+    pub fn chunks(&self) -> usize {
+        self.chunks.len()
     }
 }
 

@@ -338,12 +338,18 @@ impl MeshRenderer {
 }
 
 impl Drawer for MeshRenderer {
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: Variant,
+        _proxy: crate::render::pipeline::Proxy,
+        instances: std::ops::Range<u32>,
+    ) {
         // Variant::ALL is in index order.
         pass.set_pipeline(&self.pipelines[variant.index()]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.index_count, 0, 0..instances);
+        pass.draw_indexed(0..self.index_count, 0, instances);
     }
 }
 

@@ -1,6 +1,9 @@
 //! Pipeline state every glyph method shares: one bind group (camera + glyph instances), the same
 //! targets, depth test and no culling (impostor winding depends on the view).
 
+use std::collections::HashMap;
+use std::sync::Mutex;
+
 use crate::render::context::GpuContext;
 use crate::render::targets::{AUX_FORMAT, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
 
@@ -48,7 +51,8 @@ impl Variant {
     }
 }
 
-/// The bind group layout of every glyph shader: @binding(0) camera, @binding(1) glyphs.
+/// The bind group layout of every glyph shader: @binding(0) camera, @binding(1) glyphs (one
+/// chunk), @binding(2) the chunk's base instance and culling parameters.
 pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     ctx.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -69,6 +73,16 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
                     visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: true },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
                         min_binding_size: None,
                     },
@@ -98,6 +112,42 @@ pub fn glyph_pipeline(
     )
 }
 
+/// How the ray casters bound each glyph. Gumhold's methods take all of it (conservative depth
+/// only for ellipsoids); Sigg's screen boxes and the meshes ignore it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Proxy {
+    /// The circumscribed octagon (8 vertices) instead of the quad.
+    pub octagon: bool,
+    /// Place the proxy on the glyph's nearest view plane (rasterised depth ≤ ray-cast depth).
+    pub conservative: bool,
+    /// Declare it to the GPU (`@early_depth_test(greater_equal)`): only with `conservative`, an
+    /// adapter with SHADER_EARLY_DEPTH_TEST and every glyph far enough in front of the near plane
+    /// for the move ([`crate::scene::Scene::conservative_depth_holds`]).
+    pub early_depth: bool,
+}
+
+impl Proxy {
+    /// Gumhold's quad at the silhouette plane: the path before issue 7, and the default (on
+    /// lavapipe the octagon's six triangles cost more than the pixels they save, and the
+    /// conservative move costs depth accuracy for nothing where depth-writing shaders are
+    /// tested late; see the README).
+    pub const BASELINE: Proxy = Proxy {
+        octagon: false,
+        conservative: false,
+        early_depth: false,
+    };
+
+    pub fn vertices(self) -> u32 {
+        if self.octagon { 8 } else { 4 }
+    }
+}
+
+impl Default for Proxy {
+    fn default() -> Self {
+        Self::BASELINE
+    }
+}
+
 /// Vertex buffers and face culling of methods that draw real geometry (the triangle meshes).
 #[derive(Debug, Clone, Default)]
 pub struct VertexInput<'a> {
@@ -116,6 +166,34 @@ pub fn glyph_pipeline_with(
     variant: Variant,
     input: &VertexInput<'_>,
 ) -> wgpu::RenderPipeline {
+    glyph_pipeline_full(
+        &ctx.device,
+        layout,
+        module,
+        label,
+        topology,
+        variant,
+        input,
+        &[],
+    )
+}
+
+/// [`glyph_pipeline_with`] with values for the shader's `override` constants.
+#[allow(clippy::too_many_arguments)]
+fn glyph_pipeline_full(
+    device: &wgpu::Device,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    label: &str,
+    topology: wgpu::PrimitiveTopology,
+    variant: Variant,
+    input: &VertexInput<'_>,
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    let options = wgpu::PipelineCompilationOptions {
+        constants,
+        ..Default::default()
+    };
     let mut targets = vec![
         Some(wgpu::ColorTargetState {
             format: COLOR_FORMAT,
@@ -135,71 +213,48 @@ pub fn glyph_pipeline_with(
             write_mask: wgpu::ColorWrites::ALL,
         }));
     }
-    ctx.device
-        .create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(layout),
-            vertex: wgpu::VertexState {
-                module,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: input.buffers,
-            },
-            primitive: wgpu::PrimitiveState {
-                topology,
-                cull_mode: input.cull_mode,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some(variant.fragment_entry()),
-                compilation_options: Default::default(),
-                targets: &targets,
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
-}
-
-/// One pipeline per output variant (indexed by [`Variant::index`]) for a method's shader.
-pub fn variant_pipelines(
-    ctx: &GpuContext,
-    layout: &wgpu::PipelineLayout,
-    source: crate::render::shaders::ShaderSource,
-    topology: wgpu::PrimitiveTopology,
-) -> Vec<wgpu::RenderPipeline> {
-    let module = ctx
-        .device
-        .create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some(source.name()),
-            source: wgpu::ShaderSource::Wgsl(source.text().into()),
-        });
-    let mut pipelines: Vec<Option<wgpu::RenderPipeline>> = vec![None, None, None, None];
-    for v in Variant::ALL {
-        pipelines[v.index()] = Some(glyph_pipeline(
-            ctx,
-            layout,
-            &module,
-            source.name(),
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs_main"),
+            compilation_options: options.clone(),
+            buffers: input.buffers,
+        },
+        primitive: wgpu::PrimitiveState {
             topology,
-            v,
-        ));
-    }
-    pipelines.into_iter().flatten().collect()
+            cull_mode: input.cull_mode,
+            ..Default::default()
+        },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(variant.fragment_entry()),
+            compilation_options: options,
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
 }
 
-/// The ray casters' pipelines (one per output variant) for one shader: each draws a 4-vertex
-/// strip per instance (glyph) with no vertex buffer, the shader placing the proxy's corners.
+/// The ray casters' pipelines for one shader: each draws a triangle strip per instance (glyph)
+/// with no vertex buffer, the shader placing the proxy's corners. Pipelines are built on first
+/// use per output variant and proxy (lavapipe compiles one in tens of milliseconds).
 pub struct StripRenderer {
-    pipelines: Vec<wgpu::RenderPipeline>,
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    source: crate::render::shaders::ShaderSource,
+    modules: Mutex<HashMap<bool, wgpu::ShaderModule>>,
+    pipelines: Mutex<HashMap<(Variant, Proxy), wgpu::RenderPipeline>>,
 }
 
 impl StripRenderer {
@@ -208,20 +263,80 @@ impl StripRenderer {
         layout: &wgpu::PipelineLayout,
         source: crate::render::shaders::ShaderSource,
     ) -> Self {
-        Self {
-            pipelines: variant_pipelines(
-                ctx,
-                layout,
-                source,
-                wgpu::PrimitiveTopology::TriangleStrip,
-            ),
-        }
+        let r = Self {
+            device: ctx.device.clone(),
+            layout: layout.clone(),
+            source,
+            modules: Mutex::new(HashMap::new()),
+            pipelines: Mutex::new(HashMap::new()),
+        };
+        // Build the default variant now, so shader errors surface where the drawer is made.
+        r.pipeline(Variant::ALL[0], Proxy::default());
+        r
     }
-}
 
-impl crate::render::headless::Drawer for StripRenderer {
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
-        pass.set_pipeline(&self.pipelines[variant.index()]);
-        pass.draw(0..4, 0..instances);
+    fn module(&self, early_depth: bool) -> wgpu::ShaderModule {
+        let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
+        modules
+            .entry(early_depth)
+            .or_insert_with(|| {
+                self.device
+                    .create_shader_module(wgpu::ShaderModuleDescriptor {
+                        label: Some(self.source.name()),
+                        source: wgpu::ShaderSource::Wgsl(self.source.text_with(early_depth).into()),
+                    })
+            })
+            .clone()
+    }
+
+    fn pipeline(&self, variant: Variant, proxy: Proxy) -> wgpu::RenderPipeline {
+        if let Some(p) = self
+            .pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&(variant, proxy))
+        {
+            return p.clone();
+        }
+        // early_depth_test only means something where the fragment writes depth.
+        let module = self.module(proxy.early_depth && variant.depth_correction);
+        let constants = [
+            ("PROXY_VERTICES", f64::from(proxy.vertices())),
+            (
+                "CONSERVATIVE_DEPTH",
+                if proxy.conservative { 1.0 } else { 0.0 },
+            ),
+        ];
+        let p = glyph_pipeline_full(
+            &self.device,
+            &self.layout,
+            &module,
+            self.source.name(),
+            wgpu::PrimitiveTopology::TriangleStrip,
+            variant,
+            &VertexInput::default(),
+            if self.source.has_proxy_constants() {
+                &constants
+            } else {
+                &[]
+            },
+        );
+        self.pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert((variant, proxy), p.clone());
+        p
+    }
+
+    /// Draw `instances` with `proxy` (callers pass the proxy their shader supports).
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: Variant,
+        proxy: Proxy,
+        instances: std::ops::Range<u32>,
+    ) {
+        pass.set_pipeline(&self.pipeline(variant, proxy));
+        pass.draw(0..proxy.vertices(), instances);
     }
 }

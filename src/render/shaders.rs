@@ -43,6 +43,29 @@ impl ShaderSource {
         }
     }
 
+    /// Whether the shader reads the proxy `override`s (PROXY_VERTICES, CONSERVATIVE_DEPTH).
+    pub fn has_proxy_constants(self) -> bool {
+        matches!(
+            self,
+            ShaderSource::GumholdEllipsoid | ShaderSource::GumholdCylinder
+        )
+    }
+
+    /// The source with the depth-writing fragment entry points declared conservative
+    /// (`@early_depth_test(greater_equal)`: the written depth is never less than the
+    /// rasterised one), for pipelines whose proxy guarantees that.
+    pub fn text_with(self, early_depth: bool) -> String {
+        let text = self.text();
+        if early_depth {
+            text.replace(
+                "@fragment\nfn fs_depth",
+                "@fragment @early_depth_test(greater_equal)\nfn fs_depth",
+            )
+        } else {
+            text
+        }
+    }
+
     pub fn text(self) -> String {
         let parts: &[&str] = match self {
             ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID],
@@ -78,9 +101,25 @@ mod tests {
     #[test]
     fn all_shaders_validate() {
         for s in ShaderSource::ALL {
-            if let Err(e) = validate(&s.text()) {
-                panic!("{} does not validate:\n{e}", s.name());
+            for early in [false, true] {
+                if let Err(e) = validate(&s.text_with(early)) {
+                    panic!("{} (early depth {early}) does not validate:\n{e}", s.name());
+                }
             }
         }
+    }
+
+    #[test]
+    fn early_depth_declared_on_both_depth_entry_points() {
+        let text = ShaderSource::GumholdEllipsoid.text_with(true);
+        assert_eq!(text.matches("@early_depth_test(greater_equal)").count(), 2);
+        let module = parse(&text).expect("parses");
+        let declared = module
+            .entry_points
+            .iter()
+            .filter(|e| e.early_depth_test.is_some())
+            .map(|e| e.name.as_str())
+            .collect::<Vec<_>>();
+        assert_eq!(declared, ["fs_depth", "fs_depth_aux"]);
     }
 }

@@ -7,7 +7,9 @@
 use crate::render::context::GpuContext;
 use crate::render::headless::Drawer;
 use crate::render::method::GlyphKind;
-use crate::render::pipeline::{StripRenderer, Variant};
+use std::ops::Range;
+
+use crate::render::pipeline::{Proxy, StripRenderer, Variant};
 use crate::render::shaders::ShaderSource;
 
 pub struct SiggRenderer(StripRenderer);
@@ -23,7 +25,14 @@ impl SiggRenderer {
 }
 
 impl Drawer for SiggRenderer {
-    fn draw(&self, pass: &mut wgpu::RenderPass<'_>, variant: Variant, instances: u32) {
-        self.0.draw(pass, variant, instances);
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: Variant,
+        _proxy: Proxy,
+        instances: Range<u32>,
+    ) {
+        // The screen-space box is already tight: no proxy options apply.
+        self.0.draw(pass, variant, Proxy::BASELINE, instances);
     }
 }

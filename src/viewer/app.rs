@@ -360,8 +360,15 @@ impl ViewerApp {
         if self.last_render.as_ref() == Some(&key) {
             return false;
         }
-        let vis = built.scene.visibility(&camera);
-        self.drawn = built.scene.instances.len() - vis.eye_inside - vis.behind_camera;
+        let req = &key.request;
+        let vis = built
+            .scene
+            .visibility(&camera, req.cull.then_some(req.min_pixel_radius));
+        self.drawn = built.scene.instances.len()
+            - vis.eye_inside
+            - vis.behind_camera
+            - vis.degenerate
+            - vis.culled;
         match self.view.draw(&self.gpu, &camera, &key.request) {
             Ok(()) => self.last_render = Some(key),
             Err(e) => {
