@@ -48,7 +48,17 @@ fn render_demo_writes_png_and_reports() {
     assert_eq!(j["width"], 160);
     assert_eq!(j["glyphs_total"], 216);
     assert_eq!(j["glyphs_drawn"], 216);
-    assert_eq!(j["bytes_per_glyph"], 48);
+    assert_eq!(
+        j["bytes_per_glyph"],
+        std::mem::size_of::<tensorglyph::render::gpu_data::GpuGlyph>()
+    );
+    assert_eq!(j["glyphs_culled"], 0);
+    let covered = j["covered_pixels"].as_u64().unwrap();
+    assert!(covered > 1000 && covered < 160 * 120);
+    if let Some(f) = j["fragments"].as_u64() {
+        let per = j["fragments_per_covered_pixel"].as_f64().unwrap();
+        assert!((per - f as f64 / covered as f64).abs() < 1e-9);
+    }
     for key in [
         "method",
         "glyph",

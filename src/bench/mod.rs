@@ -21,6 +21,72 @@ pub struct Config {
     pub method: Method,
     pub glyph: GlyphKind,
     pub depth_correction: bool,
+    pub path: Path,
+}
+
+/// Which of issue 7's work-saving options a configuration runs with (Gumhold only; every other
+/// method runs the default path).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Path {
+    /// Quads, culling in the vertex stage, front-to-back order.
+    Default,
+    /// The path before issue 7: quads, no culling, file order.
+    Baseline,
+    /// Default with the octagon proxy.
+    Octagon,
+    /// Default with conservative depth (ellipsoids).
+    Conservative,
+}
+
+impl std::fmt::Display for Path {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Path::Default => "default",
+            Path::Baseline => "baseline",
+            Path::Octagon => "octagon",
+            Path::Conservative => "conservative",
+        })
+    }
+}
+
+impl Config {
+    /// The frame request of this configuration (`aux` for the accuracy pass).
+    fn request(&self, aux: bool) -> FrameRequest {
+        let req = FrameRequest {
+            method: self.method,
+            glyph: self.glyph,
+            depth_correction: self.depth_correction,
+            aux,
+            ..FrameRequest::default()
+        };
+        match self.path {
+            Path::Default => req,
+            Path::Baseline => req.baseline(),
+            Path::Octagon => FrameRequest {
+                proxy: crate::render::Proxy {
+                    octagon: true,
+                    ..req.proxy
+                },
+                ..req
+            },
+            Path::Conservative => FrameRequest {
+                proxy: crate::render::Proxy {
+                    conservative: true,
+                    ..req.proxy
+                },
+                ..req
+            },
+        }
+    }
+
+    /// The scene this configuration draws: file order for the baseline, else front to back.
+    fn scene<'v>(&self, view: &'v View) -> &'v Scene {
+        if self.path == Path::Baseline {
+            &view.scene
+        } else {
+            &view.sorted
+        }
+    }
 }
 
 /// A named camera set-up over a scene.
@@ -29,6 +95,21 @@ pub struct View {
     pub name: String,
     pub scene: Scene,
     pub camera: Camera,
+    /// `scene` sorted front to back for `camera`.
+    pub sorted: Scene,
+}
+
+impl View {
+    pub fn new(name: &str, scene: Scene, camera: Camera) -> Self {
+        let mut sorted = scene.clone();
+        sorted.sort_front_to_back(&camera);
+        Self {
+            name: name.into(),
+            scene,
+            camera,
+            sorted,
+        }
+    }
 }
 
 /// The three views of a field: the whole field; `close`, a few large glyphs filling the image
@@ -60,21 +141,9 @@ pub fn standard_views(scene: &Scene, width: u32, height: u32) -> Vec<View> {
         height,
     );
     vec![
-        View {
-            name: "default".into(),
-            scene: scene.clone(),
-            camera: whole,
-        },
-        View {
-            name: "close".into(),
-            scene: close_scene,
-            camera: close,
-        },
-        View {
-            name: "far".into(),
-            scene: scene.clone(),
-            camera: far,
-        },
+        View::new("default", scene.clone(), whole),
+        View::new("close", close_scene, close),
+        View::new("far", scene.clone(), far),
     ]
 }
 
@@ -101,12 +170,16 @@ pub struct Row {
     pub method: Method,
     pub glyph: GlyphKind,
     pub depth_correction: bool,
+    /// [`Path`] of the configuration.
+    pub path: String,
     pub frame_ms_median: f64,
     pub frame_ms_min: f64,
     pub frame_ms_max: f64,
     pub fragments: Option<u64>,
     pub vertices: Option<u64>,
     pub bytes_per_glyph: usize,
+    /// Glyphs the vertex stage culls (outside the frustum).
+    pub glyphs_culled: usize,
     pub covered_pixels: usize,
     /// Fragments the method's proxies should shade (Gumhold: the quads' pixel area; Sigg: the
     /// boxes' pixels), where a model exists.
@@ -116,6 +189,15 @@ pub struct Row {
     pub accuracy: Accuracy,
     /// Empty when measured; else why not.
     pub skipped: String,
+}
+
+impl Row {
+    /// Fragment-shader invocations per pixel covered in the final image.
+    pub fn fragments_per_covered_pixel(&self) -> Option<f64> {
+        self.fragments
+            .filter(|_| self.covered_pixels > 0)
+            .map(|f| f as f64 / self.covered_pixels as f64)
+    }
 }
 
 /// Bench settings.
@@ -147,11 +229,27 @@ pub fn run(
         .iter()
         .flat_map(|&glyph| {
             opts.methods.iter().flat_map(move |&method| {
-                [true, false].map(|depth_correction| Config {
-                    method,
-                    glyph,
-                    depth_correction,
-                })
+                let mut v: Vec<Config> = [true, false]
+                    .map(|depth_correction| Config {
+                        method,
+                        glyph,
+                        depth_correction,
+                        path: Path::Default,
+                    })
+                    .into();
+                if method == Method::Gumhold {
+                    let mut paths = vec![Path::Baseline, Path::Octagon];
+                    if glyph == GlyphKind::Ellipsoid {
+                        paths.push(Path::Conservative);
+                    }
+                    v.extend(paths.into_iter().map(|path| Config {
+                        method,
+                        glyph,
+                        depth_correction: true,
+                        path,
+                    }));
+                }
+                v
             })
         })
         .filter(|c| views_by_glyph.iter().any(|(g, _)| *g == c.glyph))
@@ -192,17 +290,20 @@ pub fn run(
                 references.push((cfg.glyph, f));
             }
             let reference = &references.iter().find(|(g, _)| *g == cfg.glyph).unwrap().1;
-            let req = FrameRequest {
-                method: cfg.method,
-                glyph: cfg.glyph,
-                depth_correction: cfg.depth_correction,
-                aux: true,
-                ..FrameRequest::default()
-            };
-            match gpu.render(&view.scene, &view.camera, &req) {
+            let req = cfg.request(true);
+            let scene = cfg.scene(view);
+            match gpu.render(scene, &view.camera, &req) {
                 Ok(f) => {
-                    st.accuracy = compare(&f, reference, &view.scene);
+                    // Ids are instance indices: compare against a reference of the same order.
+                    st.accuracy = if cfg.path == Path::Baseline || scene.instances.is_empty() {
+                        compare(&f, reference, &view.scene)
+                    } else {
+                        compare(&f, &reorder_ids(reference, &view.scene, scene), scene)
+                    };
                     st.covered = f.covered_pixels();
+                    st.culled = scene
+                        .visibility(&view.camera, req.cull.then_some(req.min_pixel_radius))
+                        .culled;
                     (st.predicted, st.predicted_tiles) =
                         predicted_fragments(&view.scene, &view.camera, cfg).unzip();
                     cost.record(cfg, f.median_ms());
@@ -226,13 +327,7 @@ pub fn run(
                 if !st.skipped.is_empty() {
                     continue;
                 }
-                let req = FrameRequest {
-                    method: cfg.method,
-                    glyph: cfg.glyph,
-                    depth_correction: cfg.depth_correction,
-                    ..FrameRequest::default()
-                };
-                match gpu.render(&view.scene, &view.camera, &req) {
+                match gpu.render(cfg.scene(view), &view.camera, &cfg.request(false)) {
                     Ok(f) => {
                         st.times.extend(&f.frame_ms);
                         st.fragments = f.fragments.or(st.fragments);
@@ -249,6 +344,26 @@ pub fn run(
     rows
 }
 
+/// `reference` (rendered from `from`) with its ids renumbered to the instance order of `to` (the
+/// same glyphs reordered).
+fn reorder_ids(reference: &Frame, from: &Scene, to: &Scene) -> Frame {
+    let mut new_index = vec![0u32; from.instances.len()];
+    let mut by_glyph = std::collections::HashMap::with_capacity(to.instances.len());
+    for (k, g) in to.instances.iter().enumerate() {
+        by_glyph.insert(g.glyph, k as u32 + 1);
+    }
+    for (k, g) in from.instances.iter().enumerate() {
+        new_index[k] = by_glyph.get(&g.glyph).copied().unwrap_or(0);
+    }
+    let mut f = reference.clone();
+    for id in &mut f.ids {
+        if *id != 0 {
+            *id = new_index[*id as usize - 1];
+        }
+    }
+    f
+}
+
 /// What the bounding proxies of Gumhold's and Sigg's methods predict for the fragment count
 /// (every proxy pixel is shaded: writing depth turns early depth rejection off): (pixel area,
 /// lavapipe's 4x4-tile count).
@@ -258,6 +373,8 @@ fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(
     let (w, h) = (camera.width, camera.height);
     let n = scene.instances.len();
     let per_glyph: Box<dyn Fn(usize) -> (f64, f64) + Sync> = match cfg.method {
+        // The model is of the quad.
+        Method::Gumhold if cfg.path == Path::Octagon => return None,
         Method::Gumhold => Box::new(|i| {
             let p = proxy_shape(scene, camera, i, cfg.glyph);
             (
@@ -290,12 +407,14 @@ fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
         method: Method::Reference,
         glyph,
         depth_correction: true,
+        path: Path::Default.to_string(),
         frame_ms_median: ms,
         frame_ms_min: ms,
         frame_ms_max: ms,
         fragments: None,
         vertices: None,
         bytes_per_glyph: GPU_GLYPH_SIZE,
+        glyphs_culled: 0,
         covered_pixels: f.covered_pixels(),
         predicted_fragments: None,
         predicted_tile_fragments: None,
@@ -352,6 +471,7 @@ struct State {
     covered: usize,
     predicted: Option<f64>,
     predicted_tiles: Option<f64>,
+    culled: usize,
     skipped: String,
 }
 
@@ -373,12 +493,14 @@ impl State {
             method: cfg.method,
             glyph: cfg.glyph,
             depth_correction: cfg.depth_correction,
+            path: cfg.path.to_string(),
             frame_ms_median: med,
             frame_ms_min: min,
             frame_ms_max: max,
             fragments: self.fragments,
             vertices: self.vertices,
             bytes_per_glyph: GPU_GLYPH_SIZE,
+            glyphs_culled: self.culled,
             covered_pixels: self.covered,
             predicted_fragments: self.predicted,
             predicted_tile_fragments: self.predicted_tiles,

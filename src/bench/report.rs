@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::Row;
 
-pub const CSV_HEADER: &str = "scene,view,method,glyph,depth_correction,frame_ms_median,frame_ms_min,frame_ms_max,fragments,vertices,bytes_per_glyph,coverage_mismatch,id_mismatch,depth_err_rel_p99,normal_err_deg_p99,color_psnr_db,status";
+pub const CSV_HEADER: &str = "scene,view,method,glyph,depth_correction,path,frame_ms_median,frame_ms_min,frame_ms_max,fragments,vertices,bytes_per_glyph,glyphs_culled,covered_pixels,fragments_per_covered_pixel,coverage_mismatch,id_mismatch,depth_err_rel_p99,normal_err_deg_p99,color_psnr_db,status";
 
 fn opt(v: Option<u64>) -> String {
     v.map_or(String::new(), |x| x.to_string())
@@ -33,18 +33,30 @@ pub fn csv(rows: &[Row]) -> String {
         let acc = |x: f64| if measured { num(x) } else { String::new() };
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             r.scene,
             r.view,
             r.method,
             r.glyph,
             r.depth_correction,
+            r.path,
             num(r.frame_ms_median),
             num(r.frame_ms_min),
             num(r.frame_ms_max),
             opt(r.fragments),
             opt(r.vertices),
             r.bytes_per_glyph,
+            if measured {
+                r.glyphs_culled.to_string()
+            } else {
+                String::new()
+            },
+            if measured {
+                r.covered_pixels.to_string()
+            } else {
+                String::new()
+            },
+            r.fragments_per_covered_pixel().map_or(String::new(), num),
             acc(a.coverage_mismatch),
             acc(a.id_mismatch),
             acc(a.depth_err_rel_p99),
@@ -145,11 +157,53 @@ pub fn findings(rows: &[Row]) -> String {
             rows.iter()
                 .filter(measured)
                 .filter(|r| r.scene == scene && r.view == view && r.glyph == glyph)
-                .filter(|r| r.depth_correction && pred(r))
+                .filter(|r| r.depth_correction && r.path == "default" && pred(r))
                 .collect()
         };
         let is_mesh = |r: &Row| r.method.to_string().starts_with("mesh:");
         let _ = writeln!(out, "**{scene}.**\n");
+        // Issue 7's paths for Gumhold's method, against the baseline measured in the same run.
+        for view in ["default", "close", "far"] {
+            for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+                let path_row = |path: &str| {
+                    rows.iter().filter(measured).find(|r| {
+                        r.scene == scene
+                            && r.view == view
+                            && r.glyph == glyph
+                            && r.method == crate::render::Method::Gumhold
+                            && r.depth_correction
+                            && r.path == path
+                    })
+                };
+                let Some(base) = path_row("baseline") else {
+                    continue;
+                };
+                let _ = write!(out, "- Paths, {view} view, {glyph}s (Gumhold; baseline ");
+                let per = |r: &Row| {
+                    r.fragments_per_covered_pixel()
+                        .map_or("n/a".to_string(), |f| format!("{f:.2}"))
+                };
+                let _ = write!(
+                    out,
+                    "{:.1} ms, {} fragments per covered pixel):",
+                    base.frame_ms_median,
+                    per(base)
+                );
+                for path in ["default", "octagon", "conservative"] {
+                    if let Some(r) = path_row(path) {
+                        let _ = write!(
+                            out,
+                            " {path} {:.1} ms ({:.2}x faster), {} per covered pixel, {} culled;",
+                            r.frame_ms_median,
+                            base.frame_ms_median / r.frame_ms_median,
+                            per(r),
+                            r.glyphs_culled
+                        );
+                    }
+                }
+                let _ = writeln!(out);
+            }
+        }
         for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
             let Some(g) = fastest(pick("default", glyph, &|r| {
                 r.method == crate::render::Method::Gumhold
@@ -279,12 +333,14 @@ mod tests {
             method: Method::Gumhold,
             glyph: GlyphKind::Ellipsoid,
             depth_correction: true,
+            path: "default".into(),
             frame_ms_median: 12.5,
             frame_ms_min: 11.0,
             frame_ms_max: 14.0,
             fragments: Some(1000),
             vertices: Some(400),
-            bytes_per_glyph: 48,
+            bytes_per_glyph: 32,
+            glyphs_culled: 0,
             covered_pixels: 800,
             predicted_fragments: None,
             predicted_tile_fragments: None,
@@ -298,7 +354,9 @@ mod tests {
         assert_eq!(lines.len(), 3);
         let n = CSV_HEADER.split(',').count();
         assert_eq!(lines[1].split(',').count(), n);
-        assert!(lines[1].starts_with("grid40,default,gumhold,ellipsoid,true,1.250000e1"));
+        assert!(lines[1].starts_with("grid40,default,gumhold,ellipsoid,true,default,1.250000e1"));
+        // 1000 fragments over 800 covered pixels.
+        assert!(lines[1].contains(",32,0,800,1.250000e0,"));
         assert!(lines[2].ends_with("\"skipped: predicted over budget\""));
     }
 }
