@@ -167,11 +167,18 @@ fn proxy_corner(vi: u32) -> vec2<f32> {
     return corner_signs(vi);
 }
 
-// Vertex vi of a proxy covering the whole viewport on the near plane (world space), for glyphs
-// the eye is too close to.
-fn near_plane_corner(vi: u32) -> vec3<f32> {
-    // √2 × the proxy polygon contains the square [−1, 1]².
-    let ndc = proxy_corner(vi) * 1.4142135;
+// NDC (x, y) of vertex vi of a proxy covering the whole viewport on the near plane, for glyphs
+// the eye is too close to: the viewport's corners, or for the octagon √2 × the octagon (which
+// contains the square [−1, 1]²).
+fn near_plane_ndc(vi: u32) -> vec2<f32> {
+    if PROXY_VERTICES == 8u {
+        return proxy_corner(vi) * 1.4142135;
+    }
+    return corner_signs(vi);
+}
+
+// The world point (relative to the scene origin) of an NDC point on the near plane.
+fn near_plane_point(ndc: vec2<f32>) -> vec3<f32> {
     let h = camera.inv_view_proj * vec4<f32>(ndc, 0.0, 1.0);
     return h.xyz / h.w;
 }

@@ -42,6 +42,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let e_c = (ot * (camera.eye.xyz - g.centre)) * rinv;
 
     var v: vec3<f32>;
+    var near = false;
     if is_ortho() {
         // Gumhold's orthographic quad of the bounding ellipsoid (m~ = 0, r~ = 1).
         let d_b = (ot * camera.forward.xyz) * rinv / BOUND;
@@ -63,10 +64,15 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
             let vt = e_b / e2 + sqrt((e2 - 1.0) / e2) * (s.x * xy[0] + s.y * xy[1]);
             v = g.centre + o * (vt * BOUND * g.radii);
         } else {
-            v = near_plane_corner(vi);
+            near = true;
+            v = near_plane_point(near_plane_ndc(vi));
         }
     }
     out.position = camera.view_proj * vec4<f32>(v, 1.0);
+    if near {
+        // Exactly on the near plane: a round trip through the inverse could land in front of it.
+        out.position = vec4<f32>(near_plane_ndc(vi), 0.0, 1.0);
+    }
     out.o_t = (ot * (v - g.centre)) * rinv;
     if is_ortho() {
         out.v_t = (ot * camera.forward.xyz) * rinv;
