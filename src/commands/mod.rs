@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod info;
+pub mod pipeline;
 pub mod render;
 pub mod scene;
 pub mod stability;

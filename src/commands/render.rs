@@ -7,15 +7,16 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
-use super::scene::{SceneArgs, load, source};
+use super::pipeline::{Timings, build_scene, render_gpu, render_reference};
+use super::scene::{SceneArgs, SelectArgs, source};
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::error::RenderError;
 use tensorglyph::image_out::write_png_atomic;
-use tensorglyph::load::{Demo, Source, field_spacing};
+use tensorglyph::load::{Demo, Source};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
 use tensorglyph::render::{Frame, FrameRequest, GlyphKind, GpuContext, GpuRenderer, Method};
-use tensorglyph::scene::{Scene, Visibility};
+use tensorglyph::scene::Visibility;
 
 /// Image, camera and method options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
@@ -81,6 +82,8 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub select: SelectArgs,
 }
 
 #[derive(Args, Debug)]
@@ -96,6 +99,8 @@ pub struct DemoArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub select: SelectArgs,
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -160,6 +165,8 @@ struct RenderReport {
     width: u32,
     height: u32,
     glyphs_total: usize,
+    /// Valid glyphs the selection kept (= glyphs_total without a selection).
+    glyphs_selected: usize,
     glyphs_drawn: usize,
     glyphs_eye_inside: usize,
     glyphs_behind_camera: usize,
@@ -167,13 +174,16 @@ struct RenderReport {
     frame_ms: f64,
     fragments: Option<u64>,
     bytes_per_glyph: usize,
+    timings_ms: Timings,
+    /// Peak resident set size of the process (VmHWM), null where the system does not say.
+    peak_rss_bytes: Option<u64>,
     #[serde(flatten)]
     accuracy: Option<Accuracy>,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
     let src = source(args.file, args.demo)?;
-    render(&src, &args.output, &args.view, &args.scene)
+    render(&src, &args.output, &args.view, &args.scene, &args.select)
 }
 
 pub fn demo(args: DemoArgs) -> Result<()> {
@@ -187,7 +197,13 @@ pub fn demo(args: DemoArgs) -> Result<()> {
         }
         return Ok(());
     }
-    render(&Source::Demo(demo), &args.output, &args.view, &args.scene)
+    render(
+        &Source::Demo(demo),
+        &args.output,
+        &args.view,
+        &args.scene,
+        &args.select,
+    )
 }
 
 /// Fail before any work if the output cannot be written there.
@@ -209,7 +225,13 @@ fn check_output(path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) -> Result<()> {
+fn render(
+    src: &Source,
+    output: &Path,
+    view: &ViewArgs,
+    scene_args: &SceneArgs,
+    select: &SelectArgs,
+) -> Result<()> {
     check_output(output)?;
     if let Some(d) = &view.diff {
         check_output(d)?;
@@ -223,10 +245,11 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
     if !(view.zoom.is_finite() && view.zoom > 0.0) {
         bail!("--zoom must be a positive number, got {}", view.zoom);
     }
-    let style = scene_args.style()?;
-    let (field, set) = load(src, scene_args)?;
-    let resolved = style.resolve(&set, field_spacing(&field));
-    let scene = Scene::build(&set, &resolved, view.glyph);
+    scene_args.style()?;
+    let selection = select.selection()?;
+    let staged = build_scene(src, scene_args, &selection, view.glyph)?;
+    let mut timings = staged.timings;
+    let scene = staged.scene;
     let framing = Framing {
         view: view.view,
         azimuth: view.azimuth,
@@ -236,7 +259,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         ortho: view.ortho,
     };
     let (w, h) = view.size;
-    let camera = Camera::frame(&framing, scene.centre, scene.radius, w, h);
+    // The whole field, not the selection: a slice is drawn where it is in the volume.
+    let camera = Camera::frame(&framing, staged.frame_centre, staged.frame_radius, w, h);
     let mut req = FrameRequest {
         method: view.method,
         glyph: view.glyph,
@@ -256,18 +280,18 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
                 adapter = Some(ctx.adapter_name.clone());
                 backend = Some(ctx.backend.clone());
                 let gpu = GpuRenderer::new(ctx)?;
-                gpu.render(&scene, &camera, &req)?
+                render_gpu(&gpu, &scene, &camera, &req, &mut timings, scene_args.quiet)?
             }
             Err(RenderError::NoAdapter) => {
                 eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
                 method = Method::Reference;
                 req.method = method;
-                reference_frames(&scene, &camera, &req)
+                render_reference(&scene, &camera, &req, &mut timings, scene_args.quiet)
             }
             Err(e) => return Err(e.into()),
         }
     } else {
-        reference_frames(&scene, &camera, &req)
+        render_reference(&scene, &camera, &req, &mut timings, scene_args.quiet)
     };
 
     let accuracy = if view.reference_check {
@@ -295,7 +319,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         backend,
         width: w,
         height: h,
-        glyphs_total: scene.instances.len(),
+        glyphs_total: staged.glyphs_valid,
+        glyphs_selected: staged.glyphs_selected,
         glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate,
         glyphs_eye_inside: eye_inside,
         glyphs_behind_camera: behind_camera,
@@ -303,6 +328,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         frame_ms: frame.median_ms(),
         fragments: frame.fragments,
         bytes_per_glyph: tensorglyph::render::mesh::bytes_per_glyph(method),
+        timings_ms: timings,
+        peak_rss_bytes: tensorglyph::mem::peak_rss_bytes(),
         accuracy,
     };
     if view.json {
@@ -322,14 +349,4 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         }
     }
     Ok(())
-}
-
-fn reference_frames(scene: &Scene, camera: &Camera, req: &FrameRequest) -> Frame {
-    let rs = ReferenceScene::new(scene, camera, req.glyph);
-    let mut frame = rs.render(req);
-    for _ in 1..req.frames {
-        let f = rs.render(req);
-        frame.frame_ms.extend(f.frame_ms);
-    }
-    frame
 }
