@@ -13,6 +13,7 @@ pub mod glyph;
 pub mod image_out;
 pub mod info;
 pub mod load;
+pub mod mem;
 pub mod metrics;
 pub mod reference;
 pub mod render;

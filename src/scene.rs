@@ -191,39 +191,64 @@ impl Scene {
         style: &crate::glyph::ResolvedStyle,
         glyph: GlyphKind,
     ) -> Self {
+        Self::build_with_progress(set, style, glyph, None)
+    }
+
+    /// [`Self::build`], advancing `progress` by the number of instances made (in steps of
+    /// [`PROGRESS_STEP`]; its length is not set).
+    pub fn build_with_progress(
+        set: &crate::glyph::GlyphSet,
+        style: &crate::glyph::ResolvedStyle,
+        glyph: GlyphKind,
+        progress: Option<&indicatif::ProgressBar>,
+    ) -> Self {
         use rayon::prelude::*;
-        let mut lo = DVec3::splat(f64::INFINITY);
-        let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for g in &set.glyphs {
-            let c = DVec3::from(g.centre);
-            lo = lo.min(c);
-            hi = hi.max(c);
-        }
-        let origin = if set.glyphs.is_empty() {
-            DVec3::ZERO
-        } else {
-            (lo + hi) / 2.0
-        };
+        let origin = centre_box_middle(set);
+        let n = set.glyphs.len();
         let instances = set
             .glyphs
             .par_iter()
             .enumerate()
             .map(|(k, g)| {
-                let c = DVec3::from(g.centre) - origin;
-                let (rotation, radii) = match glyph {
-                    GlyphKind::Ellipsoid => (g.rotation, style.radii(g)),
-                    GlyphKind::Cylinder => cylinder_frame(g.rotation, style.radii(g)),
-                };
-                GlyphInstance {
-                    centre: [c.x as f32, c.y as f32, c.z as f32],
-                    color: GlyphInstance::pack_color(style.color(g)),
-                    rotation,
-                    radii,
-                    glyph: k as u32,
+                if let Some(pb) = progress
+                    && (k + 1) % PROGRESS_STEP == 0
+                {
+                    pb.inc(PROGRESS_STEP as u64);
                 }
+                instance(g, k, origin, style, glyph)
             })
             .collect();
+        if let Some(pb) = progress {
+            pb.inc((n % PROGRESS_STEP) as u64);
+        }
         Self::from_instances(origin, instances)
+    }
+
+    /// The bounding sphere (centre, radius) that [`Self::build`] would give the scene of `set`,
+    /// without making the instances: to frame the whole field while drawing a selection of it.
+    /// Equal to the built scene's up to rounding.
+    pub fn bounding_sphere(
+        set: &crate::glyph::GlyphSet,
+        style: &crate::glyph::ResolvedStyle,
+        glyph: GlyphKind,
+    ) -> (DVec3, f64) {
+        use rayon::prelude::*;
+        let origin = centre_box_middle(set);
+        if set.glyphs.is_empty() {
+            return (origin, 1.0);
+        }
+        let empty = || (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+        let (lo, hi) = set
+            .glyphs
+            .par_iter()
+            .enumerate()
+            .fold(empty, |(lo, hi), (k, g)| {
+                let geo = GlyphGeometry::of(&instance(g, k, origin, style, glyph));
+                let h = geo.glyph_half_extents();
+                (lo.min(geo.centre - h), hi.max(geo.centre + h))
+            })
+            .reduce(empty, |a, b| (a.0.min(b.0), a.1.max(b.1)));
+        ((lo + hi) / 2.0 + origin, ((hi - lo) / 2.0).length())
     }
 
     /// How many glyphs the camera cannot draw: eye inside or on them (Gumhold's quad does not
@@ -257,6 +282,47 @@ impl Scene {
             }
         }
         v
+    }
+}
+
+/// Instances between two progress-bar updates of [`Scene::build_with_progress`].
+pub const PROGRESS_STEP: usize = 1 << 16;
+
+/// The middle of the glyph centres' bounding box (the scene origin), 0 for no glyphs.
+fn centre_box_middle(set: &crate::glyph::GlyphSet) -> DVec3 {
+    let mut lo = DVec3::splat(f64::INFINITY);
+    let mut hi = DVec3::splat(f64::NEG_INFINITY);
+    for g in &set.glyphs {
+        let c = DVec3::from(g.centre);
+        lo = lo.min(c);
+        hi = hi.max(c);
+    }
+    if set.glyphs.is_empty() {
+        DVec3::ZERO
+    } else {
+        (lo + hi) / 2.0
+    }
+}
+
+/// The GPU instance of glyph `g` (instance index `k`) around `origin`.
+fn instance(
+    g: &crate::glyph::Glyph,
+    k: usize,
+    origin: DVec3,
+    style: &crate::glyph::ResolvedStyle,
+    glyph: GlyphKind,
+) -> GlyphInstance {
+    let c = DVec3::from(g.centre) - origin;
+    let (rotation, radii) = match glyph {
+        GlyphKind::Ellipsoid => (g.rotation, style.radii(g)),
+        GlyphKind::Cylinder => cylinder_frame(g.rotation, style.radii(g)),
+    };
+    GlyphInstance {
+        centre: [c.x as f32, c.y as f32, c.z as f32],
+        color: GlyphInstance::pack_color(style.color(g)),
+        rotation,
+        radii,
+        glyph: k as u32,
     }
 }
 
@@ -376,4 +442,52 @@ pub fn cylinder_frame(rotation: [f32; 4], radii: [f32; 3]) -> ([f32; 4], [f32; 3
         [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
         cols.map(|i| radii[i]),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::glyph::{GlyphStyle, derive_glyphs};
+    use crate::load::field_spacing;
+
+    #[test]
+    fn bounding_sphere_is_the_built_scenes() {
+        let field = crate::field::synthetic::grid(7);
+        let set = derive_glyphs(&field, None);
+        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
+        for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+            let scene = Scene::build(&set, &style, glyph);
+            let (c, r) = Scene::bounding_sphere(&set, &style, glyph);
+            assert!(
+                (c - scene.centre).length() <= 1e-9 * scene.radius,
+                "{c} vs {}",
+                scene.centre
+            );
+            assert!(
+                (r - scene.radius).abs() <= 1e-9 * scene.radius,
+                "{r} vs {}",
+                scene.radius
+            );
+        }
+        let empty = crate::glyph::GlyphSet::default();
+        let scene = Scene::build(&empty, &style, GlyphKind::Ellipsoid);
+        assert_eq!(
+            Scene::bounding_sphere(&empty, &style, GlyphKind::Ellipsoid),
+            (scene.centre, scene.radius)
+        );
+    }
+
+    #[test]
+    fn progress_counts_every_instance() {
+        let field = crate::field::synthetic::grid(41); // 68,921: one full step and a remainder
+        let set = derive_glyphs(&field, None);
+        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
+        let pb = indicatif::ProgressBar::hidden();
+        let scene = Scene::build_with_progress(&set, &style, GlyphKind::Ellipsoid, Some(&pb));
+        assert_eq!(pb.position(), scene.instances.len() as u64);
+        assert_eq!(
+            scene.instances,
+            Scene::build(&set, &style, GlyphKind::Ellipsoid).instances
+        );
+    }
 }

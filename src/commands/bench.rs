@@ -8,12 +8,16 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::pipeline::{Timings, build_scene, render_gpu};
 use super::render::parse_size;
 use super::scene::{SceneArgs, load};
 use tensorglyph::bench::{self, Options, Row, chart, report};
+use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::load::{Demo, Source, field_spacing};
+use tensorglyph::render::FrameRequest;
 use tensorglyph::render::{GlyphKind, GpuContext, GpuRenderer, Method};
 use tensorglyph::scene::Scene;
+use tensorglyph::select::Selection;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -38,8 +42,159 @@ pub struct BenchArgs {
     /// Only these glyphs (repeatable; default all).
     #[arg(long = "glyph", value_enum)]
     pub glyphs: Vec<GlyphKind>,
+    /// Also run the grid:N demo (N³ tensors) once through the staged pipeline of `render`
+    /// (load, eigen, scene, upload, first frame) and report stage times and peak memory in
+    /// report.md and large_volume.csv; 0 = off. Runs first, so its peak memory is its own.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub large: usize,
     #[command(flatten)]
     pub scene: SceneArgs,
+}
+
+/// What `--large N` measured.
+struct Large {
+    n: usize,
+    method: Method,
+    timings: Timings,
+    /// Stages that ran (a failed stage ends the run: later ones did not).
+    stages_run: usize,
+    error: Option<String>,
+    glyphs: usize,
+    peak_rss_bytes: Option<u64>,
+}
+
+/// One run of grid:N through the staged pipeline; a failure is recorded, not fatal.
+fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKind) -> Large {
+    let mut large = Large {
+        n: args.large,
+        method,
+        timings: Timings::default(),
+        stages_run: 0,
+        error: None,
+        glyphs: 0,
+        peak_rss_bytes: None,
+    };
+    let source = Source::Demo(Demo { n: args.large });
+    match build_scene(&source, &args.scene, &Selection::default(), glyph) {
+        Err(e) => large.error = Some(format!("{e:#}")),
+        Ok(staged) => {
+            large.timings = staged.timings;
+            large.stages_run = 3;
+            large.glyphs = staged.glyphs_selected;
+            let (w, h) = args.size;
+            let camera = Camera::frame(
+                &Framing::default(),
+                staged.frame_centre,
+                staged.frame_radius,
+                w,
+                h,
+            );
+            let req = FrameRequest {
+                method,
+                glyph,
+                frames: 1,
+                ..FrameRequest::default()
+            };
+            let result = render_gpu(
+                gpu,
+                &staged.scene,
+                &camera,
+                &req,
+                &mut large.timings,
+                args.scene.quiet,
+            );
+            match result {
+                Ok(_) => large.stages_run = 5,
+                Err(e) => {
+                    // Upload or first frame failed; which one shows in the timings.
+                    large.stages_run = if large.timings.first_frame > 0.0 {
+                        4
+                    } else {
+                        3
+                    };
+                    large.error = Some(format!("{e:#}"));
+                }
+            }
+        }
+    }
+    large.peak_rss_bytes = tensorglyph::mem::peak_rss_bytes();
+    large
+}
+
+fn large_csv(l: &Large) -> String {
+    let mut out = String::from("stage,ms,peak_rss_bytes_after,status\n");
+    for (k, ((stage, ms), peak)) in l
+        .timings
+        .stages()
+        .into_iter()
+        .zip(l.timings.peak_rss_after)
+        .enumerate()
+    {
+        let ran = k < l.stages_run;
+        let failed = k == l.stages_run && l.error.is_some();
+        let status = if ran {
+            "ok"
+        } else if failed {
+            "failed"
+        } else {
+            "not run"
+        };
+        let ms = if ran || failed {
+            format!("{ms:.1}")
+        } else {
+            String::new()
+        };
+        let peak = peak
+            .filter(|_| ran || failed)
+            .map_or(String::new(), |p| p.to_string());
+        let _ = writeln!(out, "{stage},{ms},{peak},{status}");
+    }
+    let _ = writeln!(
+        out,
+        "total,{:.1},{},{}",
+        l.timings.stages().iter().map(|s| s.1).sum::<f64>(),
+        l.peak_rss_bytes.map_or(String::new(), |p| p.to_string()),
+        if l.error.is_some() { "failed" } else { "ok" }
+    );
+    out
+}
+
+fn large_markdown(l: &Large) -> String {
+    let mib = |b: Option<u64>| {
+        b.map_or("–".to_string(), |b| {
+            format!("{:.0}", b as f64 / 1048576.0)
+        })
+    };
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "## Large volume (grid:{}, {} tensors)\n\nOne run of the staged pipeline of `render` \
+         ({}, ellipsoids, {} glyphs in the scene). Peak RSS is the process's high-water mark \
+         (VmHWM) after each stage.\n",
+        l.n,
+        l.n * l.n * l.n,
+        l.method,
+        l.glyphs
+    );
+    let _ = writeln!(md, "| stage | ms | peak RSS after (MiB) |\n|---|---:|---:|");
+    for (k, ((stage, ms), peak)) in l
+        .timings
+        .stages()
+        .into_iter()
+        .zip(l.timings.peak_rss_after)
+        .enumerate()
+    {
+        if k < l.stages_run || (k == l.stages_run && l.error.is_some()) {
+            let _ = writeln!(md, "| {stage} | {ms:.0} | {} |", mib(peak));
+        } else {
+            let _ = writeln!(md, "| {stage} | not run | |");
+        }
+    }
+    let _ = writeln!(md, "\nPeak RSS of the run: {} MiB.", mib(l.peak_rss_bytes));
+    if let Some(e) = &l.error {
+        let _ = writeln!(md, "\n**Stopped:** {e}");
+    }
+    md
 }
 
 pub fn run(args: BenchArgs) -> Result<()> {
@@ -79,6 +234,18 @@ pub fn run(args: BenchArgs) -> Result<()> {
         glyphs: glyphs.clone(),
     };
     let style = args.scene.style()?;
+    let large = (args.large > 0).then(|| {
+        let method = opts.methods.first().copied().unwrap_or(Method::Gumhold);
+        run_large(&args, &gpu, method, glyphs[0])
+    });
+    if let Some(l) = &large {
+        let path = args.out.join("large_volume.csv");
+        report::write_atomic(&path, large_csv(l).as_bytes())
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+        if let (Some(e), false) = (&l.error, args.scene.quiet) {
+            eprintln!("warning: large volume grid:{}: {e}", l.n);
+        }
+    }
     let (w, h) = args.size;
     let mut rows: Vec<Row> = Vec::new();
     for name in &scenes {
@@ -108,7 +275,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
             pb.finish_and_clear();
         }
     }
-    write_outputs(&args, &rows, &adapter)
+    write_outputs(&args, &rows, &adapter, large.as_ref())
 }
 
 fn progress_bar(quiet: bool) -> Option<ProgressBar> {
@@ -141,7 +308,12 @@ fn chart_name(scene_index: usize, scene: &str, view: &str) -> String {
     }
 }
 
-fn write_outputs(args: &BenchArgs, rows: &[Row], adapter: &str) -> Result<()> {
+fn write_outputs(
+    args: &BenchArgs,
+    rows: &[Row],
+    adapter: &str,
+    large: Option<&Large>,
+) -> Result<()> {
     let csv_path = args.out.join("speed_accuracy.csv");
     report::write_atomic(&csv_path, report::csv(rows).as_bytes())
         .with_context(|| format!("{}: cannot write", csv_path.display()))?;
@@ -179,6 +351,9 @@ fn write_outputs(args: &BenchArgs, rows: &[Row], adapter: &str) -> Result<()> {
             let _ = writeln!(md, "## {scene}, {view} view\n\n![{title}]({file})\n");
             let _ = writeln!(md, "{}", report::table(&these));
         }
+    }
+    if let Some(l) = large {
+        let _ = writeln!(md, "{}", large_markdown(l));
     }
     let _ = writeln!(md, "## What this shows\n\n{}", report::findings(rows));
     let md_path = args.out.join("report.md");

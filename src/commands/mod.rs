@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod info;
 pub mod path;
+pub mod pipeline;
 pub mod render;
 pub mod scene;
 pub mod stability;

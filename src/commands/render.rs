@@ -8,15 +8,16 @@ use clap::Args;
 use serde::Serialize;
 
 use super::path::PathArgs;
-use super::scene::{SceneArgs, load, source};
+use super::pipeline::{Timings, build_scene, render_gpu, render_reference};
+use super::scene::{SceneArgs, SelectArgs, source};
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::error::RenderError;
 use tensorglyph::image_out::write_png_atomic;
-use tensorglyph::load::{Demo, Source, field_spacing};
+use tensorglyph::load::{Demo, Source};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
 use tensorglyph::render::{Frame, FrameRequest, GlyphKind, GpuContext, GpuRenderer, Method};
-use tensorglyph::scene::{Scene, Visibility};
+use tensorglyph::scene::Visibility;
 
 /// Image, camera and method options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
@@ -84,6 +85,8 @@ pub struct RenderArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub select: SelectArgs,
 }
 
 #[derive(Args, Debug)]
@@ -99,6 +102,8 @@ pub struct DemoArgs {
     pub view: ViewArgs,
     #[command(flatten)]
     pub scene: SceneArgs,
+    #[command(flatten)]
+    pub select: SelectArgs,
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
@@ -163,6 +168,8 @@ struct RenderReport {
     width: u32,
     height: u32,
     glyphs_total: usize,
+    /// Valid glyphs the selection kept (= glyphs_total without a selection).
+    glyphs_selected: usize,
     glyphs_drawn: usize,
     glyphs_eye_inside: usize,
     glyphs_behind_camera: usize,
@@ -177,13 +184,16 @@ struct RenderReport {
     /// Fragment-shader invocations per covered pixel (the driver's count: lavapipe counts
     /// every pixel of each 4x4 block a triangle touches).
     fragments_per_covered_pixel: Option<f64>,
+    timings_ms: Timings,
+    /// Peak resident set size of the process (VmHWM), null where the system does not say.
+    peak_rss_bytes: Option<u64>,
     #[serde(flatten)]
     accuracy: Option<Accuracy>,
 }
 
 pub fn run(args: RenderArgs) -> Result<()> {
     let src = source(args.file, args.demo)?;
-    render(&src, &args.output, &args.view, &args.scene)
+    render(&src, &args.output, &args.view, &args.scene, &args.select)
 }
 
 pub fn demo(args: DemoArgs) -> Result<()> {
@@ -197,7 +207,13 @@ pub fn demo(args: DemoArgs) -> Result<()> {
         }
         return Ok(());
     }
-    render(&Source::Demo(demo), &args.output, &args.view, &args.scene)
+    render(
+        &Source::Demo(demo),
+        &args.output,
+        &args.view,
+        &args.scene,
+        &args.select,
+    )
 }
 
 /// Fail before any work if the output cannot be written there.
@@ -219,7 +235,13 @@ fn check_output(path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) -> Result<()> {
+fn render(
+    src: &Source,
+    output: &Path,
+    view: &ViewArgs,
+    scene_args: &SceneArgs,
+    select: &SelectArgs,
+) -> Result<()> {
     check_output(output)?;
     if let Some(d) = &view.diff {
         check_output(d)?;
@@ -233,11 +255,12 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
     if !(view.zoom.is_finite() && view.zoom > 0.0) {
         bail!("--zoom must be a positive number, got {}", view.zoom);
     }
-    let style = scene_args.style()?;
-    let (field, set) = load(src, scene_args)?;
-    let resolved = style.resolve(&set, field_spacing(&field));
+    scene_args.style()?;
     view.path.check()?;
-    let mut scene = Scene::build(&set, &resolved, view.glyph);
+    let selection = select.selection()?;
+    let staged = build_scene(src, scene_args, &selection, view.glyph)?;
+    let mut timings = staged.timings;
+    let mut scene = staged.scene;
     let framing = Framing {
         view: view.view,
         azimuth: view.azimuth,
@@ -247,7 +270,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         ortho: view.ortho,
     };
     let (w, h) = view.size;
-    let camera = Camera::frame(&framing, scene.centre, scene.radius, w, h);
+    // The whole field, not the selection: a slice is drawn where it is in the volume.
+    let camera = Camera::frame(&framing, staged.frame_centre, staged.frame_radius, w, h);
     let mut req = view.path.apply(FrameRequest {
         method: view.method,
         glyph: view.glyph,
@@ -273,18 +297,18 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
                     && ctx.early_depth_test
                     && scene.conservative_depth_holds(&camera);
                 let gpu = GpuRenderer::new(ctx)?;
-                gpu.render(&scene, &camera, &req)?
+                render_gpu(&gpu, &scene, &camera, &req, &mut timings, scene_args.quiet)?
             }
             Err(RenderError::NoAdapter) => {
                 eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
                 method = Method::Reference;
                 req.method = method;
-                reference_frames(&scene, &camera, &req)
+                render_reference(&scene, &camera, &req, &mut timings, scene_args.quiet)
             }
             Err(e) => return Err(e.into()),
         }
     } else {
-        reference_frames(&scene, &camera, &req)
+        render_reference(&scene, &camera, &req, &mut timings, scene_args.quiet)
     };
 
     let accuracy = if view.reference_check {
@@ -314,7 +338,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         backend,
         width: w,
         height: h,
-        glyphs_total: scene.instances.len(),
+        glyphs_total: staged.glyphs_valid,
+        glyphs_selected: staged.glyphs_selected,
         glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate - culled,
         glyphs_culled: culled,
         covered_pixels: covered,
@@ -328,6 +353,8 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         frame_ms: frame.median_ms(),
         fragments: frame.fragments,
         bytes_per_glyph: tensorglyph::render::mesh::bytes_per_glyph(method),
+        timings_ms: timings,
+        peak_rss_bytes: tensorglyph::mem::peak_rss_bytes(),
         accuracy,
     };
     if view.json {
@@ -347,14 +374,4 @@ fn render(src: &Source, output: &Path, view: &ViewArgs, scene_args: &SceneArgs) 
         }
     }
     Ok(())
-}
-
-fn reference_frames(scene: &Scene, camera: &Camera, req: &FrameRequest) -> Frame {
-    let rs = ReferenceScene::new(scene, camera, req.glyph);
-    let mut frame = rs.render(req);
-    for _ in 1..req.frames {
-        let f = rs.render(req);
-        frame.frame_ms.extend(f.frame_ms);
-    }
-    frame
 }

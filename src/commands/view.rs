@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 
 use super::render::parse_size;
-use super::scene::SceneArgs;
+use super::scene::{SceneArgs, SelectArgs};
 use tensorglyph::load::{Demo, Source};
 use tensorglyph::render::{GlyphKind, Method};
 use tensorglyph::viewer::{self, Options, state::Settings};
@@ -40,6 +40,9 @@ pub struct ViewArgs {
     pub frames: u32,
     #[command(flatten)]
     pub scene: SceneArgs,
+    /// The panel's starting selection.
+    #[command(flatten)]
+    pub select: SelectArgs,
 }
 
 pub fn run(args: ViewArgs) -> Result<()> {
@@ -63,6 +66,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         glyph: args.glyph,
         depth_correction: !args.no_depth_correction,
         style: args.scene.style()?,
+        selection: args.select.selection()?,
         ..Settings::default()
     };
     viewer::run(Options {

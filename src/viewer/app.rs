@@ -132,7 +132,14 @@ impl ViewerApp {
             None => ctx.request_repaint_after(std::time::Duration::from_millis(100)),
             Some(Ok(data)) => {
                 self.loading = None;
-                self.error = None;
+                // A selection that does not fit this data (slices beyond its lattice, or any
+                // slice of unstructured data) is adjusted, and the panel says so.
+                self.error = self
+                    .settings
+                    .selection
+                    .check_field(&data.field)
+                    .err()
+                    .map(|e| format!("{e}; the selection was adjusted to fit"));
                 self.settings.clamp_to_lattice(data.field.lattice_dims());
                 self.data = Some(data);
                 self.data_generation += 1;

@@ -20,6 +20,8 @@ pub struct Loaded {
     pub set: Arc<GlyphSet>,
     /// What `--scale auto` fits glyphs to.
     pub spacing: f64,
+    /// The box around the glyph centres `[x0, y0, z0, x1, y1, z1]` (the ROI control's default).
+    pub bounds: [f64; 6],
 }
 
 impl Loaded {
@@ -59,11 +61,13 @@ pub fn load_now(
         ));
     }
     let spacing = field_spacing(&field);
+    let bounds = crate::select::centre_bounds(&set);
     Ok(Loaded {
         source: source.clone(),
         field: Arc::new(field),
         set: Arc::new(set),
         spacing,
+        bounds,
     })
 }
 

@@ -10,7 +10,7 @@ use crate::camera::ViewPreset;
 use crate::glyph::colormap::{diverging, viridis};
 use crate::glyph::{ColorScheme, Normalize, Scale};
 use crate::render::{GlyphKind, Method};
-use crate::select::Slicing;
+use crate::select::{Selection, Slicing};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::loader::Loaded;
 use crate::viewer::navigation::Navigation;
@@ -429,6 +429,7 @@ fn selection_section(ui: &mut Ui, settings: &mut Settings, info: &PanelInfo<'_>)
         std::mem::swap(&mut sel.fa_min, &mut sel.fa_max);
     }
     ui.add(egui::Slider::new(&mut sel.stride, 1..=16).text("stride"));
+    roi_controls(ui, sel, info.data.map(|d| d.bounds));
     let dims = info.data.and_then(|d| d.field.lattice_dims());
     let Some(dims) = dims else {
         ui.label("slicing: needs structured data");
@@ -475,6 +476,71 @@ fn selection_section(ui: &mut Ui, settings: &mut Settings, info: &PanelInfo<'_>)
                 ui.add(egui::Slider::new(&mut at[a], 0..=last).text(AXES[a]));
             }
         }
+        Slicing::Planes(planes) => {
+            // Set from the command line (`--slice`, repeatable): shown, changed by the modes above.
+            let names: Vec<String> = planes.iter().map(|p| p.to_string()).collect();
+            ui.label(format!("planes {}", names.join(", ")));
+        }
+    }
+}
+
+/// Turn the region of interest on (starting at `bounds`, the box around the glyph centres) or
+/// off; an ROI already on stays as it is.
+pub fn set_roi_enabled(sel: &mut Selection, on: bool, bounds: [f64; 6]) {
+    match (on, sel.roi.is_some()) {
+        (true, false) => sel.roi = Some(bounds),
+        (false, true) => sel.roi = None,
+        _ => {}
+    }
+}
+
+/// Keep an edited ROI a valid box: a lower bound dragged past its upper bound moves both.
+pub fn order_roi(roi: &mut [f64; 6], edited_upper: [bool; 3]) {
+    for a in 0..3 {
+        if roi[a] > roi[a + 3] {
+            if edited_upper[a] {
+                roi[a] = roi[a + 3];
+            } else {
+                roi[a + 3] = roi[a];
+            }
+        }
+    }
+}
+
+fn roi_checkbox_id() -> egui::Id {
+    egui::Id::unique("tensorglyph roi checkbox")
+}
+
+/// The ROI checkbox and its six bounds (world coordinates of the glyph centres, inclusive).
+fn roi_controls(ui: &mut Ui, sel: &mut Selection, bounds: Option<[f64; 6]>) {
+    let bounds = bounds.unwrap_or([0.0; 6]);
+    let mut on = sel.roi.is_some();
+    let r = ui
+        .checkbox(&mut on, "region of interest (box)")
+        .on_hover_text("keep glyphs whose centre lies in the box, bounds included");
+    // Where it is, for the panel tests to click.
+    ui.ctx()
+        .data_mut(|d| d.insert_temp(roi_checkbox_id(), r.rect));
+    set_roi_enabled(sel, on, bounds);
+    let Some(roi) = &mut sel.roi else { return };
+    let extent = (0..3)
+        .map(|a| bounds[a + 3] - bounds[a])
+        .fold(0.0_f64, f64::max);
+    let speed = (extent / 200.0).max(1e-6);
+    let mut upper = [false; 3];
+    egui::Grid::new("roi").num_columns(3).show(ui, |ui| {
+        for (a, name) in ["x", "y", "z"].into_iter().enumerate() {
+            ui.label(name);
+            ui.add(egui::DragValue::new(&mut roi[a]).speed(speed));
+            upper[a] = ui
+                .add(egui::DragValue::new(&mut roi[a + 3]).speed(speed))
+                .changed();
+            ui.end_row();
+        }
+    });
+    order_roi(roi, upper);
+    if ui.small_button("reset to the field's bounds").clicked() {
+        *roi = bounds;
     }
 }
 
@@ -615,14 +681,22 @@ mod tests {
         let mut nav = Navigation::framed(ViewPreset::Iso, glam::DVec3::ZERO, 1.0, false);
         let mut state = PanelState::default();
         for (scheme, _) in SCHEMES {
-            for slicing in [
-                Slicing::Whole,
-                Slicing::Slice { axis: 1, index: 2 },
-                Slicing::Orthogonal { at: [1, 2, 3] },
+            for (slicing, roi) in [
+                (Slicing::Whole, None),
+                (Slicing::Slice { axis: 1, index: 2 }, None),
+                (Slicing::Orthogonal { at: [1, 2, 3] }, None),
+                (
+                    Slicing::Planes(vec![
+                        crate::select::Plane { axis: 0, index: 1 },
+                        crate::select::Plane { axis: 2, index: 3 },
+                    ]),
+                    Some([0.5, 0.0, 0.0, 2.0, 3.0, 3.0]),
+                ),
             ] {
                 let mut settings = Settings::default();
                 settings.style.color = scheme;
                 settings.selection.slicing = slicing;
+                settings.selection.roi = roi;
                 let before = settings.clone();
                 let (actions, out) = run_panel(
                     &ctx,
@@ -637,6 +711,70 @@ mod tests {
                 assert!(!out.shapes.is_empty());
             }
         }
+    }
+
+    #[test]
+    fn roi_starts_at_the_field_bounds_and_stays_a_box() {
+        let bounds = [0.0, -1.0, 2.0, 3.0, 4.0, 5.0];
+        let mut sel = Selection::default();
+        set_roi_enabled(&mut sel, false, bounds);
+        assert_eq!(sel.roi, None);
+        set_roi_enabled(&mut sel, true, bounds);
+        assert_eq!(sel.roi, Some(bounds));
+        // An ROI that is on keeps its edits.
+        sel.roi = Some([1.0, -1.0, 2.0, 3.0, 4.0, 5.0]);
+        set_roi_enabled(&mut sel, true, bounds);
+        assert_eq!(sel.roi, Some([1.0, -1.0, 2.0, 3.0, 4.0, 5.0]));
+        set_roi_enabled(&mut sel, false, bounds);
+        assert_eq!(sel.roi, None);
+        // x0 dragged past x1 pushes x1; y1 dragged below y0 pulls y0.
+        let mut roi = [4.0, 0.0, 0.0, 3.0, -2.0, 1.0];
+        order_roi(&mut roi, [false, true, false]);
+        assert_eq!(roi, [4.0, -2.0, 0.0, 4.0, -2.0, 1.0]);
+        let sel = Selection {
+            roi: Some(roi),
+            ..Selection::default()
+        };
+        sel.check().unwrap();
+    }
+
+    #[test]
+    fn the_roi_checkbox_turns_the_box_on_at_the_field_bounds() {
+        let data = load_now(&Source::Demo(Demo { n: 4 }), &ReadOptions::default(), None).unwrap();
+        assert_eq!(data.bounds, [0.0, 0.0, 0.0, 3.0, 3.0, 3.0]);
+        let ctx = egui::Context::default();
+        let mut nav = Navigation::framed(ViewPreset::Iso, glam::DVec3::ZERO, 1.0, false);
+        let mut state = PanelState::default();
+        let mut settings = Settings::default();
+        let info = info(Some(&data));
+        // Find the checkbox by drawing once, then click its centre.
+        run_panel(&ctx, &mut settings, &mut nav, &mut state, &info, vec![]);
+        let rect = ctx
+            .data(|d| d.get_temp::<egui::Rect>(roi_checkbox_id()))
+            .expect("the ROI checkbox was drawn");
+        let click = |pressed| egui::Event::PointerButton {
+            pos: rect.center(),
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Default::default(),
+        };
+        run_panel(
+            &ctx,
+            &mut settings,
+            &mut nav,
+            &mut state,
+            &info,
+            vec![egui::Event::PointerMoved(rect.center()), click(true)],
+        );
+        run_panel(
+            &ctx,
+            &mut settings,
+            &mut nav,
+            &mut state,
+            &info,
+            vec![click(false)],
+        );
+        assert_eq!(settings.selection.roi, Some(data.bounds));
     }
 
     #[test]

@@ -58,7 +58,7 @@ impl Settings {
             generation: data_generation,
             style: self.style.clone(),
             glyph: self.glyph,
-            selection: self.selection,
+            selection: self.selection.clone(),
         }
     }
 
@@ -90,6 +90,12 @@ impl Settings {
             Slicing::Orthogonal { at } => {
                 for a in 0..3 {
                     at[a] = at[a].min(last[a]);
+                }
+            }
+            Slicing::Planes(planes) => {
+                for p in planes.iter_mut() {
+                    p.axis = p.axis.min(2);
+                    p.index = p.index.min(last[p.axis]);
                 }
             }
         }
@@ -137,6 +143,7 @@ pub fn legend(scheme: ColorScheme, md_range: (f64, f64)) -> Legend {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::select::Plane;
 
     #[test]
     fn view_only_changes_keep_the_scene() {
@@ -149,6 +156,9 @@ mod tests {
         assert_ne!(s.request(), t.request());
         t.selection.stride = 2;
         assert_ne!(s.build_key(1), t.build_key(1));
+        let mut r = s.clone();
+        r.selection.roi = Some([0.0, 0.0, 0.0, 1.0, 1.0, 1.0]);
+        assert_ne!(s.build_key(1), r.build_key(1), "an ROI rebuilds");
         let mut u = s.clone();
         u.style.min_radius = 0.2;
         assert_ne!(s.build_key(1), u.build_key(1));
@@ -164,6 +174,18 @@ mod tests {
         s.selection.slicing = Slicing::Orthogonal { at: [50, 50, 1] };
         s.clamp_to_lattice(Some([4, 3, 2]));
         assert_eq!(s.selection.slicing, Slicing::Orthogonal { at: [3, 2, 1] });
+        s.selection.slicing = Slicing::Planes(vec![
+            Plane { axis: 0, index: 7 },
+            Plane { axis: 2, index: 1 },
+        ]);
+        s.clamp_to_lattice(Some([4, 3, 2]));
+        assert_eq!(
+            s.selection.slicing,
+            Slicing::Planes(vec![
+                Plane { axis: 0, index: 3 },
+                Plane { axis: 2, index: 1 }
+            ])
+        );
         s.clamp_to_lattice(None);
         assert_eq!(s.selection.slicing, Slicing::Whole);
     }
