@@ -28,7 +28,7 @@ pub struct Config {
 /// method runs the default path).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Path {
-    /// Quads, culling in the vertex stage, front-to-back order.
+    /// Quads, culling in the vertex stage, file order.
     Default,
     /// The path before issue 7: quads, no culling, file order.
     Baseline,
@@ -36,6 +36,8 @@ pub enum Path {
     Octagon,
     /// Default with conservative depth (ellipsoids).
     Conservative,
+    /// Default drawn front to back.
+    Sorted,
 }
 
 impl std::fmt::Display for Path {
@@ -45,6 +47,7 @@ impl std::fmt::Display for Path {
             Path::Baseline => "baseline",
             Path::Octagon => "octagon",
             Path::Conservative => "conservative",
+            Path::Sorted => "sorted",
         })
     }
 }
@@ -60,7 +63,7 @@ impl Config {
             ..FrameRequest::default()
         };
         match self.path {
-            Path::Default => req,
+            Path::Default | Path::Sorted => req,
             Path::Baseline => req.baseline(),
             Path::Octagon => FrameRequest {
                 proxy: crate::render::Proxy {
@@ -79,12 +82,12 @@ impl Config {
         }
     }
 
-    /// The scene this configuration draws: file order for the baseline, else front to back.
+    /// The scene this configuration draws: front to back for `Sorted`, else file order.
     fn scene<'v>(&self, view: &'v View) -> &'v Scene {
-        if self.path == Path::Baseline {
-            &view.scene
-        } else {
+        if self.path == Path::Sorted {
             &view.sorted
+        } else {
+            &view.scene
         }
     }
 }
@@ -238,7 +241,7 @@ pub fn run(
                     })
                     .into();
                 if method == Method::Gumhold {
-                    let mut paths = vec![Path::Baseline, Path::Octagon];
+                    let mut paths = vec![Path::Baseline, Path::Octagon, Path::Sorted];
                     if glyph == GlyphKind::Ellipsoid {
                         paths.push(Path::Conservative);
                     }
@@ -295,7 +298,7 @@ pub fn run(
             match gpu.render(scene, &view.camera, &req) {
                 Ok(f) => {
                     // Ids are instance indices: compare against a reference of the same order.
-                    st.accuracy = if cfg.path == Path::Baseline || scene.instances.is_empty() {
+                    st.accuracy = if cfg.path != Path::Sorted || scene.instances.is_empty() {
                         compare(&f, reference, &view.scene)
                     } else {
                         compare(&f, &reorder_ids(reference, &view.scene, scene), scene)
