@@ -180,7 +180,8 @@ pub fn render_gpu(
     let uploaded = gpu.upload(scene);
     timings.upload = ms(t);
     timings.peak_rss_after[3] = peak();
-    let buffers = uploaded?;
+    let buffers =
+        uploaded.map_err(|e| anyhow::Error::new(e).context(stopped("upload", timings)))?;
     if let Some(pb) = &pb {
         pb.set_message("first frame");
     }
@@ -189,7 +190,8 @@ pub fn render_gpu(
     let first = gpu.render_uploaded(&buffers, camera, &first_req);
     timings.first_frame = ms(t);
     timings.peak_rss_after[4] = peak();
-    let mut frame = first?;
+    let mut frame =
+        first.map_err(|e| anyhow::Error::new(e).context(stopped("first frame", timings)))?;
     if req.frames > 1 {
         if let Some(pb) = &pb {
             pb.set_message(format!("{} more frames", req.frames - 1));
@@ -204,6 +206,20 @@ pub fn render_gpu(
         pb.finish_and_clear();
     }
     Ok(frame)
+}
+
+/// "stopped at STAGE after load … ms, …": what ran before a failing GPU stage, on one line.
+fn stopped(stage: &str, t: &Timings) -> String {
+    let ran: Vec<String> = t
+        .stages()
+        .iter()
+        .filter(|(_, ms)| *ms > 0.0)
+        .map(|(name, ms)| format!("{name} {ms:.0} ms"))
+        .collect();
+    let peak = tensorglyph::mem::peak_rss_bytes().map_or(String::new(), |b| {
+        format!(", peak RSS {:.0} MiB", b as f64 / 1048576.0)
+    });
+    format!("stopped at {stage} after {}{peak}", ran.join(", "))
 }
 
 /// The exact CPU reference, timed like [`render_gpu`] (no upload).

@@ -29,9 +29,10 @@ enum Outcome {
     },
 }
 
-/// Classify and decompose one world-space tensor.
+/// Why a world-space tensor gives no glyph (NaN before Inf before all-zero), or `None` if it is
+/// valid.
 #[inline]
-fn process(t: &[f64; 9], centre: [f64; 3], index: usize) -> Outcome {
+fn skipped(t: &[f64; 9]) -> Option<Outcome> {
     // One branch-free pass over the nine components.
     let (mut nan, mut inf, mut nonzero) = (false, false, false);
     for &x in t {
@@ -40,13 +41,21 @@ fn process(t: &[f64; 9], centre: [f64; 3], index: usize) -> Outcome {
         nonzero |= x != 0.0;
     }
     if nan {
-        return Outcome::Nan;
+        Some(Outcome::Nan)
+    } else if inf {
+        Some(Outcome::Inf)
+    } else if !nonzero {
+        Some(Outcome::Zero)
+    } else {
+        None
     }
-    if inf {
-        return Outcome::Inf;
-    }
-    if !nonzero {
-        return Outcome::Zero;
+}
+
+/// Classify and decompose one world-space tensor.
+#[inline]
+fn process(t: &[f64; 9], centre: [f64; 3], index: usize) -> Outcome {
+    if let Some(skipped) = skipped(t) {
+        return skipped;
     }
     let (s, symmetrised) = symmetrise(t);
     let e = symmetric_eigen(&s);
@@ -62,17 +71,15 @@ fn process(t: &[f64; 9], centre: [f64; 3], index: usize) -> Outcome {
     }
 }
 
-/// Per-chunk accumulator, merged in file order.
+/// Per-chunk statistics, merged in file order.
 struct Partial {
-    glyphs: Vec<Glyph>,
     stats: FieldStats,
     fa_sum: f64,
 }
 
 impl Partial {
-    fn new(cap: usize) -> Self {
+    fn new() -> Self {
         Partial {
-            glyphs: Vec::with_capacity(cap),
             stats: FieldStats {
                 eigenvalues_min: [f64::INFINITY; 3],
                 eigenvalues_max: [f64::NEG_INFINITY; 3],
@@ -86,8 +93,9 @@ impl Partial {
         }
     }
 
+    /// Count `o`; its glyph, if it is valid.
     #[inline]
-    fn add(&mut self, o: Outcome) {
+    fn add(&mut self, o: Outcome) -> Option<Glyph> {
         let s = &mut self.stats;
         s.tensors += 1;
         match o {
@@ -118,12 +126,13 @@ impl Partial {
                     .max(values[0].abs())
                     .max(values[2].abs());
                 s.classes[shape::classify(values, DEFAULT_CLASS_THRESHOLD).index()] += 1;
-                self.glyphs.push(glyph);
+                return Some(glyph);
             }
         }
+        None
     }
 
-    /// Merge the counters and ranges of `o` (glyphs are concatenated by the caller).
+    /// Merge the counters and ranges of `o`.
     fn merge_stats(&mut self, o: &Partial) {
         let (a, b) = (&mut self.stats, &o.stats);
         a.tensors += b.tensors;
@@ -149,7 +158,7 @@ impl Partial {
     }
 
     /// Final stats: ranges of an empty set are 0, FA mean is the average over valid tensors.
-    fn finish(mut self) -> GlyphSet {
+    fn finish(mut self, glyphs: Vec<Glyph>) -> GlyphSet {
         let s = &mut self.stats;
         if s.valid == 0 {
             s.eigenvalues_min = [0.0; 3];
@@ -163,7 +172,7 @@ impl Partial {
             s.fa_mean = self.fa_sum / s.valid as f64;
         }
         GlyphSet {
-            glyphs: self.glyphs,
+            glyphs,
             stats: self.stats,
         }
     }
@@ -178,32 +187,59 @@ pub fn derive_glyphs(field: &TensorField, progress: Option<&indicatif::ProgressB
         n,
         "TensorField: positions and tensors differ in length"
     );
-    let chunks: Vec<Partial> = (0..n.div_ceil(CHUNK))
+    // Two passes keep one copy of the glyphs in memory (16.7 M glyphs are 0.9 GB): count the
+    // valid tensors of each chunk, then decompose each chunk straight into its own part of the
+    // output, in parallel, in file order.
+    let chunk_range = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(n);
+    let counts: Vec<usize> = (0..n.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let start = c * CHUNK;
-            let end = (start + CHUNK).min(n);
-            let mut p = Partial::new(end - start);
-            for i in start..end {
+            chunk_range(c)
+                .filter(|&i| skipped(&field.world_tensor(i)).is_none())
+                .count()
+        })
+        .collect();
+    let placeholder = Glyph {
+        centre: [0.0; 3],
+        eigenvalues: [0.0; 3],
+        rotation: [0.0, 0.0, 0.0, 1.0],
+        index: 0,
+    };
+    let mut glyphs = vec![placeholder; counts.iter().sum()];
+    let mut outputs: Vec<&mut [Glyph]> = Vec::with_capacity(counts.len());
+    let mut rest = glyphs.as_mut_slice();
+    for &k in &counts {
+        let (head, tail) = rest.split_at_mut(k);
+        outputs.push(head);
+        rest = tail;
+    }
+    let partials: Vec<Partial> = outputs
+        .into_par_iter()
+        .enumerate()
+        .map(|(c, out)| {
+            let range = chunk_range(c);
+            let len = range.len();
+            let mut p = Partial::new();
+            let mut slots = out.iter_mut();
+            for i in range {
                 let t = field.world_tensor(i);
-                p.add(process(&t, field.positions[i], i));
+                if let Some(g) = p.add(process(&t, field.positions[i], i)) {
+                    *slots.next().expect("as many valid tensors as counted") = g;
+                }
             }
+            debug_assert!(slots.next().is_none(), "as many valid tensors as counted");
             if let Some(pb) = progress {
-                pb.inc((end - start) as u64);
+                pb.inc(len as u64);
             }
             p
         })
         .collect();
 
-    let mut total = Partial::new(0);
-    let valid: usize = chunks.iter().map(|p| p.stats.valid).sum();
-    total.glyphs.reserve_exact(valid);
-    for p in chunks {
-        total.merge_stats(&p);
-        total.glyphs.extend_from_slice(&p.glyphs);
-        // `p` (its glyph buffer) is dropped here, so peak memory stays near one copy.
+    let mut total = Partial::new();
+    for p in &partials {
+        total.merge_stats(p);
     }
-    total.finish()
+    total.finish(glyphs)
 }
 
 #[cfg(test)]
