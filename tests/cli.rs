@@ -2,25 +2,10 @@
 //! input, and nothing half-written left behind.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Command;
+mod common;
 
-fn tg(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tensorglyph"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run tensorglyph")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    let text = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(text.lines().count(), 1, "exactly one JSON line: {text}");
-    serde_json::from_str(&text).expect("valid JSON")
-}
+use common::cli::{json, stderr, tg};
 
 fn png_size(p: &Path) -> (u32, u32) {
     let img = image::open(p).expect("a readable PNG");

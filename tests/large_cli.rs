@@ -1,15 +1,9 @@
 //! `bench --large N`: one run of grid:N through the staged pipeline `render` uses, reported as
 //! a table in report.md and as large_volume.csv (stage, ms, peak RSS after the stage, status).
 
-use std::process::{Command, Output};
+mod common;
 
-fn tg(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tensorglyph"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run tensorglyph")
-}
+use common::cli::tg;
 
 #[test]
 fn bench_large_reports_every_stage() {

@@ -7,35 +7,15 @@
 //! Counts use `--method reference` (the exact CPU ray caster) so no GPU is needed.
 
 use std::path::Path;
-use std::process::{Command, Output};
+mod common;
 
-fn tg(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_tensorglyph"))
-        .args(args)
-        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
-        .output()
-        .expect("run tensorglyph")
-}
+use common::cli::{json, stderr, tg};
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(o: &Output) -> serde_json::Value {
-    let text = String::from_utf8_lossy(&o.stdout);
-    assert_eq!(text.lines().count(), 1, "exactly one JSON line: {text}");
-    serde_json::from_str(&text).expect("valid JSON")
-}
-
-/// `render --demo grid:N` with `extra` flags, small and on the CPU; the JSON report.
-fn render_demo(n: usize, extra: &[&str]) -> serde_json::Value {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("s.png");
-    let demo = format!("grid:{n}");
-    let mut args = vec![
-        "render",
-        "--demo",
-        &demo,
+/// `render SOURCE -o OUT` small, on the CPU, with `--json` and `extra` flags.
+fn small_render(source: &[&str], out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec!["render"];
+    args.extend_from_slice(source);
+    args.extend_from_slice(&[
         "-o",
         out.to_str().unwrap(),
         "--size",
@@ -44,9 +24,16 @@ fn render_demo(n: usize, extra: &[&str]) -> serde_json::Value {
         "reference",
         "--json",
         "--quiet",
-    ];
+    ]);
     args.extend_from_slice(extra);
-    let o = tg(&args);
+    tg(&args)
+}
+
+/// `render --demo grid:N` with `extra` flags; the JSON report.
+fn render_demo(n: usize, extra: &[&str]) -> serde_json::Value {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.png");
+    let o = small_render(&["--demo", &format!("grid:{n}")], &out, extra);
     assert!(o.status.success(), "{extra:?}: {}", stderr(&o));
     assert!(out.exists());
     json(&o)
@@ -56,20 +43,7 @@ fn render_demo(n: usize, extra: &[&str]) -> serde_json::Value {
 fn render_error(extra: &[&str]) -> String {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("s.png");
-    let mut args = vec![
-        "render",
-        "--demo",
-        "grid:8",
-        "-o",
-        out.to_str().unwrap(),
-        "--size",
-        "64x48",
-        "--method",
-        "reference",
-        "--quiet",
-    ];
-    args.extend_from_slice(extra);
-    let o = tg(&args);
+    let o = small_render(&["--demo", "grid:8"], &out, extra);
     assert_eq!(o.status.code(), Some(2), "{extra:?} should fail");
     assert!(!out.exists(), "{extra:?}: no image on error");
     let e = stderr(&o);
@@ -245,22 +219,7 @@ fn slicing_unstructured_data_is_an_error_but_roi_works() {
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("u.png");
-    let run = |extra: &[&str]| {
-        let mut args = vec![
-            "render",
-            vtu.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-            "--size",
-            "64x48",
-            "--method",
-            "reference",
-            "--json",
-            "--quiet",
-        ];
-        args.extend_from_slice(extra);
-        tg(&args)
-    };
+    let run = |extra: &[&str]| small_render(&[vtu.to_str().unwrap()], &out, extra);
     let o = run(&["--slice", "x=0"]);
     assert_eq!(o.status.code(), Some(2));
     let e = stderr(&o);
