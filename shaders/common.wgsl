@@ -16,6 +16,11 @@ struct Camera {
     viewport: vec4<f32>,
     // x: ambient, y: diffuse, z: specular, w: shininess (Blinn-Phong headlight).
     light: vec4<f32>,
+    // Clip planes (left, right, bottom, top, near, far): inward unit normal and offset, relative
+    // to the scene origin (Camera::frustum_planes).
+    frustum: array<vec4<f32>, 6>,
+    // x: pixels per world unit at view distance 1 (orthographic: at any distance).
+    pixels: vec4<f32>,
 }
 
 // One glyph as stored: 32 bytes (layout in src/render/gpu_data.rs). Read it with load_glyph.
@@ -189,12 +194,6 @@ fn bounding_radius(r: vec3<f32>) -> f32 {
     return length(vec2<f32>(r.x, max(r.y, r.z)));
 }
 
-// Row i of view_proj.
-fn view_proj_row(i: u32) -> vec4<f32> {
-    let m = camera.view_proj;
-    return vec4<f32>(m[0][i], m[1][i], m[2][i], m[3][i]);
-}
-
 // True when a glyph inside the sphere (centre c, radius r) cannot show: outside a frustum plane
 // (the near plane included: wholly in front of it), or projected smaller than
 // chunk.min_pixel_radius. Mirrored in f64 by Scene::visibility.
@@ -202,23 +201,17 @@ fn skip_glyph(c: vec3<f32>, r: f32) -> bool {
     if chunk.cull == 0u {
         return false;
     }
-    let r0 = view_proj_row(0u);
-    let r1 = view_proj_row(1u);
-    let r2 = view_proj_row(2u);
-    let r3 = view_proj_row(3u);
-    let h = vec4<f32>(c, 1.0);
-    // Planes (Gribb–Hartmann, clip z in [0, w]): left, right, bottom, top, near, far.
-    let planes = array<vec4<f32>, 6>(r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2);
     for (var i = 0u; i < 6u; i++) {
-        let p = planes[i];
-        if dot(p, h) < -r * length(p.xyz) {
+        let p = camera.frustum[i];
+        if dot(p.xyz, c) + p.w < -r {
             return true;
         }
     }
-    // |row 1| = P[1][1] (the view is a rotation); clip w = view distance (1 when orthographic).
-    let w = dot(r3, h);
-    let r_px = r * length(r1.xyz) * 0.5 * camera.viewport.y / max(w, 1e-30);
-    return r_px < chunk.min_pixel_radius;
+    var w = 1.0;
+    if !is_ortho() {
+        w = max(dot(c - camera.eye.xyz, camera.forward.xyz), 1e-30);
+    }
+    return r * camera.pixels.x / w < chunk.min_pixel_radius;
 }
 
 // Blinn-Phong with a headlight: the light sits at the eye, so L = H = direction to the eye.

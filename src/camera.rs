@@ -186,6 +186,31 @@ impl Camera {
         view::look_at_mat4(self.eye - origin, self.target - origin, self.up)
     }
 
+    /// The six clip planes (left, right, bottom, top, near, far) relative to `origin`, as unit
+    /// normals pointing inwards with their offsets: a point p is inside when n·p + d ≥ 0.
+    pub fn frustum_planes(&self, origin: DVec3) -> [glam::DVec4; 6] {
+        let m = self.projection_matrix() * self.view(origin);
+        let (r0, r1, r2, r3) = (m.row(0), m.row(1), m.row(2), m.row(3));
+        // Gribb–Hartmann, with clip z in [0, w].
+        [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2].map(|p| p / p.truncate().length())
+    }
+
+    /// Pixels per world unit of a length across the view at view distance 1 (perspective), or
+    /// at any distance (orthographic).
+    pub fn pixels_per_unit(&self) -> f64 {
+        self.projection_matrix().y_axis.y * 0.5 * f64::from(self.height)
+    }
+
+    /// Projected radius in pixels of a sphere of radius `r` whose centre is `c` (world).
+    pub fn pixel_radius(&self, c: DVec3, r: f64) -> f64 {
+        let w = if self.is_ortho() {
+            1.0
+        } else {
+            (c - self.eye).dot(self.forward()).max(1e-30)
+        };
+        r * self.pixels_per_unit() / w
+    }
+
     pub fn projection_matrix(&self) -> DMat4 {
         match self.projection {
             Projection::Perspective { fov_y } => {

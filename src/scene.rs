@@ -342,41 +342,29 @@ pub fn bounding_radius(r: [f32; 3]) -> f64 {
     f64::from(r[0]).hypot(f64::from(r[1].max(r[2])))
 }
 
-/// The view frustum's planes relative to a scene origin, and the pixel-size threshold.
-struct Frustum {
+/// The culling test of `skip_glyph` in common.wgsl, in f64.
+struct Frustum<'c> {
+    camera: &'c crate::camera::Camera,
+    origin: DVec3,
     planes: [glam::DVec4; 6],
-    /// Rows 1 and 3 of view_proj (pixel size from |row 1| and clip w).
-    row1: glam::DVec4,
-    row3: glam::DVec4,
-    half_height: f64,
     min_px: f64,
 }
 
-impl Frustum {
-    fn new(camera: &crate::camera::Camera, origin: DVec3, min_px: f32) -> Self {
-        let m = camera.projection_matrix() * camera.view(origin);
-        let row = |i: usize| m.row(i);
-        let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));
+impl<'c> Frustum<'c> {
+    fn new(camera: &'c crate::camera::Camera, origin: DVec3, min_px: f32) -> Self {
         Self {
-            planes: [r3 + r0, r3 - r0, r3 + r1, r3 - r1, r2, r3 - r2],
-            row1: r1,
-            row3: r3,
-            half_height: 0.5 * f64::from(camera.height),
+            camera,
+            origin,
+            planes: camera.frustum_planes(origin),
             min_px: f64::from(min_px),
         }
     }
 
+    /// `c` relative to the scene origin.
     fn skips(&self, c: DVec3, r: f64) -> bool {
         let h = c.extend(1.0);
-        if self
-            .planes
-            .iter()
-            .any(|p| p.dot(h) < -r * p.truncate().length())
-        {
-            return true;
-        }
-        let w = self.row3.dot(h).max(1e-30);
-        r * self.row1.truncate().length() * self.half_height / w < self.min_px
+        self.planes.iter().any(|p| p.dot(h) < -r)
+            || self.camera.pixel_radius(c + self.origin, r) < self.min_px
     }
 }
 

@@ -176,9 +176,13 @@ pub struct CameraUniform {
     pub viewport: [f32; 4],
     /// ambient, diffuse, specular, shininess.
     pub light: [f32; 4],
+    /// Clip planes (inward unit normal, offset), relative to the scene origin, for culling.
+    pub frustum: [[f32; 4]; 6],
+    /// x: pixels per world unit at view distance 1 (orthographic: at any distance).
+    pub pixels: [f32; 4],
 }
 
-pub const CAMERA_UNIFORM_SIZE: usize = 272;
+pub const CAMERA_UNIFORM_SIZE: usize = 384;
 const _: () = assert!(std::mem::size_of::<CameraUniform>() == CAMERA_UNIFORM_SIZE);
 
 impl CameraUniform {
@@ -218,6 +222,10 @@ impl CameraUniform {
                 lighting.specular,
                 lighting.shininess,
             ],
+            frustum: camera
+                .frustum_planes(origin)
+                .map(|p| p.as_vec4().to_array()),
+            pixels: [camera.pixels_per_unit() as f32, 0.0, 0.0, 0.0],
         }
     }
 }

@@ -236,7 +236,6 @@ impl GpuRenderer {
     /// [`Self::upload`] in buffers of at most `chunk` glyphs each. The instances are packed
     /// straight into each buffer's mapping (no second copy of the scene on the CPU).
     pub fn upload_chunked(&self, scene: &Scene, chunk: usize) -> Result<SceneBuffers, RenderError> {
-        use rayon::prelude::*;
         let device = &self.ctx.device;
         let chunk = chunk.max(1);
         if scene.instances.len() > u32::MAX as usize - 1 {
@@ -263,63 +262,8 @@ impl GpuRenderer {
         let mut chunks = Vec::with_capacity(pieces.len());
         let mut base = 0u32;
         for piece in pieces {
-            let glyphs = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("glyph instances"),
-                size: (piece.len().max(1) * GPU_GLYPH_SIZE) as u64,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: true,
-            });
-            {
-                let mut view = glyphs.slice(..).get_mapped_range_mut().map_err(|e| {
-                    RenderError::Gpu(format!("mapping a glyph buffer for upload: {e}"))
-                })?;
-                // The mapping is write-only: pack in blocks (in parallel) and copy each in.
-                const BLOCK: usize = 1 << 16;
-                let mut packed: Vec<GpuGlyph> = Vec::with_capacity(BLOCK.min(piece.len()));
-                for (k, block) in piece.chunks(BLOCK).enumerate() {
-                    block
-                        .par_iter()
-                        .map(GpuGlyph::pack)
-                        .collect_into_vec(&mut packed);
-                    let at = k * BLOCK * GPU_GLYPH_SIZE;
-                    view.slice(at..at + block.len() * GPU_GLYPH_SIZE)
-                        .copy_from_slice(bytemuck::cast_slice(&packed));
-                }
-            }
-            glyphs.unmap();
-            let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("chunk"),
-                size: std::mem::size_of::<ChunkUniform>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("glyphs"),
-                layout: &self.bind_group_layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: camera_buffer.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: glyphs.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: uniform.as_entire_binding(),
-                    },
-                ],
-            });
-            let count = piece.len() as u32;
-            chunks.push(ChunkBuffers {
-                base,
-                count,
-                _glyphs: glyphs,
-                uniform,
-                bind_group,
-            });
-            base += count;
+            chunks.push(self.upload_chunk(piece, base, &camera_buffer)?);
+            base += piece.len() as u32;
         }
         let oom = pollster::block_on(oom.pop());
         let invalid = pollster::block_on(scope.pop());
@@ -334,6 +278,75 @@ impl GpuRenderer {
             count: base,
             camera_buffer,
             chunks,
+        })
+    }
+
+    /// One chunk: a storage buffer of `piece` packed straight into its mapping, its uniform and
+    /// its bind group.
+    fn upload_chunk(
+        &self,
+        piece: &[GlyphInstance],
+        base: u32,
+        camera_buffer: &wgpu::Buffer,
+    ) -> Result<ChunkBuffers, RenderError> {
+        use rayon::prelude::*;
+        let device = &self.ctx.device;
+        let glyphs = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("glyph instances"),
+            size: (piece.len().max(1) * GPU_GLYPH_SIZE) as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: true,
+        });
+        {
+            let mut view = glyphs
+                .slice(..)
+                .get_mapped_range_mut()
+                .map_err(|e| RenderError::Gpu(format!("mapping a glyph buffer for upload: {e}")))?;
+            // The mapping is write-only: pack in blocks (in parallel) and copy each in.
+            const BLOCK: usize = 1 << 16;
+            let mut packed: Vec<GpuGlyph> = Vec::with_capacity(BLOCK.min(piece.len()));
+            for (k, block) in piece.chunks(BLOCK).enumerate() {
+                block
+                    .par_iter()
+                    .map(GpuGlyph::pack)
+                    .collect_into_vec(&mut packed);
+                let at = k * BLOCK * GPU_GLYPH_SIZE;
+                view.slice(at..at + block.len() * GPU_GLYPH_SIZE)
+                    .copy_from_slice(bytemuck::cast_slice(&packed));
+            }
+        }
+        glyphs.unmap();
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("chunk"),
+            size: std::mem::size_of::<ChunkUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("glyphs"),
+            layout: &self.bind_group_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: glyphs.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: uniform.as_entire_binding(),
+                },
+            ],
+        });
+        let count = piece.len() as u32;
+        Ok(ChunkBuffers {
+            base,
+            count,
+            _glyphs: glyphs,
+            uniform,
+            bind_group,
         })
     }
 

@@ -19,7 +19,7 @@ use crate::render::context::GpuContext;
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
 use crate::render::headless::Drawer;
 use crate::render::method::{GlyphKind, Method};
-use crate::render::pipeline::{Variant, VertexInput, glyph_pipeline_with};
+use crate::render::pipeline::{PipelineInput, Variant, glyph_pipeline};
 use crate::render::shaders::ShaderSource;
 
 /// Mesh pipelines cull back faces: every unit mesh is closed and wound outward, and the glyph
@@ -295,15 +295,16 @@ impl MeshRenderer {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &VERTEX_ATTRIBUTES,
         })];
-        let input = VertexInput {
+        let input = PipelineInput {
             buffers: &buffers,
             cull_mode: MESH_CULL_MODE,
+            ..Default::default()
         };
         let label = format!("{method} {glyph}");
         let pipelines = Variant::ALL
             .map(|v| {
-                glyph_pipeline_with(
-                    ctx,
+                glyph_pipeline(
+                    &ctx.device,
                     layout,
                     &module,
                     &label,

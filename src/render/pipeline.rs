@@ -2,7 +2,7 @@
 //! targets, depth test and no culling (impostor winding depends on the view).
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Mutex, OnceLock};
 
 use crate::render::context::GpuContext;
 use crate::render::targets::{AUX_FORMAT, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
@@ -92,26 +92,6 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
         })
 }
 
-/// A render pipeline for one method and variant (no vertex buffers, no culling).
-pub fn glyph_pipeline(
-    ctx: &GpuContext,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    label: &str,
-    topology: wgpu::PrimitiveTopology,
-    variant: Variant,
-) -> wgpu::RenderPipeline {
-    glyph_pipeline_with(
-        ctx,
-        layout,
-        module,
-        label,
-        topology,
-        variant,
-        &VertexInput::default(),
-    )
-}
-
 /// How the ray casters bound each glyph. Gumhold's methods take all of it (conservative depth
 /// only for ellipsoids); Sigg's screen boxes and the meshes ignore it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -148,50 +128,28 @@ impl Default for Proxy {
     }
 }
 
-/// Vertex buffers and face culling of methods that draw real geometry (the triangle meshes).
+/// What besides the shader and variant a glyph pipeline needs: vertex buffers and face culling
+/// (the triangle meshes), values for the shader's `override` constants (the ray casters).
 #[derive(Debug, Clone, Default)]
-pub struct VertexInput<'a> {
+pub struct PipelineInput<'a> {
     pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
     /// Only for closed, outward-wound (counter-clockwise) meshes.
     pub cull_mode: Option<wgpu::Face>,
+    pub constants: &'a [(&'a str, f64)],
 }
 
-/// [`glyph_pipeline`] with vertex buffers and optional culling.
-pub fn glyph_pipeline_with(
-    ctx: &GpuContext,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    label: &str,
-    topology: wgpu::PrimitiveTopology,
-    variant: Variant,
-    input: &VertexInput<'_>,
-) -> wgpu::RenderPipeline {
-    glyph_pipeline_full(
-        &ctx.device,
-        layout,
-        module,
-        label,
-        topology,
-        variant,
-        input,
-        &[],
-    )
-}
-
-/// [`glyph_pipeline_with`] with values for the shader's `override` constants.
-#[allow(clippy::too_many_arguments)]
-fn glyph_pipeline_full(
+/// A render pipeline for one method and output variant.
+pub fn glyph_pipeline(
     device: &wgpu::Device,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     label: &str,
     topology: wgpu::PrimitiveTopology,
     variant: Variant,
-    input: &VertexInput<'_>,
-    constants: &[(&str, f64)],
+    input: &PipelineInput<'_>,
 ) -> wgpu::RenderPipeline {
     let options = wgpu::PipelineCompilationOptions {
-        constants,
+        constants: input.constants,
         ..Default::default()
     };
     let mut targets = vec![
@@ -253,7 +211,7 @@ pub struct StripRenderer {
     device: wgpu::Device,
     layout: wgpu::PipelineLayout,
     source: crate::render::shaders::ShaderSource,
-    modules: Mutex<HashMap<bool, wgpu::ShaderModule>>,
+    modules: [OnceLock<wgpu::ShaderModule>; 2],
     pipelines: Mutex<HashMap<(Variant, Proxy), wgpu::RenderPipeline>>,
 }
 
@@ -267,7 +225,7 @@ impl StripRenderer {
             device: ctx.device.clone(),
             layout: layout.clone(),
             source,
-            modules: Mutex::new(HashMap::new()),
+            modules: Default::default(),
             pipelines: Mutex::new(HashMap::new()),
         };
         // Build the default variant now, so shader errors surface where the drawer is made.
@@ -275,18 +233,15 @@ impl StripRenderer {
         r
     }
 
-    fn module(&self, early_depth: bool) -> wgpu::ShaderModule {
-        let mut modules = self.modules.lock().unwrap_or_else(|e| e.into_inner());
-        modules
-            .entry(early_depth)
-            .or_insert_with(|| {
-                self.device
-                    .create_shader_module(wgpu::ShaderModuleDescriptor {
-                        label: Some(self.source.name()),
-                        source: wgpu::ShaderSource::Wgsl(self.source.text_with(early_depth).into()),
-                    })
-            })
-            .clone()
+    /// The shader module, without or with the early-depth declaration (built on first use).
+    fn module(&self, early_depth: bool) -> &wgpu::ShaderModule {
+        self.modules[usize::from(early_depth)].get_or_init(|| {
+            self.device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(self.source.name()),
+                    source: wgpu::ShaderSource::Wgsl(self.source.text_with(early_depth).into()),
+                })
+        })
     }
 
     fn pipeline(&self, variant: Variant, proxy: Proxy) -> wgpu::RenderPipeline {
@@ -307,18 +262,20 @@ impl StripRenderer {
                 if proxy.conservative { 1.0 } else { 0.0 },
             ),
         ];
-        let p = glyph_pipeline_full(
+        let p = glyph_pipeline(
             &self.device,
             &self.layout,
-            &module,
+            module,
             self.source.name(),
             wgpu::PrimitiveTopology::TriangleStrip,
             variant,
-            &VertexInput::default(),
-            if self.source.has_proxy_constants() {
-                &constants
-            } else {
-                &[]
+            &PipelineInput {
+                constants: if self.source.has_proxy_constants() {
+                    &constants
+                } else {
+                    &[]
+                },
+                ..Default::default()
             },
         );
         self.pipelines
