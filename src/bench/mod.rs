@@ -293,8 +293,8 @@ pub fn run(
                 references.push((cfg.glyph, f));
             }
             let reference = &references.iter().find(|(g, _)| *g == cfg.glyph).unwrap().1;
-            let req = cfg.request(true);
             let scene = cfg.scene(view);
+            let req = cfg.request(true).with_early_depth(gpu, scene, &view.camera);
             match gpu.render(scene, &view.camera, &req) {
                 Ok(f) => {
                     // Ids are instance indices: compare against a reference of the same order.
@@ -330,7 +330,11 @@ pub fn run(
                 if !st.skipped.is_empty() {
                     continue;
                 }
-                match gpu.render(cfg.scene(view), &view.camera, &cfg.request(false)) {
+                let scene = cfg.scene(view);
+                let req = cfg
+                    .request(false)
+                    .with_early_depth(gpu, scene, &view.camera);
+                match gpu.render(scene, &view.camera, &req) {
                     Ok(f) => {
                         st.times.extend(&f.frame_ms);
                         st.fragments = f.fragments.or(st.fragments);

@@ -293,10 +293,8 @@ fn render(
             Ok(ctx) => {
                 adapter = Some(ctx.adapter_name.clone());
                 backend = Some(ctx.backend.clone());
-                req.proxy.early_depth = req.proxy.conservative
-                    && ctx.early_depth_test
-                    && scene.conservative_depth_holds(&camera);
                 let gpu = GpuRenderer::new(ctx)?;
+                req = req.with_early_depth(&gpu, &scene, &camera);
                 render_gpu(&gpu, &scene, &camera, &req, &mut timings, scene_args.quiet)?
             }
             Err(RenderError::NoAdapter) => {

@@ -43,6 +43,17 @@ pub struct FrameRequest {
 }
 
 impl FrameRequest {
+    /// Declare conservative depth to the GPU (`Proxy::early_depth`) where it holds: a
+    /// conservative proxy, an adapter with SHADER_EARLY_DEPTH_TEST, and every glyph of `scene`
+    /// far enough in front of the near plane for the move.
+    pub fn with_early_depth(self, gpu: &GpuRenderer, scene: &Scene, camera: &Camera) -> Self {
+        let mut req = self;
+        req.proxy.early_depth = req.proxy.conservative
+            && gpu.ctx.early_depth_test
+            && scene.conservative_depth_holds(camera);
+        req
+    }
+
     /// The same request on the path before issue 7: quads at the silhouette plane, no culling.
     pub fn baseline(self) -> Self {
         Self {
