@@ -151,8 +151,9 @@ fn corner_signs(k: u32) -> vec2<f32> {
     return vec2<f32>(select(-1.0, 1.0, (k & 1u) != 0u), select(-1.0, 1.0, (k & 2u) != 0u));
 }
 
-// Vertices of the ray casters' proxy polygon: 4 (Gumhold's quad) or 8 (the circumscribed
-// octagon of gumhold-ellipsoid.md §10: ~1.05 fragments per covered pixel instead of 4/π).
+// Vertices of the ray casters' proxy polygon around the unit circle (gumhold-ellipsoid.md §10):
+// 4 (Gumhold's quad), 8 (the circumscribed octagon: 1.05 of the circle's area instead of 4/π)
+// or 3 (the circumscribed triangle: one triangle to set up instead of two, 1.65 of the area).
 override PROXY_VERTICES: u32 = 4u;
 // Gumhold ellipsoids: place the proxy on the glyph's nearest view plane, so the rasterised depth
 // never exceeds the ray-cast depth (conservative depth; lets early depth tests reject).
@@ -165,6 +166,11 @@ const SEC_PI_8: f32 = 1.0823922;
 
 // Vertex vi of the proxy polygon around the unit circle (a triangle strip).
 fn proxy_corner(vi: u32) -> vec2<f32> {
+    if PROXY_VERTICES == 3u {
+        // At radius 2 = 1/cos(π/3), from the top, 120° apart.
+        let theta = 1.5707963 + f32(vi) * 2.0943951;
+        return 2.0 * vec2<f32>(cos(theta), sin(theta));
+    }
     if PROXY_VERTICES == 8u {
         let theta = (f32(OCTAGON_STRIP[vi & 7u]) * 2.0 + 1.0) * 0.39269908;
         return SEC_PI_8 * vec2<f32>(cos(theta), sin(theta));
@@ -173,10 +179,10 @@ fn proxy_corner(vi: u32) -> vec2<f32> {
 }
 
 // NDC (x, y) of vertex vi of a proxy covering the whole viewport on the near plane, for glyphs
-// the eye is too close to: the viewport's corners, or for the octagon √2 × the octagon (which
+// the eye is too close to: the viewport's corners, or √2 × the octagon or triangle (which then
 // contains the square [−1, 1]²).
 fn near_plane_ndc(vi: u32) -> vec2<f32> {
-    if PROXY_VERTICES == 8u {
+    if PROXY_VERTICES != 4u {
         return proxy_corner(vi) * 1.4142135;
     }
     return corner_signs(vi);

@@ -1,5 +1,5 @@
 //! Doing less work must not change the picture: chunked uploads, vertex-stage culling, the
-//! front-to-back order and the alternative proxies (octagon, conservative depth), each checked
+//! front-to-back order and the alternative proxies (octagon, triangle, conservative depth), each checked
 //! against the plain path or the f64 reference on lavapipe.
 
 mod common;
@@ -10,7 +10,7 @@ use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
 use tensorglyph::load::field_spacing;
 use tensorglyph::metrics::compare;
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method, Proxy};
+use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method, Proxy, ProxyShape};
 use tensorglyph::scene::Scene;
 
 fn grid_scene(n: usize, glyph: GlyphKind) -> Scene {
@@ -180,7 +180,7 @@ fn front_to_back_order_draws_the_same_glyphs() {
 }
 
 #[test]
-fn octagon_and_conservative_depth_match_the_reference() {
+fn other_proxies_and_conservative_depth_match_the_reference() {
     let Some(gpu) = common::gpu() else { return };
     for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
         let scene = grid_scene(8, glyph);
@@ -200,7 +200,11 @@ fn octagon_and_conservative_depth_match_the_reference() {
             }
             for proxy in [
                 Proxy {
-                    octagon: true,
+                    shape: ProxyShape::Octagon,
+                    ..Proxy::BASELINE
+                },
+                Proxy {
+                    shape: ProxyShape::Triangle,
                     ..Proxy::BASELINE
                 },
                 Proxy {
@@ -208,7 +212,7 @@ fn octagon_and_conservative_depth_match_the_reference() {
                     ..Proxy::BASELINE
                 },
                 Proxy {
-                    octagon: true,
+                    shape: ProxyShape::Octagon,
                     conservative: true,
                     early_depth: gpu.ctx.early_depth_test && scene.conservative_depth_holds(&cam),
                 },
@@ -239,10 +243,10 @@ fn octagon_shades_fewer_fragments_for_a_large_glyph() {
     let Some(gpu) = common::gpu() else { return };
     let scene = common::scenes::sphere();
     let cam = Camera::frame(&Framing::default(), scene.centre, scene.radius, 512, 384);
-    let count = |octagon| {
+    let count = |shape| {
         let req = FrameRequest {
             proxy: Proxy {
-                octagon,
+                shape,
                 ..Proxy::BASELINE
             },
             ..FrameRequest::default()
@@ -250,8 +254,8 @@ fn octagon_shades_fewer_fragments_for_a_large_glyph() {
         let f = gpu.render(&scene, &cam, &req).unwrap();
         (f.fragments, f.covered_pixels())
     };
-    let (quad, covered) = count(false);
-    let (octagon, covered8) = count(true);
+    let (quad, covered) = count(ProxyShape::Quad);
+    let (octagon, covered8) = count(ProxyShape::Octagon);
     assert_eq!(covered, covered8);
     let (Some(quad), Some(octagon)) = (quad, octagon) else {
         assert!(std::env::var_os("CI").is_none(), "lavapipe has statistics");
@@ -266,4 +270,29 @@ fn octagon_shades_fewer_fragments_for_a_large_glyph() {
     // blocks along every triangle edge.
     assert!(o < q, "octagon {o} vs quad {q}");
     assert!(q >= 1.2 && o >= 1.0);
+}
+
+#[test]
+fn every_proxy_shape_covers_the_view_from_near_a_cylinder_cap() {
+    // The eye inside the cylinder's bounding ellipsoid: the proxy is the whole near plane, made
+    // of the same polygon as the glyph proxies.
+    let (scene, cam) = common::scenes::near_a_cap();
+    for shape in [ProxyShape::Quad, ProxyShape::Octagon, ProxyShape::Triangle] {
+        let req = FrameRequest {
+            method: Method::Gumhold,
+            glyph: GlyphKind::Cylinder,
+            aux: true,
+            proxy: Proxy {
+                shape,
+                ..Proxy::BASELINE
+            },
+            ..FrameRequest::default()
+        };
+        let Some((_, acc)) =
+            common::check_request(&format!("near cap {shape:?}"), &scene, &cam, &req)
+        else {
+            return;
+        };
+        common::assert_tight(&format!("near cap {shape:?}"), &acc);
+    }
 }

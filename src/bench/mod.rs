@@ -12,7 +12,7 @@ use crate::camera::{Camera, Framing};
 use crate::metrics::{Accuracy, compare};
 use crate::reference::ReferenceScene;
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
-use crate::render::{Frame, FrameRequest, GlyphKind, GpuRenderer, Method};
+use crate::render::{Frame, FrameRequest, GlyphKind, GpuRenderer, Method, ProxyShape};
 use crate::scene::Scene;
 
 /// One thing to measure.
@@ -34,6 +34,8 @@ pub enum Path {
     Baseline,
     /// Default with the octagon proxy.
     Octagon,
+    /// Default with the triangle proxy.
+    Triangle,
     /// Default with conservative depth (ellipsoids).
     Conservative,
     /// Default drawn front to back.
@@ -46,6 +48,7 @@ impl std::fmt::Display for Path {
             Path::Default => "default",
             Path::Baseline => "baseline",
             Path::Octagon => "octagon",
+            Path::Triangle => "triangle",
             Path::Conservative => "conservative",
             Path::Sorted => "sorted",
         })
@@ -65,9 +68,13 @@ impl Config {
         match self.path {
             Path::Default | Path::Sorted => req,
             Path::Baseline => req.baseline(),
-            Path::Octagon => FrameRequest {
+            Path::Octagon | Path::Triangle => FrameRequest {
                 proxy: crate::render::Proxy {
-                    octagon: true,
+                    shape: if self.path == Path::Octagon {
+                        ProxyShape::Octagon
+                    } else {
+                        ProxyShape::Triangle
+                    },
                     ..req.proxy
                 },
                 ..req
@@ -241,7 +248,8 @@ pub fn run(
                     })
                     .into();
                 if method == Method::Gumhold {
-                    let mut paths = vec![Path::Baseline, Path::Octagon, Path::Sorted];
+                    let mut paths =
+                        vec![Path::Baseline, Path::Octagon, Path::Triangle, Path::Sorted];
                     if glyph == GlyphKind::Ellipsoid {
                         paths.push(Path::Conservative);
                     }
@@ -381,7 +389,7 @@ fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(
     let n = scene.instances.len();
     let per_glyph: Box<dyn Fn(usize) -> (f64, f64) + Sync> = match cfg.method {
         // The model is of the quad.
-        Method::Gumhold if cfg.path == Path::Octagon => return None,
+        Method::Gumhold if matches!(cfg.path, Path::Octagon | Path::Triangle) => return None,
         Method::Gumhold => Box::new(|i| {
             let p = proxy_shape(scene, camera, i, cfg.glyph);
             (

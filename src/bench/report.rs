@@ -189,7 +189,7 @@ pub fn findings(rows: &[Row]) -> String {
                     base.frame_ms_median,
                     per(base)
                 );
-                for path in ["default", "octagon", "conservative", "sorted"] {
+                for path in ["default", "octagon", "triangle", "conservative", "sorted"] {
                     if let Some(r) = path_row(path) {
                         let _ = write!(
                             out,

@@ -2,17 +2,9 @@
 //! `bench`: the proxy shape, conservative depth, culling and draw order, and `--baseline` for the
 //! path before them, for comparison.
 
-use clap::{Args, ValueEnum};
+use clap::Args;
 
-use tensorglyph::render::{FrameRequest, Proxy};
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum ProxyShape {
-    /// Gumhold's quad (4 vertices, 2 triangles).
-    Quad,
-    /// The circumscribed octagon (8 vertices, 6 triangles): fewer pixels, more triangles.
-    Octagon,
-}
+use tensorglyph::render::{FrameRequest, Proxy, ProxyShape};
 
 #[derive(Args, Debug, Clone)]
 pub struct PathArgs {
@@ -20,7 +12,8 @@ pub struct PathArgs {
     /// options below).
     #[arg(long)]
     pub baseline: bool,
-    /// Proxy polygon of Gumhold's ray casters.
+    /// Proxy polygon of Gumhold's ray casters: quad, octagon (fewer pixels, more triangles) or
+    /// triangle (one triangle, more pixels).
     #[arg(long, value_enum, default_value_t = ProxyShape::Quad)]
     pub proxy: ProxyShape,
     /// Move Gumhold ellipsoid proxies to the glyph's nearest plane (conservative depth), and
@@ -54,7 +47,7 @@ impl PathArgs {
     pub fn apply(&self, req: FrameRequest) -> FrameRequest {
         let req = FrameRequest {
             proxy: Proxy {
-                octagon: self.proxy == ProxyShape::Octagon,
+                shape: self.proxy,
                 conservative: self.conservative_depth,
                 early_depth: false,
             },

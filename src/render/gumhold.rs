@@ -1,5 +1,6 @@
 //! Gumhold's method: long-lived pipelines (per output variant and proxy) that draw a 4-vertex
-//! (quad) or 8-vertex (octagon) strip per glyph instance, with no vertex buffer. Ellipsoids use
+//! (quad), 8-vertex (octagon) or 3-vertex (triangle) strip per glyph instance, with no vertex
+//! buffer. Ellipsoids use
 //! the glyph's own silhouette quad (optionally moved to its nearest plane: conservative depth);
 //! cylinders the quad of their bounding ellipsoid.
 

@@ -18,4 +18,4 @@ pub mod targets;
 pub use context::GpuContext;
 pub use headless::{Frame, FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
 pub use method::{GlyphKind, Method};
-pub use pipeline::Proxy;
+pub use pipeline::{Proxy, ProxyShape};

@@ -92,12 +92,33 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
         })
 }
 
+/// The polygon around the unit circle that Gumhold's proxy is made of (gumhold-ellipsoid.md §10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, clap::ValueEnum)]
+pub enum ProxyShape {
+    /// Gumhold's quad: 4 vertices, 2 triangles, 4/π = 1.27 of the silhouette's area.
+    #[default]
+    Quad,
+    /// The circumscribed octagon: 8 vertices, 6 triangles, 1.05 of the area.
+    Octagon,
+    /// The circumscribed triangle: 3 vertices, 1 triangle, 3√3/π = 1.65 of the area.
+    Triangle,
+}
+
+impl ProxyShape {
+    pub fn vertices(self) -> u32 {
+        match self {
+            ProxyShape::Quad => 4,
+            ProxyShape::Octagon => 8,
+            ProxyShape::Triangle => 3,
+        }
+    }
+}
+
 /// How the ray casters bound each glyph. Gumhold's methods take all of it (conservative depth
 /// only for ellipsoids); Sigg's screen boxes and the meshes ignore it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Proxy {
-    /// The circumscribed octagon (8 vertices) instead of the quad.
-    pub octagon: bool,
+    pub shape: ProxyShape,
     /// Place the proxy on the glyph's nearest view plane (rasterised depth ≤ ray-cast depth).
     pub conservative: bool,
     /// Declare it to the GPU (`@early_depth_test(greater_equal)`): only with `conservative`, an
@@ -107,18 +128,17 @@ pub struct Proxy {
 }
 
 impl Proxy {
-    /// Gumhold's quad at the silhouette plane: the path before issue 7, and the default (on
-    /// lavapipe the octagon's six triangles cost more than the pixels they save, and the
-    /// conservative move costs depth accuracy for nothing where depth-writing shaders are
-    /// tested late; see the README).
+    /// Gumhold's quad at the silhouette plane: the path before issue 7, and the default (see
+    /// the README's measurements: on lavapipe the other shapes and the conservative move do not
+    /// pay for themselves in the whole-field view).
     pub const BASELINE: Proxy = Proxy {
-        octagon: false,
+        shape: ProxyShape::Quad,
         conservative: false,
         early_depth: false,
     };
 
     pub fn vertices(self) -> u32 {
-        if self.octagon { 8 } else { 4 }
+        self.shape.vertices()
     }
 }
 
