@@ -200,18 +200,20 @@ fn bounding_radius(r: vec3<f32>) -> f32 {
     return length(vec2<f32>(r.x, max(r.y, r.z)));
 }
 
-// True when a glyph inside the sphere (centre c, radius r) cannot show: outside a frustum plane
-// (the near plane included: wholly in front of it), or projected smaller than
-// chunk.min_pixel_radius. Mirrored in f64 by Scene::visibility.
+// True when a glyph inside the sphere (centre c, radius r) is not drawn: with chunk.cull, when
+// it is outside a frustum plane (the near plane included: wholly in front of it); and when it is
+// projected smaller than chunk.min_pixel_radius. Mirrored in f64 by Scene::visibility.
 fn skip_glyph(c: vec3<f32>, r: f32) -> bool {
-    if chunk.cull == 0u {
-        return false;
-    }
-    for (var i = 0u; i < 6u; i++) {
-        let p = camera.frustum[i];
-        if dot(p.xyz, c) + p.w < -r {
-            return true;
+    if chunk.cull != 0u {
+        for (var i = 0u; i < 6u; i++) {
+            let p = camera.frustum[i];
+            if dot(p.xyz, c) + p.w < -r {
+                return true;
+            }
         }
+    }
+    if chunk.min_pixel_radius <= 0.0 {
+        return false;
     }
     var w = 1.0;
     if !is_ortho() {

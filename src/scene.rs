@@ -252,13 +252,18 @@ impl Scene {
     }
 
     /// How many glyphs the camera cannot draw: eye inside or on them (Gumhold's quad does not
-    /// exist there), entirely behind the near plane, or with degenerate radii; and, with
-    /// `cull = Some(min_pixel_radius)`, how many the vertex stage culls (outside the frustum or
-    /// projected smaller than that): the f64 twin of `skip_glyph` in common.wgsl.
-    pub fn visibility(&self, camera: &crate::camera::Camera, cull: Option<f32>) -> Visibility {
+    /// exist there), entirely behind the near plane, or with degenerate radii; and how many the
+    /// vertex stage culls (outside the frustum when `frustum`, projected smaller than
+    /// `min_pixel_radius`): the f64 twin of `skip_glyph` in common.wgsl.
+    pub fn visibility(
+        &self,
+        camera: &crate::camera::Camera,
+        frustum: bool,
+        min_pixel_radius: f32,
+    ) -> Visibility {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
-        let frustum = cull.map(|min_px| Frustum::new(camera, self.origin, min_px));
+        let culling = Culling::new(camera, self.origin, frustum, min_pixel_radius);
         let mut v = Visibility::default();
         for g in &self.instances {
             if !crate::reference::drawable_radii(g.radii) {
@@ -269,10 +274,7 @@ impl Scene {
             let r = geo.max_radius();
             if (geo.centre - eye).dot(f) + r < camera.near {
                 v.behind_camera += 1;
-            } else if frustum
-                .as_ref()
-                .is_some_and(|fr| fr.skips(geo.centre, bounding_radius(g.radii)))
-            {
+            } else if culling.skips(geo.centre, bounding_radius(g.radii)) {
                 v.culled += 1;
             } else if !camera.is_ortho()
                 && (geo.t_inv() * (eye - geo.centre)).length_squared()
@@ -343,19 +345,20 @@ pub fn bounding_radius(r: [f32; 3]) -> f64 {
 }
 
 /// The culling test of `skip_glyph` in common.wgsl, in f64.
-struct Frustum<'c> {
+struct Culling<'c> {
     camera: &'c crate::camera::Camera,
     origin: DVec3,
-    planes: [glam::DVec4; 6],
+    /// The frustum planes, when culling by frustum.
+    planes: Option<[glam::DVec4; 6]>,
     min_px: f64,
 }
 
-impl<'c> Frustum<'c> {
-    fn new(camera: &'c crate::camera::Camera, origin: DVec3, min_px: f32) -> Self {
+impl<'c> Culling<'c> {
+    fn new(camera: &'c crate::camera::Camera, origin: DVec3, frustum: bool, min_px: f32) -> Self {
         Self {
             camera,
             origin,
-            planes: camera.frustum_planes(origin),
+            planes: frustum.then(|| camera.frustum_planes(origin)),
             min_px: f64::from(min_px),
         }
     }
@@ -363,8 +366,9 @@ impl<'c> Frustum<'c> {
     /// `c` relative to the scene origin.
     fn skips(&self, c: DVec3, r: f64) -> bool {
         let h = c.extend(1.0);
-        self.planes.iter().any(|p| p.dot(h) < -r)
-            || self.camera.pixel_radius(c + self.origin, r) < self.min_px
+        self.planes
+            .is_some_and(|planes| planes.iter().any(|p| p.dot(h) < -r))
+            || (self.min_px > 0.0 && self.camera.pixel_radius(c + self.origin, r) < self.min_px)
     }
 }
 

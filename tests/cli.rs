@@ -38,6 +38,9 @@ fn render_demo_writes_png_and_reports() {
         std::mem::size_of::<tensorglyph::render::gpu_data::GpuGlyph>()
     );
     assert_eq!(j["glyphs_culled"], 0);
+    // 6³ glyphs seen from outside the lattice: the front ones hide some of the others.
+    let visible = j["glyphs_visible"].as_u64().unwrap();
+    assert!(visible > 50 && visible < 216, "{visible}");
     let covered = j["covered_pixels"].as_u64().unwrap();
     assert!(covered > 1000 && covered < 160 * 120);
     if let Some(f) = j["fragments"].as_u64() {
@@ -315,12 +318,12 @@ fn bench_writes_csv_charts_and_report() {
         lines.next().unwrap(),
         "scene,view,method,glyph,depth_correction,path,frame_ms_median,frame_ms_min,frame_ms_max,fragments,vertices,bytes_per_glyph,glyphs_culled,covered_pixels,fragments_per_covered_pixel,coverage_mismatch,id_mismatch,depth_err_rel_p99,normal_err_deg_p99,color_psnr_db,status"
     );
-    // 3 methods x 2 glyphs x 2 depth settings x 3 views, Gumhold's other paths (baseline,
+    // 3 methods x 2 glyphs x 2 depth settings x 3 views, Gumhold's other paths (culled,
     // octagon, triangle and sorted for both glyphs, conservative for ellipsoids) in each view,
     // and a reference row per glyph and view.
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 3 * 2 * 2 * 3 + 9 * 3 + 2 * 3);
-    for path in ["baseline", "octagon", "triangle", "conservative", "sorted"] {
+    for path in ["culled", "octagon", "triangle", "conservative", "sorted"] {
         assert!(
             rows.iter().any(
                 |r| r.starts_with("grid:3,default,gumhold,ellipsoid,true,") && r.contains(path)

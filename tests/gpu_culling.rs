@@ -92,7 +92,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
             culled.ids, all.ids,
             "{method} {glyph}: culling changed the image"
         );
-        let vis = scene.visibility(&cam, Some(0.0));
+        let vis = scene.visibility(&cam, true, 0.0);
         assert!(
             vis.culled > scene.instances.len() / 4,
             "{method} {glyph}: {vis:?}"
@@ -105,7 +105,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
                 ..scene.clone()
             };
             assert_eq!(
-                one.visibility(&cam, Some(0.0)).culled,
+                one.visibility(&cam, true, 0.0).culled,
                 0,
                 "{method} {glyph}: glyph {id} is shown but its twin culls it"
             );
@@ -132,7 +132,7 @@ fn min_pixel_radius_skips_only_small_glyphs() {
             },
         )
         .unwrap();
-    let vis = scene.visibility(&cam, Some(min_px));
+    let vis = scene.visibility(&cam, false, min_px);
     assert!(
         vis.culled > 0 && vis.culled < scene.instances.len(),
         "{vis:?}"

@@ -28,10 +28,10 @@ pub struct Config {
 /// method runs the default path).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Path {
-    /// Quads, culling in the vertex stage, file order.
+    /// Quads, no culling, file order (the path before issue 7).
     Default,
-    /// The path before issue 7: quads, no culling, file order.
-    Baseline,
+    /// Default with frustum culling in the vertex stage.
+    Culled,
     /// Default with the octagon proxy.
     Octagon,
     /// Default with the triangle proxy.
@@ -46,7 +46,7 @@ impl std::fmt::Display for Path {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
             Path::Default => "default",
-            Path::Baseline => "baseline",
+            Path::Culled => "culled",
             Path::Octagon => "octagon",
             Path::Triangle => "triangle",
             Path::Conservative => "conservative",
@@ -67,7 +67,7 @@ impl Config {
         };
         match self.path {
             Path::Default | Path::Sorted => req,
-            Path::Baseline => req.baseline(),
+            Path::Culled => FrameRequest { cull: true, ..req },
             Path::Octagon | Path::Triangle => FrameRequest {
                 proxy: crate::render::Proxy {
                     shape: if self.path == Path::Octagon {
@@ -248,8 +248,7 @@ pub fn run(
                     })
                     .into();
                 if method == Method::Gumhold {
-                    let mut paths =
-                        vec![Path::Baseline, Path::Octagon, Path::Triangle, Path::Sorted];
+                    let mut paths = vec![Path::Culled, Path::Octagon, Path::Triangle, Path::Sorted];
                     if glyph == GlyphKind::Ellipsoid {
                         paths.push(Path::Conservative);
                     }
@@ -313,7 +312,7 @@ pub fn run(
                     };
                     st.covered = f.covered_pixels();
                     st.culled = scene
-                        .visibility(&view.camera, req.cull.then_some(req.min_pixel_radius))
+                        .visibility(&view.camera, req.cull, req.min_pixel_radius)
                         .culled;
                     (st.predicted, st.predicted_tiles) =
                         predicted_fragments(&view.scene, &view.camera, cfg).unzip();

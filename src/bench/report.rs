@@ -71,36 +71,35 @@ pub fn csv(rows: &[Row]) -> String {
 /// A Markdown table of one view's rows.
 pub fn table(rows: &[&Row]) -> String {
     let mut out = String::from(
-        "| method | glyph | depth corr. | ms (median) | fragments | predicted | frags/covered px | coverage mismatch | id mismatch | depth err p99 | normal err p99 (°) | PSNR (dB) |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| method | glyph | depth corr. | path | ms (median) | fragments | predicted | frags/covered px | coverage mismatch | id mismatch | depth err p99 | normal err p99 (°) | PSNR (dB) |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for r in rows {
         if !r.skipped.is_empty() {
             let _ = writeln!(
                 out,
-                "| {} | {} | {} | skipped: {} | | | | | | | | |",
+                "| {} | {} | {} | {} | skipped: {} | | | | | | | | |",
                 r.method,
                 r.glyph,
                 yes(r.depth_correction),
+                r.path,
                 r.skipped
             );
             continue;
         }
         let a = &r.accuracy;
-        let per_px = match r.fragments {
-            Some(f) if r.covered_pixels > 0 => format!("{:.2}", f as f64 / r.covered_pixels as f64),
-            _ => String::new(),
-        };
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {:.1} | {} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.3} | {:.1} |",
+            "| {} | {} | {} | {} | {:.1} | {} | {} | {} | {:.2e} | {:.2e} | {:.2e} | {:.3} | {:.1} |",
             r.method,
             r.glyph,
             yes(r.depth_correction),
+            r.path,
             r.frame_ms_median,
             opt(r.fragments),
             r.predicted_fragments
                 .map_or(String::new(), |p| format!("{p:.0}")),
-            per_px,
+            r.fragments_per_covered_pixel()
+                .map_or(String::new(), |f| format!("{f:.2}")),
             a.coverage_mismatch,
             a.id_mismatch,
             a.depth_err_rel_p99,
@@ -162,7 +161,7 @@ pub fn findings(rows: &[Row]) -> String {
         };
         let is_mesh = |r: &Row| r.method.to_string().starts_with("mesh:");
         let _ = writeln!(out, "**{scene}.**\n");
-        // Issue 7's paths for Gumhold's method, against the baseline measured in the same run.
+        // Issue 7's paths for Gumhold's method, against the default path measured in the same run.
         for view in ["default", "close", "far"] {
             for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
                 let path_row = |path: &str| {
@@ -175,10 +174,10 @@ pub fn findings(rows: &[Row]) -> String {
                             && r.path == path
                     })
                 };
-                let Some(base) = path_row("baseline") else {
+                let Some(base) = path_row("default") else {
                     continue;
                 };
-                let _ = write!(out, "- Paths, {view} view, {glyph}s (Gumhold; baseline ");
+                let _ = write!(out, "- Paths, {view} view, {glyph}s (Gumhold; default ");
                 let per = |r: &Row| {
                     r.fragments_per_covered_pixel()
                         .map_or("n/a".to_string(), |f| format!("{f:.2}"))
@@ -189,11 +188,11 @@ pub fn findings(rows: &[Row]) -> String {
                     base.frame_ms_median,
                     per(base)
                 );
-                for path in ["default", "octagon", "triangle", "conservative", "sorted"] {
+                for path in ["culled", "octagon", "triangle", "conservative", "sorted"] {
                     if let Some(r) = path_row(path) {
                         let _ = write!(
                             out,
-                            " {path} {:.1} ms ({:.2}x faster), {} per covered pixel, {} culled;",
+                            " {path} {:.1} ms (speed x{:.2}), {} per covered pixel, {} culled;",
                             r.frame_ms_median,
                             base.frame_ms_median / r.frame_ms_median,
                             per(r),

@@ -1,6 +1,7 @@
-//! Options that choose how much work a frame does (issue 7), shared by `render`, `demo` and
-//! `bench`: the proxy shape, conservative depth, culling and draw order, and `--baseline` for the
-//! path before them, for comparison.
+//! Options that choose how much work a frame does (issue 7), shared by `render` and `demo`: the
+//! proxy shape, conservative depth, culling and draw order. The defaults are the path before
+//! them (quads, no culling, file order): on lavapipe none of the others pays for itself in every
+//! view (README, "Doing less work"), so each is a flag to measure with.
 
 use clap::Args;
 
@@ -8,10 +9,6 @@ use tensorglyph::render::{FrameRequest, Proxy, ProxyShape};
 
 #[derive(Args, Debug, Clone)]
 pub struct PathArgs {
-    /// The path before issue 7: quads at the silhouette plane, no culling (overrides the
-    /// options below).
-    #[arg(long)]
-    pub baseline: bool,
     /// Proxy polygon of Gumhold's ray casters: quad, octagon (fewer pixels, more triangles) or
     /// triangle (one triangle, more pixels).
     #[arg(long, value_enum, default_value_t = ProxyShape::Quad)]
@@ -20,9 +17,10 @@ pub struct PathArgs {
     /// declare it for early depth tests where the adapter supports that.
     #[arg(long)]
     pub conservative_depth: bool,
-    /// Draw glyphs outside the view frustum too (they are culled in the vertex stage otherwise).
+    /// Cull glyphs outside the view frustum in the vertex stage (on lavapipe a culled glyph
+    /// still costs its vertex invocations: see the README).
     #[arg(long)]
-    pub no_cull: bool,
+    pub cull: bool,
     /// Skip glyphs whose projected bounding sphere is smaller than this radius in pixels
     /// (0: draw all; glyphs under ~0.3 px rarely cover a pixel centre).
     #[arg(long, default_value_t = 0.0, value_name = "PX")]
@@ -45,21 +43,20 @@ impl PathArgs {
 
     /// `req` with these options (early depth is left off: it depends on the scene and adapter).
     pub fn apply(&self, req: FrameRequest) -> FrameRequest {
-        let req = FrameRequest {
+        FrameRequest {
             proxy: Proxy {
                 shape: self.proxy,
                 conservative: self.conservative_depth,
                 early_depth: false,
             },
-            cull: !self.no_cull,
+            cull: self.cull,
             min_pixel_radius: self.min_pixel_radius,
             ..req
-        };
-        if self.baseline { req.baseline() } else { req }
+        }
     }
 
     /// Whether to sort the instances front to back before upload.
     pub fn sort(&self) -> bool {
-        !self.baseline && self.sort
+        self.sort
     }
 }

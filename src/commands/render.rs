@@ -179,6 +179,8 @@ struct RenderReport {
     bytes_per_glyph: usize,
     /// Glyphs culled in the vertex stage (outside the frustum, or below --min-pixel-radius).
     glyphs_culled: usize,
+    /// Glyphs showing in at least one pixel of the image.
+    glyphs_visible: usize,
     /// Pixels showing a glyph in the image.
     covered_pixels: usize,
     /// Fragment-shader invocations per covered pixel (the driver's count: lavapipe counts
@@ -327,7 +329,7 @@ fn render(
         behind_camera,
         degenerate,
         culled,
-    } = scene.visibility(&camera, req.cull.then_some(req.min_pixel_radius));
+    } = scene.visibility(&camera, req.cull, req.min_pixel_radius);
     let covered = frame.covered_pixels();
     let report = RenderReport {
         method,
@@ -340,6 +342,7 @@ fn render(
         glyphs_selected: staged.glyphs_selected,
         glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate - culled,
         glyphs_culled: culled,
+        glyphs_visible: frame.visible_glyphs(),
         covered_pixels: covered,
         fragments_per_covered_pixel: frame
             .fragments

@@ -128,7 +128,7 @@ const QUAT_SCALE: f32 = (std::f64::consts::SQRT_2 / QUAT_MAX) as f32;
 pub struct ChunkUniform {
     /// instance_index of the chunk's first glyph.
     pub base: u32,
-    /// Glyphs projected smaller than this many pixels (radius) are not drawn.
+    /// Glyphs projected smaller than this many pixels (radius) are not drawn (0: all are).
     pub min_pixel_radius: f32,
     /// 1: frustum culling in the vertex stage.
     pub cull: u32,
