@@ -68,7 +68,8 @@ pub(crate) const PALETTE: [RGBColor; 8] = [
 
 /// Draw the chart of `rows` (one view) to a PNG at `path`: one panel per glyph shape, one
 /// colour per method family, mesh levels joined as a curve, the Pareto front ringed. Only the
-/// depth-corrected variants are drawn (the others differ in depth, not in normals).
+/// depth-corrected variants on the default path are drawn (the others differ in depth, not in
+/// normals; the other paths of Gumhold's method are in the report's tables).
 pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(), String> {
     ensure_font();
     let rows: Vec<&Row> = rows
@@ -78,6 +79,7 @@ pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(),
             r.skipped.is_empty()
                 && r.method.is_gpu()
                 && r.depth_correction
+                && r.path == "default"
                 && r.frame_ms_median.is_finite()
         })
         .collect();
