@@ -9,7 +9,7 @@ use egui::{Color32, RichText, Ui};
 use crate::camera::ViewPreset;
 use crate::glyph::colormap::{diverging, viridis};
 use crate::glyph::{ColorScheme, Normalize, Scale};
-use crate::render::{GlyphKind, Method};
+use crate::render::{GlyphKind, Method, ProxyShape};
 use crate::select::{Selection, Slicing};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::loader::Loaded;
@@ -188,6 +188,24 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
         ui.selectable_value(&mut settings.glyph, GlyphKind::Cylinder, "cylinder");
     });
     ui.checkbox(&mut settings.depth_correction, "depth correction");
+    if settings.method == Method::Gumhold {
+        ui.horizontal(|ui| {
+            ui.label("proxy");
+            for (shape, name) in [
+                (ProxyShape::Quad, "quad"),
+                (ProxyShape::Octagon, "octagon"),
+                (ProxyShape::Triangle, "triangle"),
+            ] {
+                ui.selectable_value(&mut settings.proxy, shape, name);
+            }
+        });
+        ui.checkbox(&mut settings.conservative_depth, "conservative depth")
+            .on_hover_text(
+                "proxy on the glyph's nearest plane (lets a GPU reject hidden fragments early)",
+            );
+    }
+    ui.checkbox(&mut settings.cull, "frustum culling")
+        .on_hover_text("skip glyphs outside the view in the vertex stage");
     ui.horizontal(|ui| {
         ui.label("background");
         ui.color_edit_button_rgb(&mut settings.background);

@@ -7,7 +7,7 @@
 
 use crate::camera::Camera;
 use crate::glyph::{ColorScheme, GlyphStyle};
-use crate::render::{FrameRequest, GlyphKind, Method};
+use crate::render::{FrameRequest, GlyphKind, Method, Proxy, ProxyShape};
 use crate::select::{Selection, Slicing};
 
 /// Every option the side panel changes.
@@ -20,6 +20,10 @@ pub struct Settings {
     pub selection: Selection,
     /// Linear RGB in [0, 1], as `render --background` takes it.
     pub background: [f32; 3],
+    /// `render --proxy`, `--conservative-depth` and `--cull`.
+    pub proxy: ProxyShape,
+    pub conservative_depth: bool,
+    pub cull: bool,
 }
 
 impl Default for Settings {
@@ -31,6 +35,9 @@ impl Default for Settings {
             style: GlyphStyle::default(),
             selection: Selection::default(),
             background: [1.0, 1.0, 1.0],
+            proxy: ProxyShape::Quad,
+            conservative_depth: false,
+            cull: false,
         }
     }
 }
@@ -70,6 +77,14 @@ impl Settings {
             glyph: self.glyph,
             depth_correction: self.depth_correction,
             background: [r, g, b, 1.0],
+            // Declaring early depth needs a check over the scene per camera: the viewer does
+            // without (conservative placement alone is still correct).
+            proxy: Proxy {
+                shape: self.proxy,
+                conservative: self.conservative_depth,
+                early_depth: false,
+            },
+            cull: self.cull,
             ..FrameRequest::default()
         }
     }
@@ -154,6 +169,14 @@ mod tests {
         t.method = Method::Box;
         assert_eq!(s.build_key(1), t.build_key(1));
         assert_ne!(s.request(), t.request());
+        let mut p = s.clone();
+        p.proxy = ProxyShape::Octagon;
+        p.cull = true;
+        p.conservative_depth = true;
+        assert_eq!(s.build_key(1), p.build_key(1), "proxy options only redraw");
+        let req = p.request();
+        assert_eq!(req.proxy.shape, ProxyShape::Octagon);
+        assert!(req.cull && req.proxy.conservative && !req.proxy.early_depth);
         t.selection.stride = 2;
         assert_ne!(s.build_key(1), t.build_key(1));
         let mut r = s.clone();
