@@ -245,6 +245,10 @@ struct Hit {
     // The same for the proxy point, which the flat variants leave in the depth buffer.
     z_proxy_rel: f32,
     depth: f32,
+    // The ray passes the glyph (functions that cannot discard report it).
+    miss: bool,
+    // The glyph's id, where the hit does not come with it.
+    id: u32,
 }
 
 // Colour + glyph id, depth written.

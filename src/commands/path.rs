@@ -1,5 +1,5 @@
 //! Options that choose how much work a frame does (issue 7), shared by `render` and `demo`: the
-//! proxy shape, conservative depth, culling and draw order. The defaults are the path before
+//! proxy shape, conservative depth, culling, the compute prepass and draw order. The defaults are the path before
 //! them (quads, no culling, file order): on lavapipe none of the others pays for itself in every
 //! view (README, "Doing less work"), so each is a flag to measure with.
 
@@ -29,6 +29,15 @@ pub struct PathArgs {
     /// depth tests reject hidden fragments; on lavapipe it measured slower (see the README).
     #[arg(long)]
     pub sort: bool,
+    /// Gumhold ellipsoids: build each glyph's proxy once in a compute pass (not once per
+    /// vertex) and draw only the glyphs it keeps, so culled glyphs cost nothing in the draw.
+    #[arg(long)]
+    pub prepass: bool,
+    /// Gumhold ellipsoids: ray cast glyphs whose proxy spans at most PX pixels across per pixel
+    /// in a compute pass instead of drawing them (implies --prepass; needs depth correction;
+    /// 0: off).
+    #[arg(long, default_value_t = 0, value_name = "PX")]
+    pub splat: u32,
 }
 
 impl PathArgs {
@@ -51,6 +60,8 @@ impl PathArgs {
             },
             cull: self.cull,
             min_pixel_radius: self.min_pixel_radius,
+            prepass: self.prepass,
+            splat: self.splat,
             ..req
         }
     }

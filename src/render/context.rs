@@ -6,7 +6,12 @@ use crate::error::RenderError;
 /// Optional features taken where the adapter has them.
 pub const WANTED_FEATURES: wgpu::Features = wgpu::Features::PIPELINE_STATISTICS_QUERY
     .union(wgpu::Features::TIMESTAMP_QUERY)
-    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+    .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
+    .union(INT64_ATOMICS);
+
+/// 64-bit atomic max in shaders: splats keep depth and id in one atomic (splat64.wgsl).
+const INT64_ATOMICS: wgpu::Features =
+    wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
 
 /// A wgpu device with what we learned about its adapter.
 pub struct GpuContext {
@@ -19,6 +24,8 @@ pub struct GpuContext {
     pub pipeline_statistics: bool,
     pub timestamps: bool,
     pub early_depth_test: bool,
+    /// SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
+    pub int64_atomics: bool,
 }
 
 impl GpuContext {
@@ -67,6 +74,7 @@ impl GpuContext {
             pipeline_statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+            int64_atomics: features.contains(INT64_ATOMICS),
         })
     }
 
@@ -84,6 +92,7 @@ impl GpuContext {
             pipeline_statistics: features.contains(wgpu::Features::PIPELINE_STATISTICS_QUERY),
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+            int64_atomics: features.contains(INT64_ATOMICS),
         }
     }
 

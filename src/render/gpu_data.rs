@@ -324,5 +324,11 @@ mod tests {
         assert_eq!(wgsl_size(&module, "GpuGlyph") as usize, GPU_GLYPH_SIZE);
         assert_eq!(wgsl_size(&module, "Camera") as usize, CAMERA_UNIFORM_SIZE);
         assert_eq!(wgsl_size(&module, "Chunk") as usize, CHUNK_UNIFORM_SIZE);
+        let gumhold = shaders::parse(&shaders::ShaderSource::GumholdEllipsoid.text())
+            .expect("gumhold_ellipsoid.wgsl parses");
+        assert_eq!(
+            wgsl_size(&gumhold, "GlyphFrame") as usize,
+            crate::render::prepass::FRAME_SIZE
+        );
     }
 }

@@ -2,7 +2,7 @@
 //! read the targets back.
 
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use crate::camera::Camera;
@@ -13,7 +13,8 @@ use crate::render::gumhold::GumholdRenderer;
 use crate::render::mesh::MeshRenderer;
 use crate::render::method::{GlyphKind, Method};
 use crate::render::pipeline::{Proxy, Variant, glyph_bind_group_layout};
-use crate::render::query::QueryPair;
+use crate::render::prepass::{PrepassBuffers, PrepassLayouts, PrepassPipelines};
+use crate::render::query::Queries;
 use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, Targets};
 
@@ -40,9 +41,35 @@ pub struct FrameRequest {
     pub cull: bool,
     /// Skip glyphs whose projected bounding sphere has a radius below this many pixels (0: none).
     pub min_pixel_radius: f32,
+    /// Gumhold ellipsoids: build each glyph's proxy frame once in a compute pass and draw only
+    /// the glyphs it keeps (src/render/prepass.rs); other methods ignore it.
+    pub prepass: bool,
+    /// Gumhold ellipsoids with depth correction: glyphs whose proxy spans at most this many
+    /// pixels across are ray cast per pixel in compute instead of drawn (0: none; implies the
+    /// prepass).
+    pub splat: u32,
 }
 
 impl FrameRequest {
+    /// Whether frames come from the compute prepass.
+    pub fn uses_prepass(&self) -> bool {
+        self.prepass || self.splat > 0
+    }
+
+    /// The splat size in effect: splats write the ray-cast depth, so none without depth
+    /// correction.
+    pub fn splat_pixels(&self) -> u32 {
+        if self.depth_correction { self.splat } else { 0 }
+    }
+
+    /// The fragment outputs this request needs.
+    pub fn variant(&self) -> Variant {
+        Variant {
+            depth_correction: self.depth_correction,
+            aux: self.aux,
+        }
+    }
+
     /// Declare conservative depth to the GPU (`Proxy::early_depth`) where it holds: a
     /// conservative proxy, an adapter with SHADER_EARLY_DEPTH_TEST, and every glyph of `scene`
     /// far enough in front of the near plane for the move.
@@ -68,6 +95,8 @@ impl Default for FrameRequest {
             proxy: Proxy::default(),
             cull: false,
             min_pixel_radius: 0.0,
+            prepass: false,
+            splat: 0,
         }
     }
 }
@@ -123,6 +152,11 @@ pub trait Drawer: Send + Sync {
         proxy: Proxy,
         instances: std::ops::Range<u32>,
     );
+
+    /// The `--prepass` pipelines, for drawers that have them.
+    fn prepass_pipelines(&self, _variant: Variant, _proxy: Proxy) -> Option<PrepassPipelines> {
+        None
+    }
 }
 
 type DrawerKey = (Method, GlyphKind);
@@ -133,6 +167,7 @@ pub struct GpuRenderer {
     pub ctx: GpuContext,
     bind_group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    prepass_layouts: PrepassLayouts,
     drawers: Mutex<HashMap<DrawerKey, Arc<dyn Drawer>>>,
 }
 
@@ -147,6 +182,7 @@ impl GpuRenderer {
                 bind_group_layouts: &[Some(&bind_group_layout)],
                 immediate_size: 0,
             });
+        let prepass_layouts = PrepassLayouts::new(&ctx, &bind_group_layout);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Gpu(format!(
                 "creating the pipeline layout: {e}"
@@ -156,6 +192,7 @@ impl GpuRenderer {
             ctx,
             bind_group_layout,
             pipeline_layout: layout,
+            prepass_layouts,
             drawers: Mutex::new(HashMap::new()),
         })
     }
@@ -172,7 +209,12 @@ impl GpuRenderer {
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let layout = &self.pipeline_layout;
         let drawer: Arc<dyn Drawer> = match (method, glyph) {
-            (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(&self.ctx, layout, glyph)),
+            (Method::Gumhold, glyph) => Arc::new(GumholdRenderer::new(
+                &self.ctx,
+                layout,
+                glyph,
+                &self.prepass_layouts,
+            )),
             (Method::Sigg, glyph) => Arc::new(SiggRenderer::new(&self.ctx, layout, glyph)),
             (Method::Mesh(_) | Method::Box, glyph) => Arc::new(
                 MeshRenderer::new(&self.ctx, layout, method, glyph).expect("a mesh method"),
@@ -287,6 +329,7 @@ impl GpuRenderer {
             count: base,
             camera_buffer,
             chunks,
+            prepass: OnceLock::new(),
         })
     }
 
@@ -376,29 +419,114 @@ impl GpuRenderer {
         }
     }
 
-    /// Draw every chunk of `buffers` into an open pass.
-    fn draw_chunks(
+    /// The prepass pipelines when `req` asks for the prepass and the drawer has it.
+    fn prepass_for(drawer: &dyn Drawer, req: &FrameRequest) -> Option<PrepassPipelines> {
+        if !req.uses_prepass() {
+            return None;
+        }
+        drawer.prepass_pipelines(req.variant(), req.proxy)
+    }
+
+    fn prepass_buffers<'b>(&self, buffers: &'b SceneBuffers) -> &'b PrepassBuffers {
+        buffers.prepass.get_or_init(|| {
+            let counts: Vec<u32> = buffers.chunks.iter().map(|c| c.count).collect();
+            PrepassBuffers::new(&self.ctx, &self.prepass_layouts, &counts)
+        })
+    }
+
+    /// Render passes one frame of `req` takes: one, or one per prepass slice.
+    fn render_passes(
+        &self,
         drawer: &dyn Drawer,
-        pass: &mut wgpu::RenderPass<'_>,
         buffers: &SceneBuffers,
         req: &FrameRequest,
+    ) -> u32 {
+        match Self::prepass_for(drawer, req) {
+            Some(_) => (self.prepass_buffers(buffers).slices.len() as u32).max(1),
+            None => 1,
+        }
+    }
+
+    /// Record one frame of an uploaded scene into `views` (cleared first): one render pass
+    /// drawing every chunk or, with the prepass, a compute pass and a render pass per slice.
+    /// `stats` gets one pipeline-statistics query per render pass ([`Self::render_passes`]);
+    /// `timestamps` gets index 0 at the frame's start and 1 at its end.
+    #[allow(clippy::too_many_arguments)]
+    fn record_frame(
+        &self,
+        drawer: &dyn Drawer,
+        buffers: &SceneBuffers,
+        req: &FrameRequest,
+        views: &TargetViews,
+        encoder: &mut wgpu::CommandEncoder,
+        stats: Option<&wgpu::QuerySet>,
+        timestamps: Option<&wgpu::QuerySet>,
     ) {
-        let variant = Variant {
-            depth_correction: req.depth_correction,
-            aux: req.aux,
+        let variant = req.variant();
+        let stamp = |begin: bool, end: bool| {
+            timestamps.map(|set| wgpu::RenderPassTimestampWrites {
+                query_set: set,
+                beginning_of_pass_write_index: begin.then_some(0),
+                end_of_pass_write_index: end.then_some(1),
+            })
         };
-        for c in &buffers.chunks {
-            if c.count == 0 {
-                continue;
+        let Some(pipelines) = Self::prepass_for(drawer, req) else {
+            let mut pass = views.begin_pass(encoder, req.background, true, stamp(true, true));
+            if let Some(set) = stats {
+                pass.begin_pipeline_statistics_query(set, 0);
             }
-            pass.set_bind_group(0, &c.bind_group, &[]);
-            drawer.draw(pass, variant, req.proxy, c.base..c.base + c.count);
+            for c in buffers.chunks.iter().filter(|c| c.count > 0) {
+                pass.set_bind_group(0, &c.bind_group, &[]);
+                drawer.draw(&mut pass, variant, req.proxy, c.base..c.base + c.count);
+            }
+            if stats.is_some() {
+                pass.end_pipeline_statistics_query();
+            }
+            return;
+        };
+        let prepass = self.prepass_buffers(buffers);
+        let splats = req.splat_pixels() > 0;
+        prepass.write_uniforms(&self.ctx.queue, req.splat_pixels());
+        if prepass.slices.is_empty() {
+            views.begin_pass(encoder, req.background, true, stamp(true, true));
+            return;
+        }
+        let last = prepass.slices.len() - 1;
+        for (k, slice) in prepass.slices.iter().enumerate() {
+            let chunk = &buffers.chunks[slice.chunk].bind_group;
+            let compute_stamp =
+                timestamps
+                    .filter(|_| k == 0)
+                    .map(|set| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: None,
+                    });
+            prepass.record_compute(
+                encoder,
+                &pipelines,
+                chunk,
+                k,
+                views.size,
+                splats,
+                compute_stamp,
+            );
+            let mut pass =
+                views.begin_pass(encoder, req.background, k == 0, stamp(false, k == last));
+            if let Some(set) = stats {
+                pass.begin_pipeline_statistics_query(set, k as u32);
+            }
+            pass.set_bind_group(0, chunk, &[]);
+            prepass.draw(&mut pass, &pipelines, splats);
+            if stats.is_some() {
+                pass.end_pipeline_statistics_query();
+            }
         }
     }
 
     /// Record one frame of an uploaded scene into `views` (cleared first). The camera uniform is
     /// written through the queue, so it takes effect at the next submit. `timestamps`, when
-    /// given, get the pass's begin and end.
+    /// given, get the frame's begin (index 0) and end (index 1).
     pub fn encode(
         &self,
         buffers: &SceneBuffers,
@@ -406,12 +534,19 @@ impl GpuRenderer {
         req: &FrameRequest,
         views: &TargetViews,
         encoder: &mut wgpu::CommandEncoder,
-        timestamps: Option<wgpu::RenderPassTimestampWrites<'_>>,
+        timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), RenderError> {
         let drawer = self.drawer(req.method, req.glyph)?;
         self.write_uniforms(buffers, camera, req);
-        let mut pass = views.begin_pass(encoder, req.background, timestamps);
-        Self::draw_chunks(drawer.as_ref(), &mut pass, buffers, req);
+        self.record_frame(
+            drawer.as_ref(),
+            buffers,
+            req,
+            views,
+            encoder,
+            None,
+            timestamps,
+        );
         Ok(())
     }
 
@@ -427,15 +562,17 @@ impl GpuRenderer {
         let drawer = self.drawer(req.method, req.glyph)?;
         self.write_uniforms(buffers, camera, req);
         // [vertex invocations, fragment invocations] (ordered by flag bit).
+        // Per render pass: [vertex invocations, fragment invocations] (ordered by flag bit).
+        let passes = self.render_passes(drawer.as_ref(), buffers, req);
         let stats = ctx.pipeline_statistics.then(|| {
-            QueryPair::new(
+            Queries::new(
                 device,
                 "pipeline statistics",
                 wgpu::QueryType::PipelineStatistics(
                     wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
                         | wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS,
                 ),
-                1,
+                passes,
             )
         });
         let views = TargetViews::new(targets);
@@ -446,16 +583,16 @@ impl GpuRenderer {
         for f in 0..frames {
             let last = f + 1 == frames;
             let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                let mut pass = views.begin_pass(&mut encoder, req.background, None);
-                if let (Some(s), true) = (&stats, f == 0) {
-                    pass.begin_pipeline_statistics_query(&s.set, 0);
-                }
-                Self::draw_chunks(drawer.as_ref(), &mut pass, buffers, req);
-                if let (Some(_), true) = (&stats, f == 0) {
-                    pass.end_pipeline_statistics_query();
-                }
-            }
+            let frame_stats = stats.as_ref().filter(|_| f == 0).map(|s| &s.set);
+            self.record_frame(
+                drawer.as_ref(),
+                buffers,
+                req,
+                &views,
+                &mut encoder,
+                frame_stats,
+                None,
+            );
             if let (Some(s), true) = (&stats, f == 0) {
                 s.resolve(&mut encoder);
             }
@@ -491,8 +628,10 @@ impl GpuRenderer {
             ids,
             aux,
             frame_ms,
-            fragments: counts.map(|c: [u64; 2]| c[1]),
-            vertices: counts.map(|c| c[0]),
+            fragments: counts
+                .as_ref()
+                .map(|c: &Vec<u64>| c.iter().skip(1).step_by(2).sum()),
+            vertices: counts.as_ref().map(|c| c.iter().step_by(2).sum()),
         })
     }
 }
@@ -503,6 +642,8 @@ pub struct SceneBuffers {
     count: u32,
     camera_buffer: wgpu::Buffer,
     chunks: Vec<ChunkBuffers>,
+    /// Made on the first frame drawn with the prepass.
+    prepass: OnceLock<PrepassBuffers>,
 }
 
 /// One storage buffer of packed instances and its uniform, bound as group 0.
@@ -528,6 +669,8 @@ impl SceneBuffers {
 
 /// Views of a [`Targets`]' textures, as a render pass attaches them.
 pub struct TargetViews {
+    /// Width and height in pixels.
+    size: (u32, u32),
     color: wgpu::TextureView,
     id: wgpu::TextureView,
     aux: Option<wgpu::TextureView>,
@@ -538,6 +681,7 @@ impl TargetViews {
     pub fn new(t: &Targets) -> Self {
         let v = |t: &wgpu::Texture| t.create_view(&Default::default());
         Self {
+            size: (t.width, t.height),
             color: v(&t.color),
             id: v(&t.id),
             aux: t.aux.as_ref().map(v),
@@ -545,30 +689,39 @@ impl TargetViews {
         }
     }
 
+    /// A pass over the targets, cleared first when `clear` (else drawing over what is there).
     fn begin_pass<'e>(
         &self,
         encoder: &'e mut wgpu::CommandEncoder,
         background: [f64; 4],
+        clear: bool,
         timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
     ) -> wgpu::RenderPass<'e> {
-        let clear = |c: wgpu::Color, view| {
+        let load = |c| {
+            if clear {
+                wgpu::LoadOp::Clear(c)
+            } else {
+                wgpu::LoadOp::Load
+            }
+        };
+        let attach = |c: wgpu::Color, view| {
             Some(wgpu::RenderPassColorAttachment {
                 view,
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(c),
+                    load: load(c),
                     store: wgpu::StoreOp::Store,
                 },
             })
         };
         let [r, g, b, a] = background;
         let mut attachments = vec![
-            clear(wgpu::Color { r, g, b, a }, &self.color),
-            clear(wgpu::Color::TRANSPARENT, &self.id),
+            attach(wgpu::Color { r, g, b, a }, &self.color),
+            attach(wgpu::Color::TRANSPARENT, &self.id),
         ];
         if let Some(aux) = &self.aux {
-            attachments.push(clear(wgpu::Color::TRANSPARENT, aux));
+            attachments.push(attach(wgpu::Color::TRANSPARENT, aux));
         }
         encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("glyphs"),
@@ -576,7 +729,11 @@ impl TargetViews {
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.depth,
                 depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
+                    load: if clear {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
                     store: wgpu::StoreOp::Store,
                 }),
                 stencil_ops: None,

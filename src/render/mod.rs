@@ -9,6 +9,7 @@ pub mod headless;
 pub mod mesh;
 pub mod method;
 pub mod pipeline;
+pub mod prepass;
 pub mod query;
 pub mod shaders;
 pub mod sigg;

@@ -5,6 +5,7 @@ use std::collections::HashMap;
 use std::sync::{Mutex, OnceLock};
 
 use crate::render::context::GpuContext;
+use crate::render::prepass::{PrepassLayouts, PrepassPipelines};
 use crate::render::targets::{AUX_FORMAT, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
 
 /// Which fragment outputs a pipeline writes.
@@ -52,7 +53,8 @@ impl Variant {
 }
 
 /// The bind group layout of every glyph shader: @binding(0) camera, @binding(1) glyphs (one
-/// chunk), @binding(2) the chunk's base instance and culling parameters.
+/// chunk), @binding(2) the chunk's base instance and culling parameters. Compute stages see it
+/// too (the `--prepass` reads the glyphs there).
 pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     ctx.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -60,7 +62,8 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
             entries: &[
                 wgpu::BindGroupLayoutEntry {
                     binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
+                        .union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
@@ -70,7 +73,8 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
+                        .union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: true },
                         has_dynamic_offset: false,
@@ -80,7 +84,8 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 2,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
+                        .union(wgpu::ShaderStages::COMPUTE),
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
@@ -152,6 +157,11 @@ impl Default for Proxy {
 /// (the triangle meshes), values for the shader's `override` constants (the ray casters).
 #[derive(Debug, Clone, Default)]
 pub struct PipelineInput<'a> {
+    /// The vertex entry point (`vs_main` when `None`).
+    pub vertex_entry: Option<&'a str>,
+    /// The fragment entry point (the variant's when `None`).
+    pub fragment_entry: Option<&'a str>,
+    pub topology: Option<wgpu::PrimitiveTopology>,
     pub buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
     /// Only for closed, outward-wound (counter-clockwise) meshes.
     pub cull_mode: Option<wgpu::Face>,
@@ -196,12 +206,12 @@ pub fn glyph_pipeline(
         layout: Some(layout),
         vertex: wgpu::VertexState {
             module,
-            entry_point: Some("vs_main"),
+            entry_point: Some(input.vertex_entry.unwrap_or("vs_main")),
             compilation_options: options.clone(),
             buffers: input.buffers,
         },
         primitive: wgpu::PrimitiveState {
-            topology,
+            topology: input.topology.unwrap_or(topology),
             cull_mode: input.cull_mode,
             ..Default::default()
         },
@@ -215,7 +225,7 @@ pub fn glyph_pipeline(
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
-            entry_point: Some(variant.fragment_entry()),
+            entry_point: Some(input.fragment_entry.unwrap_or(variant.fragment_entry())),
             compilation_options: options,
             targets: &targets,
         }),
@@ -226,13 +236,21 @@ pub fn glyph_pipeline(
 
 /// The ray casters' pipelines for one shader: each draws a triangle strip per instance (glyph)
 /// with no vertex buffer, the shader placing the proxy's corners. Pipelines are built on first
-/// use per output variant and proxy (lavapipe compiles one in tens of milliseconds).
+/// use per output variant and proxy (lavapipe compiles one in tens of milliseconds). With
+/// [`PrepassLayouts`], also the `--prepass` pipelines (compute `cs_frames`, draw `vs_frames`).
 pub struct StripRenderer {
     device: wgpu::Device,
     layout: wgpu::PipelineLayout,
     source: crate::render::shaders::ShaderSource,
     modules: [OnceLock<wgpu::ShaderModule>; 2],
-    pipelines: Mutex<HashMap<(Variant, Proxy), wgpu::RenderPipeline>>,
+    /// Keyed by variant, proxy and whether the vertices come from the prepass's frames.
+    pipelines: Mutex<HashMap<(Variant, Proxy, bool), wgpu::RenderPipeline>>,
+    prepass: Option<PrepassLayouts>,
+    /// Splats with 64-bit atomics (splat64.wgsl).
+    int64_atomics: bool,
+    compute: Mutex<HashMap<Proxy, (wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>>,
+    /// The splats' full-screen draw, per variant.
+    resolves: Mutex<HashMap<Variant, wgpu::RenderPipeline>>,
 }
 
 impl StripRenderer {
@@ -240,6 +258,7 @@ impl StripRenderer {
         ctx: &GpuContext,
         layout: &wgpu::PipelineLayout,
         source: crate::render::shaders::ShaderSource,
+        prepass: Option<PrepassLayouts>,
     ) -> Self {
         let r = Self {
             device: ctx.device.clone(),
@@ -247,9 +266,13 @@ impl StripRenderer {
             source,
             modules: Default::default(),
             pipelines: Mutex::new(HashMap::new()),
+            prepass,
+            int64_atomics: ctx.int64_atomics,
+            compute: Mutex::new(HashMap::new()),
+            resolves: Mutex::new(HashMap::new()),
         };
         // Build the default variant now, so shader errors surface where the drawer is made.
-        r.pipeline(Variant::ALL[0], Proxy::default());
+        r.pipeline(Variant::ALL[0], Proxy::default(), false);
         r
     }
 
@@ -259,29 +282,46 @@ impl StripRenderer {
             self.device
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(self.source.name()),
-                    source: wgpu::ShaderSource::Wgsl(self.source.text_with(early_depth).into()),
+                    source: wgpu::ShaderSource::Wgsl(
+                        self.source.text_for(early_depth, self.int64_atomics).into(),
+                    ),
                 })
         })
     }
 
-    fn pipeline(&self, variant: Variant, proxy: Proxy) -> wgpu::RenderPipeline {
-        if let Some(p) = self
-            .pipelines
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .get(&(variant, proxy))
-        {
-            return p.clone();
+    /// Values of the proxy `override`s, for shaders that have them.
+    fn constants(&self, proxy: Proxy) -> Vec<(&'static str, f64)> {
+        if !self.source.has_proxy_constants() {
+            return Vec::new();
         }
-        // early_depth_test only means something where the fragment writes depth.
-        let module = self.module(proxy.early_depth && variant.depth_correction);
-        let constants = [
+        vec![
             ("PROXY_VERTICES", f64::from(proxy.vertices())),
             (
                 "CONSERVATIVE_DEPTH",
                 if proxy.conservative { 1.0 } else { 0.0 },
             ),
-        ];
+        ]
+    }
+
+    fn pipeline(&self, variant: Variant, proxy: Proxy, frames: bool) -> wgpu::RenderPipeline {
+        let key = (variant, proxy, frames);
+        if let Some(p) = self
+            .pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+        {
+            return p.clone();
+        }
+        // early_depth_test only means something where the fragment writes depth.
+        let module = self.module(proxy.early_depth && variant.depth_correction);
+        let constants = self.constants(proxy);
+        let frame_buffers = [Some(crate::render::prepass::frame_buffer_layout())];
+        let (entry, buffers): (_, &[_]) = if frames {
+            ("vs_frames", &frame_buffers)
+        } else {
+            ("vs_main", &[])
+        };
         let p = glyph_pipeline(
             &self.device,
             &self.layout,
@@ -290,18 +330,16 @@ impl StripRenderer {
             wgpu::PrimitiveTopology::TriangleStrip,
             variant,
             &PipelineInput {
-                constants: if self.source.has_proxy_constants() {
-                    &constants
-                } else {
-                    &[]
-                },
+                vertex_entry: Some(entry),
+                buffers,
+                constants: &constants,
                 ..Default::default()
             },
         );
         self.pipelines
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .insert((variant, proxy), p.clone());
+            .insert(key, p.clone());
         p
     }
 
@@ -313,7 +351,78 @@ impl StripRenderer {
         proxy: Proxy,
         instances: std::ops::Range<u32>,
     ) {
-        pass.set_pipeline(&self.pipeline(variant, proxy));
+        pass.set_pipeline(&self.pipeline(variant, proxy, false));
         pass.draw(0..proxy.vertices(), instances);
+    }
+
+    /// The `--prepass` pipelines, where this shader has them.
+    pub fn prepass_pipelines(&self, variant: Variant, proxy: Proxy) -> Option<PrepassPipelines> {
+        let layouts = self.prepass.as_ref()?;
+        // The frames do not depend on the fragment stage's early-depth declaration.
+        let key = Proxy {
+            early_depth: false,
+            ..proxy
+        };
+        let mut compute = self.compute.lock().unwrap_or_else(|e| e.into_inner());
+        let (frames, splat_ids) = compute
+            .entry(key)
+            .or_insert_with(|| {
+                let constants = self.constants(key);
+                let make = |entry| {
+                    self.device
+                        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                            label: Some(entry),
+                            layout: Some(&layouts.compute),
+                            module: self.module(false),
+                            entry_point: Some(entry),
+                            compilation_options: wgpu::PipelineCompilationOptions {
+                                constants: &constants,
+                                ..Default::default()
+                            },
+                            cache: None,
+                        })
+                };
+                // With 64-bit atomics cs_frames keeps the ids too.
+                let ids = (!self.int64_atomics).then(|| make("cs_splat_ids"));
+                (make("cs_frames"), ids)
+            })
+            .clone();
+        drop(compute);
+        let resolve = self
+            .resolves
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&variant)
+            .cloned();
+        let resolve = resolve.unwrap_or_else(|| {
+            let p = glyph_pipeline(
+                &self.device,
+                &layouts.resolve,
+                self.module(false),
+                "splat resolve",
+                wgpu::PrimitiveTopology::TriangleList,
+                variant,
+                &PipelineInput {
+                    vertex_entry: Some("vs_fullscreen"),
+                    fragment_entry: Some(if variant.aux {
+                        "fs_splat_aux"
+                    } else {
+                        "fs_splat"
+                    }),
+                    ..Default::default()
+                },
+            );
+            self.resolves
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(variant, p.clone());
+            p
+        });
+        Some(PrepassPipelines {
+            frames,
+            splat_ids,
+            draw: self.pipeline(variant, proxy, true),
+            resolve,
+        })
     }
 }

@@ -1,19 +1,25 @@
-//! A GPU query set whose results are two u64 values (16 bytes): pipeline statistics with two
-//! counters, or a begin/end timestamp pair. Resolved into a buffer and read after submission.
+//! A GPU query set of u64 results (timestamps, or pipeline statistics with any counters),
+//! resolved into a buffer and read after submission.
 
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
 
-pub struct QueryPair {
+pub struct Queries {
     pub set: wgpu::QuerySet,
     count: u32,
+    bytes: u64,
     resolve: wgpu::Buffer,
     readback: wgpu::Buffer,
 }
 
-impl QueryPair {
-    /// `count` queries of type `ty` whose resolved results fill exactly 16 bytes.
+impl Queries {
+    /// `count` queries of type `ty`.
     pub fn new(device: &wgpu::Device, label: &str, ty: wgpu::QueryType, count: u32) -> Self {
+        let values = match ty {
+            wgpu::QueryType::PipelineStatistics(t) => u64::from(t.bits().count_ones()),
+            _ => 1,
+        };
+        let bytes = 8 * values * u64::from(count);
         let set = device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some(label),
             ty,
@@ -22,7 +28,7 @@ impl QueryPair {
         let buf = |usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: 16,
+                size: bytes,
                 usage,
                 mapped_at_creation: false,
             })
@@ -30,6 +36,7 @@ impl QueryPair {
         Self {
             set,
             count,
+            bytes,
             resolve: buf(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC),
             readback: buf(wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ),
         }
@@ -37,11 +44,12 @@ impl QueryPair {
 
     pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.resolve_query_set(&self.set, 0..self.count, &self.resolve, 0);
-        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, 16);
+        encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, self.bytes);
     }
 
-    /// The two values, after the submission that resolved them.
-    pub fn read(&self, ctx: &GpuContext) -> Result<[u64; 2], RenderError> {
+    /// Every value (query by query, counter by counter), after the submission that resolved
+    /// them.
+    pub fn read(&self, ctx: &GpuContext) -> Result<Vec<u64>, RenderError> {
         let (tx, rx) = std::sync::mpsc::channel();
         self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);
@@ -55,7 +63,7 @@ impl QueryPair {
                 .readback
                 .get_mapped_range(..)
                 .map_err(|e| RenderError::Gpu(format!("query readback: {e}")))?;
-            bytemuck::pod_read_unaligned::<[u64; 2]>(&data[..16])
+            bytemuck::pod_collect_to_vec::<u8, u64>(&data)
         };
         self.readback.unmap();
         Ok(out)

@@ -12,6 +12,8 @@ const CYLINDER_SLAB: &str = include_str!("../../shaders/cylinder_slab.wgsl");
 const SIGG: &str = include_str!("../../shaders/sigg.wgsl");
 const SIGG_ELLIPSOID: &str = include_str!("../../shaders/sigg_ellipsoid.wgsl");
 const SIGG_CYLINDER: &str = include_str!("../../shaders/sigg_cylinder.wgsl");
+const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
+const SPLAT64: &str = include_str!("../../shaders/splat64.wgsl");
 
 /// A method's complete shader source.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -55,7 +57,16 @@ impl ShaderSource {
     /// (`@early_depth_test(greater_equal)`: the written depth is never less than the
     /// rasterised one), for pipelines whose proxy guarantees that.
     pub fn text_with(self, early_depth: bool) -> String {
-        let text = self.text();
+        self.text_for(early_depth, false)
+    }
+
+    /// [`Self::text_with`], and with `int64_atomics` Gumhold ellipsoids' splats use one 64-bit
+    /// atomic per pixel (splat64.wgsl) instead of two 32-bit passes (splat32.wgsl).
+    pub fn text_for(self, early_depth: bool, int64_atomics: bool) -> String {
+        let mut text = self.text();
+        if int64_atomics && self == ShaderSource::GumholdEllipsoid {
+            text = text.replace(SPLAT32, SPLAT64);
+        }
         if early_depth {
             text.replace(
                 "@fragment\nfn fs_depth",
@@ -68,7 +79,7 @@ impl ShaderSource {
 
     pub fn text(self) -> String {
         let parts: &[&str] = match self {
-            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID],
+            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID, SPLAT32],
             ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER],
             ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
             ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
@@ -102,8 +113,13 @@ mod tests {
     fn all_shaders_validate() {
         for s in ShaderSource::ALL {
             for early in [false, true] {
-                if let Err(e) = validate(&s.text_with(early)) {
-                    panic!("{} (early depth {early}) does not validate:\n{e}", s.name());
+                for int64 in [false, true] {
+                    if let Err(e) = validate(&s.text_for(early, int64)) {
+                        panic!(
+                            "{} (early depth {early}, 64-bit atomics {int64}) does not validate:\n{e}",
+                            s.name()
+                        );
+                    }
                 }
             }
         }

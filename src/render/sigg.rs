@@ -20,7 +20,7 @@ impl SiggRenderer {
             GlyphKind::Ellipsoid => ShaderSource::SiggEllipsoid,
             GlyphKind::Cylinder => ShaderSource::SiggCylinder,
         };
-        Self(StripRenderer::new(ctx, layout, source))
+        Self(StripRenderer::new(ctx, layout, source, None))
     }
 }
 

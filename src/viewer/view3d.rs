@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use crate::camera::Camera;
 use crate::error::RenderError;
-use crate::render::query::QueryPair;
+use crate::render::query::Queries;
 use crate::render::targets::{COLOR_VIEW_SRGB, Targets};
 use crate::render::{FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
 use crate::scene::Scene;
@@ -93,14 +93,7 @@ impl View3d {
         }
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        let writes = self
-            .timer
-            .as_ref()
-            .map(|t| wgpu::RenderPassTimestampWrites {
-                query_set: &t.0.set,
-                beginning_of_pass_write_index: Some(0),
-                end_of_pass_write_index: Some(1),
-            });
+        let writes = self.timer.as_ref().map(|t| &t.0.set);
         let encoded = gpu.encode(buffers, camera, req, views, &mut encoder, writes);
         if let Some(t) = &self.timer {
             t.resolve(&mut encoder);
@@ -131,12 +124,12 @@ impl View3d {
     }
 }
 
-/// Begin/end timestamps of the glyph pass.
-struct GpuTimer(QueryPair);
+/// Begin/end timestamps of the frame's passes.
+struct GpuTimer(Queries);
 
 impl GpuTimer {
     fn new(device: &wgpu::Device) -> Self {
-        Self(QueryPair::new(
+        Self(Queries::new(
             device,
             "frame time",
             wgpu::QueryType::Timestamp,

@@ -1,0 +1,368 @@
+//! `--prepass` and `--splat` for Gumhold ellipsoids. A compute pass (`cs_frames`) works out each
+//! glyph's proxy frame once (instead of once per proxy vertex) and writes the frames of the
+//! glyphs to draw, compacted, counting them into draw-indirect arguments; the draw reads the
+//! frames as per-instance vertex attributes. A culled glyph costs one compute invocation and
+//! nothing in the draw.
+//!
+//! With `--splat N`, glyphs whose proxy spans at most N×N pixels are not drawn at all: the
+//! compute pass ray casts their pixels itself (keeping each pixel's nearest depth with an atomic
+//! max), a second pass (`cs_splat_ids`) records which splat won each pixel, and one full-screen
+//! triangle shades those pixels, depth-tested against the drawn glyphs. Small glyphs then skip
+//! the rasteriser's per-triangle setup, which on lavapipe is most of a frame.
+//!
+//! Frames are 176 bytes, so large scenes go through in slices of at most [`SLICE_GLYPHS`]
+//! glyphs sharing the frame buffers: each slice is its compute passes and a render pass.
+
+use std::sync::Mutex;
+
+use crate::render::context::GpuContext;
+
+/// Bytes of one `GlyphFrame` (shaders/gumhold_ellipsoid.wgsl).
+pub const FRAME_SIZE: usize = 176;
+/// Glyphs per slice: each frame buffer holds this many (46 MB).
+pub const SLICE_GLYPHS: u32 = 1 << 18;
+/// `@workgroup_size` of the compute entry points.
+const WORKGROUP: u32 = 64;
+/// Bytes of the `Slice` uniform.
+const SLICE_UNIFORM_SIZE: u64 = 16;
+
+/// `GlyphFrame` as the per-instance vertex attributes of `vs_frames` (`FrameInput`): (location,
+/// format, byte offset in the WGSL struct).
+pub const FRAME_ATTRIBUTES: [wgpu::VertexAttribute; 13] = {
+    use wgpu::VertexFormat::{Float32x3, Float32x4, Uint32};
+    let fields = [
+        (Float32x4, 0),
+        (Float32x4, 16),
+        (Float32x3, 32),
+        (Uint32, 44),
+        (Float32x3, 48),
+        (Uint32, 60),
+        (Float32x4, 64),
+        (Float32x4, 80),
+        (Float32x4, 96),
+        (Float32x3, 112),
+        (Float32x3, 128),
+        (Float32x3, 144),
+        (Float32x3, 160),
+    ];
+    let mut out = [wgpu::VertexAttribute {
+        format: Float32x4,
+        offset: 0,
+        shader_location: 0,
+    }; 13];
+    let mut i = 0;
+    while i < fields.len() {
+        out[i] = wgpu::VertexAttribute {
+            format: fields[i].0,
+            offset: fields[i].1,
+            shader_location: i as u32,
+        };
+        i += 1;
+    }
+    out
+};
+
+/// The frame buffer as `vs_frames` reads it: one frame per instance.
+pub fn frame_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
+    wgpu::VertexBufferLayout {
+        array_stride: FRAME_SIZE as u64,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &FRAME_ATTRIBUTES,
+    }
+}
+
+/// Bind group 1 of the compute passes and of the splats' full-screen draw, and their pipeline
+/// layouts (group 0 is the glyph group every method uses).
+#[derive(Clone)]
+pub struct PrepassLayouts {
+    compute_group: wgpu::BindGroupLayout,
+    resolve_group: wgpu::BindGroupLayout,
+    pub compute: wgpu::PipelineLayout,
+    pub resolve: wgpu::PipelineLayout,
+}
+
+impl PrepassLayouts {
+    pub fn new(ctx: &GpuContext, glyphs: &wgpu::BindGroupLayout) -> Self {
+        let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Buffer {
+                ty,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let compute = wgpu::ShaderStages::COMPUTE;
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let ro = wgpu::BufferBindingType::Storage { read_only: true };
+        let device = &ctx.device;
+        let compute_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("prepass compute"),
+            entries: &[
+                entry(0, compute, wgpu::BufferBindingType::Uniform),
+                entry(1, compute, rw),
+                entry(2, compute, rw),
+                entry(3, compute, rw),
+                entry(4, compute, rw),
+                entry(5, compute, rw),
+                entry(6, compute, rw),
+            ],
+        });
+        let resolve_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("splat resolve"),
+            entries: &[entry(8, wgpu::ShaderStages::FRAGMENT, ro)],
+        });
+        let layout = |label, group: &wgpu::BindGroupLayout| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: &[Some(glyphs), Some(group)],
+                immediate_size: 0,
+            })
+        };
+        Self {
+            compute: layout("prepass compute", &compute_group),
+            resolve: layout("splat resolve", &resolve_group),
+            compute_group,
+            resolve_group,
+        }
+    }
+}
+
+/// The prepass pipelines of one request.
+pub struct PrepassPipelines {
+    pub frames: wgpu::ComputePipeline,
+    /// The second splat pass, without 64-bit atomics.
+    pub splat_ids: Option<wgpu::ComputePipeline>,
+    /// Draws the frames `cs_frames` kept.
+    pub draw: wgpu::RenderPipeline,
+    /// The splats' full-screen draw.
+    pub resolve: wgpu::RenderPipeline,
+}
+
+/// One slice: `count` glyphs from `first` of chunk `chunk`.
+pub struct Slice {
+    pub chunk: usize,
+    pub first: u32,
+    pub count: u32,
+    uniform: wgpu::Buffer,
+}
+
+/// Per-pixel splat buffers for one target size, and the bind groups that use them.
+struct PixelBuffers {
+    size: (u32, u32),
+    depth_keys: wgpu::Buffer,
+    splat_ids: wgpu::Buffer,
+    /// One per slice.
+    compute_groups: Vec<wgpu::BindGroup>,
+    resolve_group: wgpu::BindGroup,
+}
+
+/// A scene's prepass buffers: the frame buffers, counters, slices and (per target size) the
+/// per-pixel splat buffers.
+pub struct PrepassBuffers {
+    device: wgpu::Device,
+    /// 64-bit splat keys holding the ids (splat64.wgsl), else 32-bit keys and an id buffer.
+    int64_atomics: bool,
+    layouts: PrepassLayouts,
+    args: wgpu::Buffer,
+    splat_count: wgpu::Buffer,
+    frames: wgpu::Buffer,
+    splat_list: wgpu::Buffer,
+    pub slices: Vec<Slice>,
+    pixels: Mutex<Option<PixelBuffers>>,
+}
+
+impl PrepassBuffers {
+    /// Buffers for chunks of `chunk_counts` glyphs each.
+    pub fn new(ctx: &GpuContext, layouts: &PrepassLayouts, chunk_counts: &[u32]) -> Self {
+        let device = &ctx.device;
+        let most = chunk_counts.iter().copied().max().unwrap_or(0);
+        let capacity = most.clamp(1, SLICE_GLYPHS);
+        let buffer = |label, size, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let frames_size = u64::from(capacity) * FRAME_SIZE as u64;
+        let storage = wgpu::BufferUsages::STORAGE;
+        let frames = buffer(
+            "glyph frames",
+            frames_size,
+            storage | wgpu::BufferUsages::VERTEX,
+        );
+        let splat_list = buffer("splat list", u64::from(capacity) * 4, storage);
+        let counter = storage | wgpu::BufferUsages::COPY_DST;
+        let args = buffer(
+            "prepass draw args",
+            16,
+            counter | wgpu::BufferUsages::INDIRECT,
+        );
+        let splat_count = buffer("splat count", 16, counter);
+        let mut slices = Vec::new();
+        for (chunk, &count) in chunk_counts.iter().enumerate() {
+            let mut first = 0;
+            while first < count {
+                let n = (count - first).min(capacity);
+                slices.push(Slice {
+                    chunk,
+                    first,
+                    count: n,
+                    uniform: buffer(
+                        "prepass slice",
+                        SLICE_UNIFORM_SIZE,
+                        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                    ),
+                });
+                first += n;
+            }
+        }
+        Self {
+            device: device.clone(),
+            int64_atomics: ctx.int64_atomics,
+            layouts: layouts.clone(),
+            args,
+            splat_count,
+            frames,
+            splat_list,
+            slices,
+            pixels: Mutex::new(None),
+        }
+    }
+
+    /// Write the slice uniforms of the next submission: splats up to `splat_max` pixels across.
+    pub fn write_uniforms(&self, queue: &wgpu::Queue, splat_max: u32) {
+        for s in &self.slices {
+            let words = [s.first, s.count, splat_max, 0];
+            queue.write_buffer(&s.uniform, 0, bytemuck::cast_slice(&words));
+        }
+    }
+
+    /// The per-pixel buffers and bind groups for targets of `size`, made when the size changes.
+    fn pixels_for(&self, size: (u32, u32)) -> std::sync::MutexGuard<'_, Option<PixelBuffers>> {
+        let mut pixels = self.pixels.lock().unwrap_or_else(|e| e.into_inner());
+        if pixels.as_ref().is_none_or(|p| p.size != size) {
+            let count = u64::from(size.0) * u64::from(size.1);
+            let buffer = |label, bytes: u64| {
+                self.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: (count * bytes).max(8),
+                    usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                })
+            };
+            let key_bytes = if self.int64_atomics { 8 } else { 4 };
+            let depth_keys = buffer("splat depth keys", key_bytes);
+            // Unused with 64-bit keys (binding 6 stays bound).
+            let splat_ids = buffer("splat ids", if self.int64_atomics { 0 } else { 4 });
+            fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: buffer.as_entire_binding(),
+                }
+            }
+            let compute_groups = self
+                .slices
+                .iter()
+                .map(|s| {
+                    self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("prepass compute"),
+                        layout: &self.layouts.compute_group,
+                        entries: &[
+                            bind(0, &s.uniform),
+                            bind(1, &self.frames),
+                            bind(2, &self.args),
+                            bind(3, &self.splat_list),
+                            bind(4, &self.splat_count),
+                            bind(5, &depth_keys),
+                            bind(6, &splat_ids),
+                        ],
+                    })
+                })
+                .collect();
+            let resolve_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("splat resolve"),
+                layout: &self.layouts.resolve_group,
+                entries: &[bind(
+                    8,
+                    if self.int64_atomics {
+                        &depth_keys
+                    } else {
+                        &splat_ids
+                    },
+                )],
+            });
+            *pixels = Some(PixelBuffers {
+                size,
+                depth_keys,
+                splat_ids,
+                compute_groups,
+                resolve_group,
+            });
+        }
+        pixels
+    }
+
+    /// Record slice `k`'s compute passes (bind group 0 is its chunk's), into targets of `size`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_compute(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pipelines: &PrepassPipelines,
+        chunk_group: &wgpu::BindGroup,
+        k: usize,
+        size: (u32, u32),
+        splats: bool,
+        timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
+    ) {
+        let pixels = self.pixels_for(size);
+        let pixels = pixels.as_ref().expect("made above");
+        encoder.clear_buffer(&self.args, 0, None);
+        if splats {
+            encoder.clear_buffer(&self.splat_count, 0, None);
+            encoder.clear_buffer(&pixels.depth_keys, 0, None);
+            if !self.int64_atomics {
+                encoder.clear_buffer(&pixels.splat_ids, 0, None);
+            }
+        }
+        let groups = self.slices[k].count.div_ceil(WORKGROUP);
+        let mut run = |label, pipeline, timestamp_writes| {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(label),
+                timestamp_writes,
+            });
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, chunk_group, &[]);
+            pass.set_bind_group(1, &pixels.compute_groups[k], &[]);
+            pass.dispatch_workgroups(groups, 1, 1);
+        };
+        run("glyph frames", &pipelines.frames, timestamp_writes);
+        // A pass of its own: every depth key is final before any is compared.
+        if let (true, Some(ids)) = (splats, &pipelines.splat_ids) {
+            run("splat ids", ids, None);
+        }
+    }
+
+    /// Draw what the last compute passes left (bind group 0 is already set): the frames, then
+    /// the splats.
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        pipelines: &PrepassPipelines,
+        splats: bool,
+    ) {
+        pass.set_pipeline(&pipelines.draw);
+        pass.set_vertex_buffer(0, self.frames.slice(..));
+        pass.draw_indirect(&self.args, 0);
+        if splats {
+            let pixels = self.pixels.lock().unwrap_or_else(|e| e.into_inner());
+            let pixels = pixels.as_ref().expect("record_compute made them");
+            pass.set_pipeline(&pipelines.resolve);
+            pass.set_bind_group(1, &pixels.resolve_group, &[]);
+            pass.draw(0..3, 0..1);
+        }
+    }
+}
