@@ -1,0 +1,218 @@
+//! The compute prepass and splats (`--prepass`, `--splat PX`) must draw what the plain path
+//! draws, within the f64 reference's bounds, on lavapipe: with 64-bit atomics and with the
+//! 32-bit two-pass fallback, in slices, culled, perspective and orthographic, with the eye close.
+
+mod common;
+
+use tensorglyph::camera::{Camera, Framing};
+use tensorglyph::field::synthetic::grid;
+use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
+use tensorglyph::load::field_spacing;
+use tensorglyph::metrics::{Accuracy, compare};
+use tensorglyph::reference::ReferenceScene;
+use tensorglyph::render::{
+    Frame, FrameRequest, GlyphKind, GpuContext, GpuRenderer, Method, Proxy, ProxyShape,
+};
+use tensorglyph::scene::Scene;
+
+fn grid_scene(n: usize) -> Scene {
+    let field = grid(n);
+    let set = derive_glyphs(&field, None);
+    let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
+    Scene::build(&set, &style, GlyphKind::Ellipsoid)
+}
+
+fn camera(scene: &Scene, zoom: f64, ortho: bool) -> Camera {
+    let framing = Framing {
+        zoom,
+        ortho,
+        ..Framing::default()
+    };
+    Camera::frame(&framing, scene.centre, scene.radius, 400, 300)
+}
+
+fn request(prepass: bool, splat: u32) -> FrameRequest {
+    FrameRequest {
+        method: Method::Gumhold,
+        glyph: GlyphKind::Ellipsoid,
+        aux: true,
+        prepass,
+        splat,
+        ..FrameRequest::default()
+    }
+}
+
+/// The renderers to test: this adapter as it is and, where it has 64-bit atomics, forced to the
+/// 32-bit fallback (a second device).
+fn renderers() -> Vec<(String, GpuRenderer)> {
+    let Some(gpu) = common::gpu() else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    if gpu.ctx.int64_atomics {
+        let mut ctx = GpuContext::new().expect("a second device");
+        ctx.int64_atomics = false;
+        out.push(("32-bit".to_string(), GpuRenderer::new(ctx).unwrap()));
+    }
+    let label = if gpu.ctx.int64_atomics {
+        "64-bit"
+    } else {
+        "32-bit"
+    };
+    out.push((label.to_string(), gpu));
+    out
+}
+
+fn check(label: &str, frame: &Frame, scene: &Scene, cam: &Camera, req: &FrameRequest) -> Accuracy {
+    let reference = ReferenceScene::new(scene, cam, req.glyph).render(req);
+    let a = compare(frame, &reference, scene);
+    eprintln!("{label}: {a:?}");
+    assert!(reference.covered_pixels() > 5_000, "{label}: a real image");
+    assert!(a.coverage_mismatch <= 5e-4, "{label}: {a:?}");
+    assert!(a.id_mismatch <= 2e-3, "{label}: {a:?}");
+    assert!(a.depth_err_rel_p99 <= 1e-4, "{label}: {a:?}");
+    assert!(a.normal_err_deg_p99 <= 0.5, "{label}: {a:?}");
+    a
+}
+
+#[test]
+fn prepass_draws_the_plain_image() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = grid_scene(10);
+    for (zoom, ortho) in [(1.0, false), (3.0, false), (1.0, true)] {
+        let cam = camera(&scene, zoom, ortho);
+        for shape in [ProxyShape::Quad, ProxyShape::Triangle] {
+            for cull in [false, true] {
+                let proxy = Proxy {
+                    shape,
+                    ..Proxy::BASELINE
+                };
+                let plain = FrameRequest {
+                    proxy,
+                    cull,
+                    ..request(false, 0)
+                };
+                let pre = FrameRequest {
+                    prepass: true,
+                    ..plain
+                };
+                let a = gpu.render(&scene, &cam, &plain).unwrap();
+                let b = gpu.render(&scene, &cam, &pre).unwrap();
+                // The same vertices from the same frame math: the same pixels, bit for bit
+                // (the draw order of the compacted list differs, so only exact depth ties
+                // could differ; this scene has none).
+                assert!(a.covered_pixels() > 5_000);
+                assert_eq!(
+                    a.ids, b.ids,
+                    "zoom {zoom} ortho {ortho} {shape:?} cull {cull}"
+                );
+                assert_eq!(a.color, b.color, "zoom {zoom} ortho {ortho} {shape:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn splats_match_the_reference() {
+    let scene = grid_scene(8);
+    for (label, gpu) in renderers() {
+        // Whole field (every glyph a splat), closer (a mix of splats and drawn glyphs), orthographic.
+        for (zoom, ortho, splat) in [(1.0, false, 32), (2.5, false, 24), (1.0, true, 32)] {
+            let cam = camera(&scene, zoom, ortho);
+            let req = request(false, splat);
+            let frame = gpu.render(&scene, &cam, &req).unwrap();
+            let label = format!("{label} zoom {zoom} ortho {ortho} splat {splat}");
+            check(&label, &frame, &scene, &cam, &req);
+            // Splats skip the rasteriser: at the whole-field view every glyph is one, and the
+            // only vertices are the full-screen triangle's.
+            let plain = gpu.render(&scene, &cam, &request(false, 0)).unwrap();
+            if gpu.ctx.pipeline_statistics {
+                let (s, p) = (frame.vertices.unwrap(), plain.vertices.unwrap());
+                eprintln!("{label}: {s} vertex invocations, plain {p}");
+                assert!(s < p, "{label}");
+                if zoom == 1.0 {
+                    assert_eq!(s, 3, "{label}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn splats_in_slices_and_chunks_draw_the_same_image() {
+    let scene = grid_scene(10);
+    let cam = camera(&scene, 1.0, false);
+    for (label, gpu) in renderers() {
+        let req = request(false, 32);
+        let whole = gpu.render(&scene, &cam, &req).unwrap();
+        // 1000 glyphs in chunks of 137: 8 chunks, a slice and a pair of passes each; splats
+        // of one slice are depth tested against the earlier slices' in the targets.
+        let buffers = gpu.upload_chunked(&scene, 137).unwrap();
+        let chunked = gpu.render_uploaded(&buffers, &cam, &req).unwrap();
+        assert!(whole.covered_pixels() > 10_000, "{label}");
+        let differ = whole
+            .ids
+            .iter()
+            .zip(&chunked.ids)
+            .filter(|(a, b)| a != b)
+            .count();
+        // Equal-depth ties resolve by instance within a slice and by draw order across
+        // slices; nothing else may differ.
+        assert!(
+            differ * 10_000 <= whole.ids.len(),
+            "{label}: {differ} of {} pixels differ",
+            whole.ids.len()
+        );
+        check(&label, &chunked, &scene, &cam, &req);
+    }
+}
+
+#[test]
+fn splats_with_culling_keep_the_image_and_near_glyphs_are_drawn() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = grid_scene(12);
+    // Zoomed far in: glyphs behind the eye, in front of the near plane and around the eye,
+    // where splats must give way to drawn proxies (or nothing).
+    for zoom in [4.0, 12.0] {
+        let cam = camera(&scene, zoom, false);
+        let plain = gpu.render(&scene, &cam, &request(false, 0)).unwrap();
+        for cull in [false, true] {
+            let req = FrameRequest {
+                cull,
+                min_pixel_radius: 0.0,
+                ..request(false, 32)
+            };
+            let frame = gpu.render(&scene, &cam, &req).unwrap();
+            let label = format!("zoom {zoom} cull {cull}");
+            check(&label, &frame, &scene, &cam, &req);
+            let differ = plain
+                .ids
+                .iter()
+                .zip(&frame.ids)
+                .filter(|(a, b)| a != b)
+                .count();
+            assert!(
+                differ * 500 <= plain.ids.len(),
+                "{label}: {differ} pixels differ from the plain path"
+            );
+        }
+    }
+}
+
+#[test]
+fn splats_need_depth_correction() {
+    let Some(gpu) = common::gpu() else { return };
+    let scene = grid_scene(6);
+    let cam = camera(&scene, 1.0, false);
+    let flat = |splat| FrameRequest {
+        depth_correction: false,
+        aux: false,
+        ..request(false, splat)
+    };
+    // Without depth correction the proxies' own depth stands, which splats do not have: the
+    // request draws every glyph through the prepass instead.
+    assert_eq!(flat(32).splat_pixels(), 0);
+    let a = gpu.render(&scene, &cam, &flat(0)).unwrap();
+    let b = gpu.render(&scene, &cam, &flat(32)).unwrap();
+    assert_eq!(a.ids, b.ids);
+}
