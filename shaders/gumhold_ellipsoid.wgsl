@@ -208,7 +208,20 @@ struct DrawArgs {
 @group(1) @binding(2) var<storage, read_write> draw_args: DrawArgs;
 // The instances (instance_index) of the splats.
 @group(1) @binding(3) var<storage, read_write> splat_list: array<u32>;
-@group(1) @binding(4) var<storage, read_write> splat_count: atomic<u32>;
+// What the splats left for the draws after them: their count, draw-indirect arguments for the
+// full-screen draw (instance_count 0 when there are none) and the rectangle of pixels they
+// cover (lo as 0xffff − lo, so that zeroed memory starts empty).
+struct SplatInfo {
+    count: atomic<u32>,
+    vertex_count: u32,
+    instance_count: atomic<u32>,
+    first_vertex: u32,
+    first_instance: u32,
+    lo_inv: array<atomic<u32>, 2>,
+    hi: array<atomic<u32>, 2>,
+}
+
+@group(1) @binding(4) var<storage, read_write> splat_info: SplatInfo;
 // Bindings 5, 6 and 8 (the per-pixel splat buffers), splat_keep and splat_id come from
 // splat32.wgsl or splat64.wgsl.
 
@@ -216,6 +229,7 @@ struct DrawArgs {
 fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x == 0u {
         draw_args.vertex_count = PROXY_VERTICES;
+        splat_info.vertex_count = 3u;
     }
     if gid.x >= slice.count {
         return;
@@ -247,7 +261,12 @@ fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             if any {
                 // 4 bytes, not the frame's 176: the next passes recompute the frame.
-                splat_list[atomicAdd(&splat_count, 1u)] = f.frame.id - 1u;
+                splat_list[atomicAdd(&splat_info.count, 1u)] = f.frame.id - 1u;
+                atomicStore(&splat_info.instance_count, 1u);
+                atomicMax(&splat_info.lo_inv[0], 0xffffu - u32(px.x));
+                atomicMax(&splat_info.lo_inv[1], 0xffffu - u32(px.y));
+                atomicMax(&splat_info.hi[0], u32(px.z));
+                atomicMax(&splat_info.hi[1], u32(px.w));
             }
             return;
         }
@@ -255,10 +274,18 @@ fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
     frames_out[atomicAdd(&draw_args.instance_count, 1u)] = f.frame;
 }
 
+// The full-screen draw's view of binding 4: lo_inv and hi are words 5..9.
+@group(1) @binding(9) var<storage, read> splat_rect: array<u32, 9>;
+
+// One triangle covering the splats' rectangle of pixels.
 @vertex
-fn vs_fullscreen(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let xy = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
-    return vec4<f32>(xy * 2.0 - 1.0, 0.0, 1.0);
+fn vs_splat_rect(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    let lo = vec2<f32>(f32(0xffffu - splat_rect[5]), f32(0xffffu - splat_rect[6]));
+    let hi = vec2<f32>(f32(splat_rect[7] + 1u), f32(splat_rect[8] + 1u));
+    // (lo), (lo + 2 size along x), (lo + 2 size along y): the rectangle is its lower half.
+    let corner = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
+    let px = lo + corner * (hi - lo);
+    return vec4<f32>(px.x * 2.0 * camera.viewport.z - 1.0, 1.0 - px.y * 2.0 * camera.viewport.w, 0.0, 1.0);
 }
 
 // The splat hit at a pixel, or discard.
@@ -412,7 +439,7 @@ fn hit_depth(alpha: f32, zw: vec2<f32>, z_view: f32, u: f32) -> f32 {
 // --splat: glyphs whose proxy spans few pixels are ray cast per pixel in compute, not drawn.
 // cs_frames finds each splat glyph's nearest hit per pixel and which glyph made it (one 64-bit
 // atomic max, or a 32-bit one on depth and a second pass for the id: splat64.wgsl,
-// splat32.wgsl), and a full-screen draw (vs_fullscreen + fs_splat*) shades those pixels,
+// splat32.wgsl), and one triangle over their pixels (vs_splat_rect + fs_splat*) shades them,
 // depth-tested against the drawn glyphs.
 
 // A glyph's quad coordinates q~ and depth as functions of the pixel: everything per glyph that
@@ -569,9 +596,10 @@ fn splat_pixels(f: GlyphFrame) -> vec4<i32> {
         let s = corner_signs(k);
         let v = f.centre + mat3x3<f32>(f.t0, f.t1, f.t2) * (f.m_t + s.x * f.x_t + s.y * f.y_t);
         let clip = camera.view_proj * vec4<f32>(v, 1.0);
-        if !(clip.w > 0.0 && clip.z >= 0.0) {
-            // Behind the eye or in front of the near plane: too big to splat.
-            return vec4<i32>(0, 0, 0x7fffffff, 0x7fffffff);
+        // Behind the eye, in front of the near plane or (eye at the glyph) projected near
+        // infinity or NaN: too big to splat.
+        if !(clip.w > 0.0 && clip.z >= 0.0 && all(abs(clip.xy) < vec2<f32>(1.0e4 * clip.w))) {
+            return vec4<i32>(0, 0, 1 << 30u, 1 << 30u);
         }
         let ndc = clip.xy / clip.w;
         let px = vec2<f32>((ndc.x + 1.0) * 0.5 * camera.viewport.x, (1.0 - ndc.y) * 0.5 * camera.viewport.y);

@@ -23,7 +23,7 @@ fn splat_id(i: u32) -> u32 {
 // highest instance).
 @compute @workgroup_size(64)
 fn cs_splat_ids(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= atomicLoad(&splat_count) {
+    if gid.x >= atomicLoad(&splat_info.count) {
         return;
     }
     // The same function on the same glyph: bit for bit the frame cs_frames had.

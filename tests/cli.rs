@@ -319,11 +319,19 @@ fn bench_writes_csv_charts_and_report() {
         "scene,view,method,glyph,depth_correction,path,frame_ms_median,frame_ms_min,frame_ms_max,fragments,vertices,bytes_per_glyph,glyphs_culled,covered_pixels,fragments_per_covered_pixel,coverage_mismatch,id_mismatch,depth_err_rel_p99,normal_err_deg_p99,color_psnr_db,status"
     );
     // 3 methods x 2 glyphs x 2 depth settings x 3 views, Gumhold's other paths (culled,
-    // octagon, triangle and sorted for both glyphs, conservative for ellipsoids) in each view,
-    // and a reference row per glyph and view.
+    // octagon, triangle and sorted for both glyphs, conservative, prepass and splat for
+    // ellipsoids) in each view, and a reference row per glyph and view.
     let rows: Vec<&str> = lines.collect();
-    assert_eq!(rows.len(), 3 * 2 * 2 * 3 + 9 * 3 + 2 * 3);
-    for path in ["culled", "octagon", "triangle", "conservative", "sorted"] {
+    assert_eq!(rows.len(), 3 * 2 * 2 * 3 + 11 * 3 + 2 * 3);
+    for path in [
+        "culled",
+        "octagon",
+        "triangle",
+        "conservative",
+        "sorted",
+        "prepass",
+        "splat",
+    ] {
         assert!(
             rows.iter().any(
                 |r| r.starts_with("grid:3,default,gumhold,ellipsoid,true,") && r.contains(path)

@@ -40,6 +40,11 @@ pub enum Path {
     Conservative,
     /// Default drawn front to back.
     Sorted,
+    /// The compute prepass with culling (ellipsoids).
+    Prepass,
+    /// Splats up to [`crate::render::DEFAULT_SPLAT`] pixels across, with culling (ellipsoids):
+    /// `render`'s default.
+    Splat,
 }
 
 impl std::fmt::Display for Path {
@@ -51,6 +56,8 @@ impl std::fmt::Display for Path {
             Path::Triangle => "triangle",
             Path::Conservative => "conservative",
             Path::Sorted => "sorted",
+            Path::Prepass => "prepass",
+            Path::Splat => "splat",
         })
     }
 }
@@ -68,6 +75,16 @@ impl Config {
         match self.path {
             Path::Default | Path::Sorted => req,
             Path::Culled => FrameRequest { cull: true, ..req },
+            Path::Prepass => FrameRequest {
+                cull: true,
+                prepass: true,
+                ..req
+            },
+            Path::Splat => FrameRequest {
+                cull: true,
+                splat: crate::render::DEFAULT_SPLAT,
+                ..req
+            },
             Path::Octagon | Path::Triangle => FrameRequest {
                 proxy: crate::render::Proxy {
                     shape: if self.path == Path::Octagon {
@@ -250,7 +267,7 @@ pub fn run(
                 if method == Method::Gumhold {
                     let mut paths = vec![Path::Culled, Path::Octagon, Path::Triangle, Path::Sorted];
                     if glyph == GlyphKind::Ellipsoid {
-                        paths.push(Path::Conservative);
+                        paths.extend([Path::Conservative, Path::Prepass, Path::Splat]);
                     }
                     v.extend(paths.into_iter().map(|path| Config {
                         method,
@@ -388,7 +405,9 @@ fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(
     let n = scene.instances.len();
     let per_glyph: Box<dyn Fn(usize) -> (f64, f64) + Sync> = match cfg.method {
         // The model is of the quad.
-        Method::Gumhold if matches!(cfg.path, Path::Octagon | Path::Triangle) => return None,
+        Method::Gumhold if matches!(cfg.path, Path::Octagon | Path::Triangle | Path::Splat) => {
+            return None;
+        }
         Method::Gumhold => Box::new(|i| {
             let p = proxy_shape(scene, camera, i, cfg.glyph);
             (

@@ -188,7 +188,15 @@ pub fn findings(rows: &[Row]) -> String {
                     base.frame_ms_median,
                     per(base)
                 );
-                for path in ["culled", "octagon", "triangle", "conservative", "sorted"] {
+                for path in [
+                    "culled",
+                    "octagon",
+                    "triangle",
+                    "conservative",
+                    "sorted",
+                    "prepass",
+                    "splat",
+                ] {
                     if let Some(r) = path_row(path) {
                         let _ = write!(
                             out,

@@ -330,5 +330,9 @@ mod tests {
             wgsl_size(&gumhold, "GlyphFrame") as usize,
             crate::render::prepass::FRAME_SIZE
         );
+        assert_eq!(
+            u64::from(wgsl_size(&gumhold, "SplatInfo")),
+            crate::render::prepass::SPLAT_INFO_SIZE
+        );
     }
 }

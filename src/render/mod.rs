@@ -20,3 +20,4 @@ pub use context::GpuContext;
 pub use headless::{Frame, FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
 pub use method::{GlyphKind, Method};
 pub use pipeline::{Proxy, ProxyShape};
+pub use prepass::DEFAULT_SPLAT;

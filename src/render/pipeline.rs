@@ -403,7 +403,7 @@ impl StripRenderer {
                 wgpu::PrimitiveTopology::TriangleList,
                 variant,
                 &PipelineInput {
-                    vertex_entry: Some("vs_fullscreen"),
+                    vertex_entry: Some("vs_splat_rect"),
                     fragment_entry: Some(if variant.aux {
                         "fs_splat_aux"
                     } else {

@@ -17,12 +17,18 @@ use std::sync::Mutex;
 
 use crate::render::context::GpuContext;
 
+/// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
+/// to 32 px across measured fastest in every view (README, "Doing less work").
+pub const DEFAULT_SPLAT: u32 = 32;
+
 /// Bytes of one `GlyphFrame` (shaders/gumhold_ellipsoid.wgsl).
 pub const FRAME_SIZE: usize = 176;
 /// Glyphs per slice: each frame buffer holds this many (46 MB).
 pub const SLICE_GLYPHS: u32 = 1 << 18;
 /// `@workgroup_size` of the compute entry points.
 const WORKGROUP: u32 = 64;
+/// Bytes of `SplatInfo` (shaders/gumhold_ellipsoid.wgsl).
+pub const SPLAT_INFO_SIZE: u64 = 36;
 /// Bytes of the `Slice` uniform.
 const SLICE_UNIFORM_SIZE: u64 = 16;
 
@@ -111,7 +117,10 @@ impl PrepassLayouts {
         });
         let resolve_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("splat resolve"),
-            entries: &[entry(8, wgpu::ShaderStages::FRAGMENT, ro)],
+            entries: &[
+                entry(8, wgpu::ShaderStages::FRAGMENT, ro),
+                entry(9, wgpu::ShaderStages::VERTEX, ro),
+            ],
         });
         let layout = |label, group: &wgpu::BindGroupLayout| {
             device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -166,7 +175,8 @@ pub struct PrepassBuffers {
     int64_atomics: bool,
     layouts: PrepassLayouts,
     args: wgpu::Buffer,
-    splat_count: wgpu::Buffer,
+    /// `SplatInfo`: the splat count, the full-screen draw's arguments, the splats' rectangle.
+    splat_info: wgpu::Buffer,
     frames: wgpu::Buffer,
     splat_list: wgpu::Buffer,
     pub slices: Vec<Slice>,
@@ -201,7 +211,11 @@ impl PrepassBuffers {
             16,
             counter | wgpu::BufferUsages::INDIRECT,
         );
-        let splat_count = buffer("splat count", 16, counter);
+        let splat_info = buffer(
+            "splat info",
+            SPLAT_INFO_SIZE,
+            counter | wgpu::BufferUsages::INDIRECT,
+        );
         let mut slices = Vec::new();
         for (chunk, &count) in chunk_counts.iter().enumerate() {
             let mut first = 0;
@@ -225,7 +239,7 @@ impl PrepassBuffers {
             int64_atomics: ctx.int64_atomics,
             layouts: layouts.clone(),
             args,
-            splat_count,
+            splat_info,
             frames,
             splat_list,
             slices,
@@ -276,7 +290,7 @@ impl PrepassBuffers {
                             bind(1, &self.frames),
                             bind(2, &self.args),
                             bind(3, &self.splat_list),
-                            bind(4, &self.splat_count),
+                            bind(4, &self.splat_info),
                             bind(5, &depth_keys),
                             bind(6, &splat_ids),
                         ],
@@ -286,14 +300,17 @@ impl PrepassBuffers {
             let resolve_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("splat resolve"),
                 layout: &self.layouts.resolve_group,
-                entries: &[bind(
-                    8,
-                    if self.int64_atomics {
-                        &depth_keys
-                    } else {
-                        &splat_ids
-                    },
-                )],
+                entries: &[
+                    bind(
+                        8,
+                        if self.int64_atomics {
+                            &depth_keys
+                        } else {
+                            &splat_ids
+                        },
+                    ),
+                    bind(9, &self.splat_info),
+                ],
             });
             *pixels = Some(PixelBuffers {
                 size,
@@ -322,7 +339,7 @@ impl PrepassBuffers {
         let pixels = pixels.as_ref().expect("made above");
         encoder.clear_buffer(&self.args, 0, None);
         if splats {
-            encoder.clear_buffer(&self.splat_count, 0, None);
+            encoder.clear_buffer(&self.splat_info, 0, None);
             encoder.clear_buffer(&pixels.depth_keys, 0, None);
             if !self.int64_atomics {
                 encoder.clear_buffer(&pixels.splat_ids, 0, None);
@@ -362,7 +379,7 @@ impl PrepassBuffers {
             let pixels = pixels.as_ref().expect("record_compute made them");
             pass.set_pipeline(&pipelines.resolve);
             pass.set_bind_group(1, &pixels.resolve_group, &[]);
-            pass.draw(0..3, 0..1);
+            pass.draw_indirect(&self.splat_info, 4);
         }
     }
 }

@@ -233,7 +233,7 @@ pub fn eye_approach(quick: bool) -> Vec<Probe> {
     let geo = scene.geometry(0);
     // Eye along a fixed parameter-space direction: ẽ = E ŵ, e = c + T ẽ.
     let w = DVec3::new(-0.4, 0.8, 0.45).normalize();
-    sweep(quick, &full, &[2.0, 1.0 + 1e-6, 0.5])
+    sweep(quick, &full, &[2.0, 1.01, 1.0 + 1e-6, 0.5])
         .into_iter()
         .map(|e| {
             let eye = scene.origin + geo.centre + geo.t() * (w * e);

@@ -114,8 +114,12 @@ pub fn within(v: f64, bound: f64) -> bool {
 
 /// The exact impostors (held to the reference) versus the tessellated baselines.
 pub fn is_exact(method: &str) -> bool {
-    method == "gumhold" || method == "sigg"
+    method == "gumhold" || method == SPLAT_LABEL || method == "sigg"
 }
+
+/// Rows of Gumhold ellipsoids drawn as `render` draws them by default: splats up to
+/// [`crate::render::DEFAULT_SPLAT`] px from the compute prepass, culled.
+pub const SPLAT_LABEL: &str = "gumhold+splat";
 
 /// Options of a run.
 #[derive(Debug, Clone)]
@@ -182,8 +186,20 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
             ..FrameRequest::default()
         };
         let reference = ReferenceScene::new(&probe.scene, &probe.camera, glyph).render(&req);
+        let mut variants: Vec<(String, FrameRequest)> = Vec::new();
         for &method in &opts.methods {
-            let req = FrameRequest { method, ..req };
+            variants.push((method.to_string(), FrameRequest { method, ..req }));
+            if method == Method::Gumhold && glyph == GlyphKind::Ellipsoid {
+                let splat = FrameRequest {
+                    method,
+                    cull: true,
+                    splat: crate::render::DEFAULT_SPLAT,
+                    ..req
+                };
+                variants.push((SPLAT_LABEL.to_string(), splat));
+            }
+        }
+        for (label, req) in variants {
             let mut m = BTreeMap::new();
             let (status, reason) = match gpu.render(&probe.scene, &probe.camera, &req) {
                 Err(e) => (Status::Fail, format!("render error: {e}")),
@@ -197,7 +213,7 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
                 parameter: probe.parameter,
                 value: probe.value,
                 label: probe.label.clone(),
-                method: method.to_string(),
+                method: label,
                 glyph: glyph.to_string(),
                 depth_correction: probe.depth_correction,
                 status,

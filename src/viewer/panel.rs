@@ -203,9 +203,21 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
             .on_hover_text(
                 "proxy on the glyph's nearest plane (lets a GPU reject hidden fragments early)",
             );
+        if settings.glyph == GlyphKind::Ellipsoid {
+            ui.checkbox(&mut settings.prepass, "compute prepass")
+                .on_hover_text("build each glyph's proxy once in compute; always on with splats");
+            ui.horizontal(|ui| {
+                ui.label("splats up to");
+                ui.add(egui::Slider::new(&mut settings.splat, 0..=128).suffix(" px"))
+                    .on_hover_text(
+                        "glyphs at most this many pixels across are ray cast per pixel in \
+                         compute instead of drawn (0: off)",
+                    );
+            });
+        }
     }
     ui.checkbox(&mut settings.cull, "frustum culling")
-        .on_hover_text("skip glyphs outside the view in the vertex stage");
+        .on_hover_text("skip glyphs outside the view");
     ui.horizontal(|ui| {
         ui.label("background");
         ui.color_edit_button_rgb(&mut settings.background);

@@ -20,10 +20,13 @@ pub struct Settings {
     pub selection: Selection,
     /// Linear RGB in [0, 1], as `render --background` takes it.
     pub background: [f32; 3],
-    /// `render --proxy`, `--conservative-depth` and `--cull`.
+    /// `render --proxy`, `--conservative-depth`, culling (`--no-cull`), `--prepass` and
+    /// `--splat` (0: off), with `render`'s defaults.
     pub proxy: ProxyShape,
     pub conservative_depth: bool,
     pub cull: bool,
+    pub prepass: bool,
+    pub splat: u32,
 }
 
 impl Default for Settings {
@@ -37,7 +40,9 @@ impl Default for Settings {
             background: [1.0, 1.0, 1.0],
             proxy: ProxyShape::Quad,
             conservative_depth: false,
-            cull: false,
+            cull: true,
+            prepass: false,
+            splat: crate::render::DEFAULT_SPLAT,
         }
     }
 }
@@ -85,6 +90,8 @@ impl Settings {
                 early_depth: false,
             },
             cull: self.cull,
+            prepass: self.prepass,
+            splat: self.splat,
             ..FrameRequest::default()
         }
     }
@@ -171,12 +178,20 @@ mod tests {
         assert_ne!(s.request(), t.request());
         let mut p = s.clone();
         p.proxy = ProxyShape::Octagon;
-        p.cull = true;
+        p.cull = false;
         p.conservative_depth = true;
+        p.splat = 0;
+        p.prepass = true;
         assert_eq!(s.build_key(1), p.build_key(1), "proxy options only redraw");
         let req = p.request();
         assert_eq!(req.proxy.shape, ProxyShape::Octagon);
-        assert!(req.cull && req.proxy.conservative && !req.proxy.early_depth);
+        assert!(!req.cull && req.proxy.conservative && !req.proxy.early_depth);
+        assert!(req.prepass && req.splat == 0);
+        let d = s.request();
+        assert!(
+            d.cull && d.splat == crate::render::DEFAULT_SPLAT,
+            "render's defaults"
+        );
         t.selection.stride = 2;
         assert_ne!(s.build_key(1), t.build_key(1));
         let mut r = s.clone();
