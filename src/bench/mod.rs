@@ -80,11 +80,7 @@ impl Config {
                 prepass: true,
                 ..req
             },
-            Path::Splat => FrameRequest {
-                cull: true,
-                splat: crate::render::DEFAULT_SPLAT,
-                ..req
-            },
+            Path::Splat => req.with_render_path(),
             Path::Octagon | Path::Triangle => FrameRequest {
                 proxy: crate::render::Proxy {
                     shape: if self.path == Path::Octagon {

@@ -89,12 +89,14 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
                 w,
                 h,
             );
+            // As `render` draws it by default.
             let req = FrameRequest {
                 method,
                 glyph,
                 frames: 1,
                 ..FrameRequest::default()
-            };
+            }
+            .with_render_path();
             let result = render_gpu(
                 gpu,
                 &staged.scene,

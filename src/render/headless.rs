@@ -51,6 +51,17 @@ pub struct FrameRequest {
 }
 
 impl FrameRequest {
+    /// `render`'s default way of drawing (issue 7): culled, with splats up to
+    /// [`crate::render::DEFAULT_SPLAT`] px from the compute prepass. [`FrameRequest::default`]
+    /// is the path before it (a quad drawn for every glyph), which `render --baseline` runs.
+    pub fn with_render_path(self) -> Self {
+        Self {
+            cull: true,
+            splat: crate::render::DEFAULT_SPLAT,
+            ..self
+        }
+    }
+
     /// Whether frames come from the compute prepass.
     pub fn uses_prepass(&self) -> bool {
         self.prepass || self.splat > 0

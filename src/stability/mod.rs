@@ -190,12 +190,7 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         for &method in &opts.methods {
             variants.push((method.to_string(), FrameRequest { method, ..req }));
             if method == Method::Gumhold && glyph == GlyphKind::Ellipsoid {
-                let splat = FrameRequest {
-                    method,
-                    cull: true,
-                    splat: crate::render::DEFAULT_SPLAT,
-                    ..req
-                };
+                let splat = FrameRequest { method, ..req }.with_render_path();
                 variants.push((SPLAT_LABEL.to_string(), splat));
             }
         }
