@@ -8,8 +8,6 @@ use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::field::synthetic::grid;
 use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
 use tensorglyph::load::field_spacing;
-use tensorglyph::metrics::compare;
-use tensorglyph::reference::ReferenceScene;
 use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method, Proxy, ProxyShape};
 use tensorglyph::scene::Scene;
 
@@ -225,14 +223,8 @@ fn other_proxies_and_conservative_depth_match_the_reference() {
                     ..FrameRequest::default()
                 };
                 let frame = gpu.render(&scene, &cam, &req).unwrap();
-                let reference = ReferenceScene::new(&scene, &cam, glyph).render(&req);
-                let a = compare(&frame, &reference, &scene);
-                eprintln!("{glyph} ortho {ortho} zoom {zoom} {proxy:?}: {a:?}");
-                assert!(reference.covered_pixels() > 5_000);
-                assert!(a.coverage_mismatch <= 5e-4, "{a:?}");
-                assert!(a.id_mismatch <= 2e-3, "{a:?}");
-                assert!(a.depth_err_rel_p99 <= 1e-4, "{a:?}");
-                assert!(a.normal_err_deg_p99 <= 0.5, "{a:?}");
+                let label = format!("{glyph} ortho {ortho} zoom {zoom} {proxy:?}");
+                common::assert_scene_bounds(&label, &frame, &scene, &cam, &req);
             }
         }
     }

@@ -47,6 +47,19 @@ pub enum Path {
     Splat,
 }
 
+impl Path {
+    /// Every path but the default, in the order reports list them.
+    pub const OPTIONS: [Path; 7] = [
+        Path::Culled,
+        Path::Octagon,
+        Path::Triangle,
+        Path::Conservative,
+        Path::Sorted,
+        Path::Prepass,
+        Path::Splat,
+    ];
+}
+
 impl std::fmt::Display for Path {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {

@@ -188,16 +188,8 @@ pub fn findings(rows: &[Row]) -> String {
                     base.frame_ms_median,
                     per(base)
                 );
-                for path in [
-                    "culled",
-                    "octagon",
-                    "triangle",
-                    "conservative",
-                    "sorted",
-                    "prepass",
-                    "splat",
-                ] {
-                    if let Some(r) = path_row(path) {
+                for path in super::Path::OPTIONS.map(|p| p.to_string()) {
+                    if let Some(r) = path_row(&path) {
                         let _ = write!(
                             out,
                             " {path} {:.1} ms (speed x{:.2}), {} per covered pixel, {} culled;",

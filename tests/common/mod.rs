@@ -84,6 +84,28 @@ pub fn assert_tight(name: &str, a: &Accuracy) {
     assert!(a.color_psnr_db >= 40.0, "{name}: colour {a:?}");
 }
 
+/// Compare `frame` (rendered with `req`, which asks for aux data) with the reference of the same
+/// scene and camera and hold it to the bounds of a many-glyph scene: the acceptance
+/// bounds for coverage, depth and normals, with ids at 0.2 % (small scenes have proportionally
+/// more glyph-to-glyph edges than grid40).
+pub fn assert_scene_bounds(
+    label: &str,
+    frame: &Frame,
+    scene: &Scene,
+    camera: &Camera,
+    req: &FrameRequest,
+) -> Accuracy {
+    let reference = ReferenceScene::new(scene, camera, req.glyph).render(req);
+    let a = compare(frame, &reference, scene);
+    eprintln!("{label}: {a:?}");
+    assert!(reference.covered_pixels() > 5_000, "{label}: a real image");
+    assert!(a.coverage_mismatch <= 5e-4, "{label}: {a:?}");
+    assert!(a.id_mismatch <= 2e-3, "{label}: {a:?}");
+    assert!(a.depth_err_rel_p99 <= 1e-4, "{label}: {a:?}");
+    assert!(a.normal_err_deg_p99 <= 0.5, "{label}: {a:?}");
+    a
+}
+
 /// A request for `method` and `glyph` with aux data (as [`check_request`] needs).
 pub fn aux_request(method: Method, glyph: GlyphKind, depth_correction: bool) -> FrameRequest {
     FrameRequest {
