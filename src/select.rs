@@ -126,22 +126,22 @@ pub fn lattice_coords(n: usize, dims: [usize; 3]) -> [usize; 3] {
 /// The box `[x0, y0, z0, x1, y1, z1]` around the glyph centres (the ROI that keeps every
 /// glyph; all zero for an empty set).
 pub fn centre_bounds(set: &GlyphSet) -> [f64; 6] {
+    // The identity of the fold: every point extends it.
+    const EMPTY: [f64; 6] = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
     if set.glyphs.is_empty() {
         return [0.0; 6];
     }
     set.glyphs
         .par_iter()
         .fold(
-            || {
-                [
-                    f64::INFINITY,
-                    f64::INFINITY,
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::NEG_INFINITY,
-                ]
-            },
+            || EMPTY,
             |mut b, g| {
                 for a in 0..3 {
                     b[a] = b[a].min(g.centre[a]);
@@ -151,16 +151,7 @@ pub fn centre_bounds(set: &GlyphSet) -> [f64; 6] {
             },
         )
         .reduce(
-            || {
-                [
-                    f64::INFINITY,
-                    f64::INFINITY,
-                    f64::INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::NEG_INFINITY,
-                    f64::NEG_INFINITY,
-                ]
-            },
+            || EMPTY,
             |mut a, b| {
                 for k in 0..3 {
                     a[k] = a[k].min(b[k]);

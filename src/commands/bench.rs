@@ -123,32 +123,38 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
     large
 }
 
-fn large_csv(l: &Large) -> String {
-    let mut out = String::from("stage,ms,peak_rss_bytes_after,status\n");
-    for (k, ((stage, ms), peak)) in l
-        .timings
+/// Each stage of a `--large` run: name, ms, peak RSS after it, and whether it ran (`Some(true)`),
+/// failed (`Some(false)`) or was not reached (`None`).
+fn large_stages(l: &Large) -> Vec<(&'static str, f64, Option<u64>, Option<bool>)> {
+    l.timings
         .stages()
         .into_iter()
         .zip(l.timings.peak_rss_after)
         .enumerate()
-    {
-        let ran = k < l.stages_run;
-        let failed = k == l.stages_run && l.error.is_some();
-        let status = if ran {
-            "ok"
-        } else if failed {
-            "failed"
-        } else {
-            "not run"
+        .map(|(k, ((stage, ms), peak))| {
+            let outcome = if k < l.stages_run {
+                Some(true)
+            } else if k == l.stages_run && l.error.is_some() {
+                Some(false)
+            } else {
+                None
+            };
+            (stage, ms, peak, outcome)
+        })
+        .collect()
+}
+
+fn large_csv(l: &Large) -> String {
+    let mut out = String::from("stage,ms,peak_rss_bytes_after,status\n");
+    for (stage, ms, peak, outcome) in large_stages(l) {
+        let (ms, peak, status) = match outcome {
+            Some(ran) => (
+                format!("{ms:.1}"),
+                peak.map_or(String::new(), |p| p.to_string()),
+                if ran { "ok" } else { "failed" },
+            ),
+            None => (String::new(), String::new(), "not run"),
         };
-        let ms = if ran || failed {
-            format!("{ms:.1}")
-        } else {
-            String::new()
-        };
-        let peak = peak
-            .filter(|_| ran || failed)
-            .map_or(String::new(), |p| p.to_string());
         let _ = writeln!(out, "{stage},{ms},{peak},{status}");
     }
     let _ = writeln!(
@@ -179,14 +185,8 @@ fn large_markdown(l: &Large) -> String {
         l.glyphs
     );
     let _ = writeln!(md, "| stage | ms | peak RSS after (MiB) |\n|---|---:|---:|");
-    for (k, ((stage, ms), peak)) in l
-        .timings
-        .stages()
-        .into_iter()
-        .zip(l.timings.peak_rss_after)
-        .enumerate()
-    {
-        if k < l.stages_run || (k == l.stages_run && l.error.is_some()) {
+    for (stage, ms, peak, outcome) in large_stages(l) {
+        if outcome.is_some() {
             let _ = writeln!(md, "| {stage} | {ms:.0} | {} |", mib(peak));
         } else {
             let _ = writeln!(md, "| {stage} | not run | |");

@@ -52,47 +52,37 @@ impl Variant {
     }
 }
 
+/// A bind group layout entry for a buffer (uniform or storage) without dynamic offsets.
+pub fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// The bind group layout of every glyph shader: @binding(0) camera, @binding(1) glyphs (one
 /// chunk), @binding(2) the chunk's base instance and culling parameters. Compute stages see it
 /// too (the `--prepass` reads the glyphs there).
 pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
+    let all = wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
+    let uniform = wgpu::BufferBindingType::Uniform;
     ctx.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("glyphs"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
-                        .union(wgpu::ShaderStages::COMPUTE),
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
-                        .union(wgpu::ShaderStages::COMPUTE),
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: true },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 2,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT
-                        .union(wgpu::ShaderStages::COMPUTE),
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
+                buffer_entry(0, all, uniform),
+                buffer_entry(1, all, wgpu::BufferBindingType::Storage { read_only: true }),
+                buffer_entry(2, all, uniform),
             ],
         })
 }

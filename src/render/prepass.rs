@@ -16,6 +16,7 @@
 use std::sync::Mutex;
 
 use crate::render::context::GpuContext;
+use crate::render::pipeline::buffer_entry;
 
 /// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
 /// to 32 px across measured fastest in every view (README, "Doing less work").
@@ -89,16 +90,6 @@ pub struct PrepassLayouts {
 
 impl PrepassLayouts {
     pub fn new(ctx: &GpuContext, glyphs: &wgpu::BindGroupLayout) -> Self {
-        let entry = |binding, visibility, ty| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Buffer {
-                ty,
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
         let compute = wgpu::ShaderStages::COMPUTE;
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
         let ro = wgpu::BufferBindingType::Storage { read_only: true };
@@ -106,20 +97,20 @@ impl PrepassLayouts {
         let compute_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("prepass compute"),
             entries: &[
-                entry(0, compute, wgpu::BufferBindingType::Uniform),
-                entry(1, compute, rw),
-                entry(2, compute, rw),
-                entry(3, compute, rw),
-                entry(4, compute, rw),
-                entry(5, compute, rw),
-                entry(6, compute, rw),
+                buffer_entry(0, compute, wgpu::BufferBindingType::Uniform),
+                buffer_entry(1, compute, rw),
+                buffer_entry(2, compute, rw),
+                buffer_entry(3, compute, rw),
+                buffer_entry(4, compute, rw),
+                buffer_entry(5, compute, rw),
+                buffer_entry(6, compute, rw),
             ],
         });
         let resolve_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("splat resolve"),
             entries: &[
-                entry(8, wgpu::ShaderStages::FRAGMENT, ro),
-                entry(9, wgpu::ShaderStages::VERTEX, ro),
+                buffer_entry(8, wgpu::ShaderStages::FRAGMENT, ro),
+                buffer_entry(9, wgpu::ShaderStages::VERTEX, ro),
             ],
         });
         let layout = |label, group: &wgpu::BindGroupLayout| {
