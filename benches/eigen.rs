@@ -13,7 +13,12 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("grid40");
     g.throughput(Throughput::Elements(n));
     g.bench_function("derive_glyphs (parallel)", |b| {
-        b.iter(|| black_box(derive_glyphs(black_box(&field), None)))
+        b.iter(|| {
+            black_box(derive_glyphs(
+                black_box(&field),
+                &tensorglyph::progress::Silent,
+            ))
+        })
     });
     g.bench_function("symmetric_eigen Jacobi (1 thread)", |b| {
         b.iter(|| {

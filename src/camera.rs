@@ -38,24 +38,28 @@ pub struct Ray {
 }
 
 /// The axis-aligned view presets, named like ParaView's "set view direction" buttons.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ViewPreset {
     /// Looking at the field from the (+x, −y, +z) octant, +z up.
     #[default]
     Iso,
-    #[value(name = "+x")]
     PosX,
-    #[value(name = "-x")]
     NegX,
-    #[value(name = "+y")]
     PosY,
-    #[value(name = "-y")]
     NegY,
-    #[value(name = "+z")]
     PosZ,
-    #[value(name = "-z")]
     NegZ,
 }
+
+crate::names::named_values!(ViewPreset {
+    Iso => "iso",
+    PosX => "+x",
+    NegX => "-x",
+    PosY => "+y",
+    NegY => "-y",
+    PosZ => "+z",
+    NegZ => "-z",
+});
 
 impl ViewPreset {
     /// (view direction, up), both unit: the camera looks along the direction.

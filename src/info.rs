@@ -280,7 +280,7 @@ mod tests {
     #[test]
     fn report_keys_and_samples() {
         let f = synthetic::grid(6);
-        let set = derive_glyphs(&f, None);
+        let set = derive_glyphs(&f, &crate::progress::Silent);
         let r = info_report(&f, &set, &[0, 7]).unwrap();
         let v = serde_json::to_value(&r).unwrap();
         let keys: Vec<&str> = v.as_object().unwrap().keys().map(|k| k.as_str()).collect();
@@ -342,7 +342,7 @@ mod tests {
     #[test]
     fn out_of_range_sample() {
         let f = synthetic::grid(2);
-        let set = derive_glyphs(&f, None);
+        let set = derive_glyphs(&f, &crate::progress::Silent);
         let e = info_report(&f, &set, &[8]).unwrap_err();
         assert!(e.contains("8") && e.contains("0..=7"), "{e}");
     }

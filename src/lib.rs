@@ -1,28 +1,84 @@
 //! tensorglyph: ray-cast glyphs for 3D symmetric tensor fields.
 //!
 //! Data flows one way:
-//! file → [`field::TensorField`] → [`glyph::GlyphSet`] → [`render::gpu_data::GpuGlyph`] instances → image.
-//! The exact f64 CPU ray caster in [`reference`] renders the very same instances and is the
-//! accuracy truth for every GPU method.
+//!
+//! ```text
+//! file ─read─▶ TensorField ─eigen─▶ GlyphSet ─select, style─▶ Scene ─▶ Backend ─▶ Frame
+//!  (field)       (field)              (glyph)   (staging)     (scene)   GPU renderer (render)
+//!                                                                       or exact reference
+//! ```
+//!
+//! [`staging`] runs the first stages for every front end; a [`Backend`] renders a [`Scene`] seen
+//! by a [`Camera`] as a [`FrameRequest`] asks (a method with the options it takes, see
+//! [`MethodConfig`]); [`compare`] measures a GPU [`Frame`] against the exact f64 reference of the
+//! very same instances. The crate root re-exports what a program needs for that; the modules
+//! hold the rest.
+//!
+//! ```no_run
+//! use tensorglyph::{Backend, Camera, Demo, FrameRequest, Framing, GlyphKind, Method, Preset,
+//!                   Recipe, Silent, Source, stage};
+//! let staged = stage(&Source::Demo(Demo { n: 40 }), &Recipe::default(), &Silent)?;
+//! let camera = Camera::frame(&Framing::default(), staged.frame_centre, staged.frame_radius, 800, 600);
+//! let (backend, _fell_back) = Backend::for_method(Method::Gumhold)?;
+//! let req = FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT);
+//! let frame = backend.render(&staged.scene, &camera, &req, &mut Default::default(), &Silent)?;
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
-pub mod bench;
+// Below everything: shared vocabulary.
 pub mod camera;
 pub mod error;
+pub mod frame;
+mod names;
+pub mod progress;
+pub mod request;
+
+// The flow: file → field → glyphs → scene.
 pub mod field;
 pub mod glyph;
-pub mod image_out;
-pub mod info;
-pub mod load;
-pub mod mem;
+pub mod scene;
+pub mod select;
+pub mod staging;
+pub mod tensor;
+
+// Back ends and what judges them.
+pub mod backend;
 pub mod metrics;
 pub mod reference;
 pub mod render;
-pub mod scene;
-pub mod select;
+pub mod twin;
+
+// What the front ends share.
+pub mod image_out;
+pub mod info;
+pub mod mem;
+
+// Front ends in the library (the binary adds arguments and output formatting).
+pub mod bench;
 pub mod stability;
-pub mod tensor;
-#[cfg(test)]
-pub(crate) mod test_vectors;
 pub mod viewer;
 
+#[cfg(test)]
+pub(crate) mod test_vectors;
+
+pub use backend::Backend;
+pub use camera::{Camera, Framing, ViewPreset};
 pub use error::{LoadError, RenderError};
+pub use field::vtk::{ReadOptions, read_field};
+pub use field::{ComponentOrder, TensorField};
+pub use frame::{Frame, Lighting};
+pub use glyph::{ColorScheme, GlyphSet, GlyphStyle, Normalize, Scale};
+pub use image_out::write_png_atomic;
+pub use metrics::{Accuracy, compare, diff_image};
+pub use progress::{Progress, Silent};
+pub use reference::ReferenceScene;
+pub use render::{GpuContext, GpuRenderer};
+pub use request::{
+    DrawOptions, FrameRequest, GlyphKind, Method, MethodConfig, Preset, Proxy, ProxyShape,
+};
+pub use scene::Scene;
+pub use select::{Plane, Selection, Slicing};
+pub use staging::{
+    Built, Demo, Recipe, Source, StageError, Staged, Timings, build, decompose, field_spacing,
+    read, stage,
+};

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use crate::render::headless::Frame;
+use crate::frame::Frame;
 use crate::scene::Scene;
 
 /// The accuracy report of `--reference-check`.

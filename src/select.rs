@@ -377,7 +377,7 @@ mod tests {
 
     fn demo(n: usize) -> (TensorField, GlyphSet) {
         let f = grid(n);
-        let s = derive_glyphs(&f, None);
+        let s = derive_glyphs(&f, &crate::progress::Silent);
         (f, s)
     }
 

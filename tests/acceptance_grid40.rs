@@ -6,33 +6,36 @@ mod common;
 use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::field::synthetic::grid40;
 use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
-use tensorglyph::load::field_spacing;
 use tensorglyph::metrics::compare;
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::render::{FrameRequest, GlyphKind, Method};
+use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset};
 use tensorglyph::scene::Scene;
+use tensorglyph::staging::field_spacing;
 
 #[test]
 fn grid40_gumhold_meets_the_published_bounds() {
     let Some(gpu) = common::gpu() else { return };
     let field = grid40();
-    let set = derive_glyphs(&field, None);
+    let set = derive_glyphs(&field, &tensorglyph::progress::Silent);
     let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
     let scene = Scene::build(&set, &style, GlyphKind::Ellipsoid);
     let camera = Camera::frame(&Framing::default(), scene.centre, scene.radius, 1024, 768);
     let baseline = FrameRequest {
-        method: Method::Gumhold,
         aux: true,
-        ..FrameRequest::default()
+        ..FrameRequest::new(Method::Gumhold, GlyphKind::Ellipsoid)
+    };
+    let render_default = FrameRequest {
+        aux: true,
+        ..FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT)
     };
     let reference = ReferenceScene::new(&scene, &camera, GlyphKind::Ellipsoid).render(&baseline);
     // Most of the 64,000 glyphs are visible pixels, not a blank frame.
     assert!(reference.covered_pixels() > 200_000);
     // `render`'s default (splats from the compute prepass) and `--baseline` (a quad per glyph).
-    for req in [baseline.with_render_path(), baseline] {
+    for req in [render_default, baseline] {
         let frame = gpu.render(&scene, &camera, &req).unwrap();
         let a = compare(&frame, &reference, &scene);
-        eprintln!("splat {}: {a:?}", req.splat);
+        eprintln!("splat {}: {a:?}", req.splat_pixels());
         // The acceptance bounds. Coverage and identity flip only on pixel centres
         // within f32 rounding of a silhouette or an intersection curve; depth (relative to the
         // glyph's largest radius) and normals are limited at the rims by the f32 interpolation

@@ -6,14 +6,15 @@ mod common;
 
 use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::field::synthetic::grid;
+use tensorglyph::frame::Frame;
 use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
-use tensorglyph::load::field_spacing;
-use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method, Proxy, ProxyShape};
+use tensorglyph::request::{DrawOptions, FrameRequest, GlyphKind, Method, Proxy, ProxyShape};
 use tensorglyph::scene::Scene;
+use tensorglyph::staging::field_spacing;
 
 fn grid_scene(n: usize, glyph: GlyphKind) -> Scene {
     let field = grid(n);
-    let set = derive_glyphs(&field, None);
+    let set = derive_glyphs(&field, &tensorglyph::progress::Silent);
     let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
     Scene::build(&set, &style, glyph)
 }
@@ -48,10 +49,7 @@ fn chunked_upload_draws_the_same_image() {
     let scene = grid_scene(10, GlyphKind::Ellipsoid);
     let cam = camera(&scene, 1.0, 320, 240);
     for method in [Method::Gumhold, Method::Sigg, Method::Mesh(0)] {
-        let req = FrameRequest {
-            method,
-            ..FrameRequest::default()
-        };
+        let req = FrameRequest::new(method, GlyphKind::Ellipsoid);
         let whole = gpu.render(&scene, &cam, &req).unwrap();
         // 1000 glyphs in chunks of 137: 8 buffers, the last one partly full.
         let buffers = gpu.upload_chunked(&scene, 137).unwrap();
@@ -76,10 +74,8 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
     ] {
         let scene = grid_scene(12, glyph);
         let req = FrameRequest {
-            method,
-            glyph,
             cull: true,
-            ..FrameRequest::default()
+            ..FrameRequest::new(method, glyph)
         };
         let culled = gpu.render(&scene, &cam, &req).unwrap();
         let all = gpu
@@ -212,15 +208,15 @@ fn other_proxies_and_conservative_depth_match_the_reference() {
                 Proxy {
                     shape: ProxyShape::Octagon,
                     conservative: true,
-                    early_depth: gpu.ctx.early_depth_test && scene.conservative_depth_holds(&cam),
+                    early_depth: true,
                 },
             ] {
-                let req = FrameRequest {
-                    method: Method::Gumhold,
-                    glyph,
-                    aux: true,
-                    proxy,
-                    ..FrameRequest::default()
+                let req = common::proxy_request(glyph, proxy);
+                // Early depth is declared where the adapter and the scene allow it.
+                let req = if proxy.early_depth {
+                    gpu.with_early_depth(req, &scene, &cam)
+                } else {
+                    req
                 };
                 let frame = gpu.render(&scene, &cam, &req).unwrap();
                 let label = format!("{glyph} ortho {ortho} zoom {zoom} {proxy:?}");
@@ -236,13 +232,11 @@ fn octagon_shades_fewer_fragments_for_a_large_glyph() {
     let scene = common::scenes::sphere();
     let cam = Camera::frame(&Framing::default(), scene.centre, scene.radius, 512, 384);
     let count = |shape| {
-        let req = FrameRequest {
-            proxy: Proxy {
-                shape,
-                ..Proxy::BASELINE
-            },
-            ..FrameRequest::default()
+        let opts = DrawOptions {
+            proxy: shape,
+            ..common::baseline()
         };
+        let req = FrameRequest::with_options(Method::Gumhold, GlyphKind::Ellipsoid, true, &opts);
         let f = gpu.render(&scene, &cam, &req).unwrap();
         (f.fragments, f.covered_pixels())
     };
@@ -270,16 +264,11 @@ fn every_proxy_shape_covers_the_view_from_near_a_cylinder_cap() {
     // of the same polygon as the glyph proxies.
     let (scene, cam) = common::scenes::near_a_cap();
     for shape in [ProxyShape::Quad, ProxyShape::Octagon, ProxyShape::Triangle] {
-        let req = FrameRequest {
-            method: Method::Gumhold,
-            glyph: GlyphKind::Cylinder,
-            aux: true,
-            proxy: Proxy {
-                shape,
-                ..Proxy::BASELINE
-            },
-            ..FrameRequest::default()
+        let proxy = Proxy {
+            shape,
+            ..Proxy::BASELINE
         };
+        let req = common::proxy_request(GlyphKind::Cylinder, proxy);
         let Some((_, acc)) =
             common::check_request(&format!("near cap {shape:?}"), &scene, &cam, &req)
         else {

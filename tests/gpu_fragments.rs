@@ -7,9 +7,9 @@ mod common;
 
 use common::scenes;
 use tensorglyph::camera::Framing;
-use tensorglyph::render::gumhold_math::{proxy_shape, tile_invocations};
-use tensorglyph::render::{FrameRequest, GlyphKind, Method};
+use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::Scene;
+use tensorglyph::twin::gumhold_ellipsoid::{proxy_shape, tile_invocations};
 
 fn predicted(scene: &Scene, cam: &tensorglyph::camera::Camera, glyph: GlyphKind) -> (f64, f64) {
     let (w, h) = (cam.width, cam.height);
@@ -34,11 +34,7 @@ fn gumhold_fragments_match_the_quads() {
     ] {
         let mut cam = scenes::framed(&scene, Framing::default());
         (cam.width, cam.height) = (512, 384);
-        let req = FrameRequest {
-            method: Method::Gumhold,
-            glyph,
-            ..FrameRequest::default()
-        };
+        let req = FrameRequest::new(Method::Gumhold, glyph);
         let frame = gpu.render(&scene, &cam, &req).unwrap();
         let Some(measured) = frame.fragments else {
             assert!(

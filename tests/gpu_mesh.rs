@@ -7,10 +7,12 @@ mod common;
 use common::scenes::{self, framed};
 use glam::DVec3;
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
+use tensorglyph::frame::Frame;
 use tensorglyph::metrics::{Accuracy, compare};
 use tensorglyph::reference::ReferenceScene;
+use tensorglyph::render::GpuRenderer;
 use tensorglyph::render::mesh::mesh_stats;
-use tensorglyph::render::{Frame, FrameRequest, GlyphKind, GpuRenderer, Method};
+use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::{GlyphSpec, Scene};
 
 /// A glyph centred where [`scenes::cigar`] is.
@@ -56,13 +58,7 @@ fn check_view(
     glyph: GlyphKind,
     depth_correction: bool,
 ) -> (Accuracy, Frame, Frame) {
-    let req = FrameRequest {
-        method,
-        glyph,
-        depth_correction,
-        aux: true,
-        ..FrameRequest::default()
-    };
+    let req = common::aux_request(method, glyph, depth_correction);
     let frame = gpu.render(scene, cam, &req).expect("GPU frame");
     let reference = ReferenceScene::new(scene, cam, glyph).render(&req);
     let acc = compare(&frame, &reference, scene);
@@ -283,11 +279,7 @@ fn eye_inside_a_glyph_draws_nothing() {
     cam.near = 1e-3;
     for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
         for method in [Method::Mesh(2), Method::Box] {
-            let req = FrameRequest {
-                method,
-                glyph,
-                ..FrameRequest::default()
-            };
+            let req = FrameRequest::new(method, glyph);
             let frame = gpu.render(&scene, &cam, &req).expect("GPU frame");
             assert_eq!(frame.covered_pixels(), 0, "{method} {glyph}");
         }

@@ -6,16 +6,18 @@ mod common;
 
 use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::field::synthetic::grid;
+use tensorglyph::frame::Frame;
 use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
-use tensorglyph::load::field_spacing;
-use tensorglyph::render::{
-    Frame, FrameRequest, GlyphKind, GpuContext, GpuRenderer, Method, Proxy, ProxyShape,
+use tensorglyph::render::{GpuContext, GpuRenderer};
+use tensorglyph::request::{
+    DrawOptions, FrameRequest, GlyphKind, Method, Preset, Proxy, ProxyShape,
 };
 use tensorglyph::scene::Scene;
+use tensorglyph::staging::field_spacing;
 
 fn grid_scene(n: usize) -> Scene {
     let field = grid(n);
-    let set = derive_glyphs(&field, None);
+    let set = derive_glyphs(&field, &tensorglyph::progress::Silent);
     let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
     Scene::build(&set, &style, GlyphKind::Ellipsoid)
 }
@@ -30,13 +32,33 @@ fn camera(scene: &Scene, zoom: f64, ortho: bool) -> Camera {
 }
 
 fn request(prepass: bool, splat: u32) -> FrameRequest {
-    FrameRequest {
-        method: Method::Gumhold,
-        glyph: GlyphKind::Ellipsoid,
-        aux: true,
+    request_with(Proxy::BASELINE, false, prepass, splat, true)
+}
+
+/// Gumhold ellipsoids with the aux target and these options.
+fn request_with(
+    proxy: Proxy,
+    cull: bool,
+    prepass: bool,
+    splat: u32,
+    depth_correction: bool,
+) -> FrameRequest {
+    let opts = DrawOptions {
+        proxy: proxy.shape,
+        conservative: proxy.conservative,
         prepass,
         splat,
-        ..FrameRequest::default()
+        cull,
+        ..Preset::Baseline.options()
+    };
+    FrameRequest {
+        aux: true,
+        ..FrameRequest::with_options(
+            Method::Gumhold,
+            GlyphKind::Ellipsoid,
+            depth_correction,
+            &opts,
+        )
     }
 }
 
@@ -78,15 +100,8 @@ fn prepass_draws_the_plain_image() {
                     shape,
                     ..Proxy::BASELINE
                 };
-                let plain = FrameRequest {
-                    proxy,
-                    cull,
-                    ..request(false, 0)
-                };
-                let pre = FrameRequest {
-                    prepass: true,
-                    ..plain
-                };
+                let plain = request_with(proxy, cull, false, 0, true);
+                let pre = request_with(proxy, cull, true, 0, true);
                 let a = gpu.render(&scene, &cam, &plain).unwrap();
                 let b = gpu.render(&scene, &cam, &pre).unwrap();
                 // The same vertices from the same frame math: the same pixels, bit for bit
@@ -163,11 +178,7 @@ fn splats_with_culling_keep_the_image_and_near_glyphs_are_drawn() {
         let cam = camera(&scene, zoom, false);
         let plain = gpu.render(&scene, &cam, &request(false, 0)).unwrap();
         for cull in [false, true] {
-            let req = FrameRequest {
-                cull,
-                min_pixel_radius: 0.0,
-                ..request(false, 32)
-            };
+            let req = request_with(Proxy::BASELINE, cull, false, 32, true);
             let frame = gpu.render(&scene, &cam, &req).unwrap();
             let label = format!("zoom {zoom} cull {cull}");
             common::assert_scene_bounds(&label, &frame, &scene, &cam, &req);
@@ -186,9 +197,8 @@ fn splats_need_depth_correction() {
     let scene = grid_scene(6);
     let cam = camera(&scene, 1.0, false);
     let flat = |splat| FrameRequest {
-        depth_correction: false,
         aux: false,
-        ..request(false, splat)
+        ..request_with(Proxy::BASELINE, false, false, splat, false)
     };
     // Without depth correction the proxies' own depth stands, which splats do not have: the
     // request draws every glyph through the prepass instead.

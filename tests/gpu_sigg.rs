@@ -10,9 +10,9 @@ use common::{assert_tight, aux_request, check_request, spec};
 use glam::DVec3;
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::metrics::Accuracy;
-use tensorglyph::render::sigg_math::{Proxy, scene_proxy};
-use tensorglyph::render::{FrameRequest, GlyphKind, Method};
+use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::Scene;
+use tensorglyph::twin::sigg::{Proxy, scene_proxy};
 
 fn check(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) -> Option<Accuracy> {
     common::check(name, scene, camera, Method::Sigg, glyph, true)
@@ -147,10 +147,7 @@ fn distant_glyph() {
         return;
     };
     // For comparison (printed): Gumhold's path on the same view.
-    let gumhold = FrameRequest {
-        method: Method::Gumhold,
-        ..aux_request(Method::Sigg, GlyphKind::Ellipsoid, true)
-    };
+    let gumhold = aux_request(Method::Gumhold, GlyphKind::Ellipsoid, true);
     check_request("distant", &scene, &cam, &gumhold);
     // The aux target stores view z in f32: at |z| = 1000 one ulp is 6.1e-5 glyph sizes, just
     // inside the tight depth bound.
@@ -364,11 +361,7 @@ fn fragments_and_box_pixels(
     glyph: GlyphKind,
 ) -> Option<(u64, u64)> {
     let gpu = common::gpu()?;
-    let req = FrameRequest {
-        method: Method::Sigg,
-        glyph,
-        ..FrameRequest::default()
-    };
+    let req = FrameRequest::new(Method::Sigg, glyph);
     let frame = gpu.render(scene, camera, &req).expect("GPU frame");
     let Some(fragments) = frame.fragments else {
         eprintln!("{name}: no pipeline statistics on this adapter");

@@ -8,7 +8,7 @@ use common::assert_tight;
 use common::scenes::{self, framed};
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::metrics::Accuracy;
-use tensorglyph::render::{GlyphKind, Method};
+use tensorglyph::request::{GlyphKind, Method};
 use tensorglyph::scene::Scene;
 
 fn check(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) -> Option<Accuracy> {

@@ -177,7 +177,7 @@ fn test_vector_tensors() {
         }
 
         // ---- through the glyph pipeline (f32 glyph data) ----
-        let set = derive_glyphs(&single_field(raw), None);
+        let set = derive_glyphs(&single_field(raw), &tensorglyph::progress::Silent);
         if x["glyph_radii_eps1e-3"].is_null() {
             assert_eq!(
                 set.stats.skipped_zero, 1,

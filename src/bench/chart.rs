@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::Row;
-use crate::render::{GlyphKind, Method};
+use crate::request::{GlyphKind, Method};
 
 /// Errors are plotted on a log axis: exact agreement is drawn at this floor.
 pub const ERROR_FLOOR_DEG: f64 = 1e-4;
@@ -79,7 +79,7 @@ pub fn speed_accuracy_png(path: &Path, title: &str, rows: &[&Row]) -> Result<(),
             r.skipped.is_empty()
                 && r.method.is_gpu()
                 && r.depth_correction
-                && r.path == "default"
+                && r.path == crate::request::Preset::Baseline.name()
                 && r.frame_ms_median.is_finite()
         })
         .collect();

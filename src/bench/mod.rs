@@ -9,10 +9,12 @@ use glam::DVec3;
 use serde::Serialize;
 
 use crate::camera::{Camera, Framing};
+use crate::frame::Frame;
 use crate::metrics::{Accuracy, compare};
 use crate::reference::ReferenceScene;
+use crate::render::GpuRenderer;
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
-use crate::render::{Frame, FrameRequest, GlyphKind, GpuRenderer, Method, ProxyShape};
+use crate::request::{FrameRequest, GlyphKind, Method, Preset};
 use crate::scene::Scene;
 
 /// One thing to measure.
@@ -21,103 +23,22 @@ pub struct Config {
     pub method: Method,
     pub glyph: GlyphKind,
     pub depth_correction: bool,
-    pub path: Path,
-}
-
-/// Which of issue 7's work-saving options a configuration runs with (Gumhold only; every other
-/// method runs the default path).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Path {
-    /// Quads, no culling, file order (the path before issue 7).
-    Default,
-    /// Default with frustum culling in the vertex stage.
-    Culled,
-    /// Default with the octagon proxy.
-    Octagon,
-    /// Default with the triangle proxy.
-    Triangle,
-    /// Default with conservative depth (ellipsoids).
-    Conservative,
-    /// Default drawn front to back.
-    Sorted,
-    /// The compute prepass with culling (ellipsoids).
-    Prepass,
-    /// Splats up to [`crate::render::DEFAULT_SPLAT`] pixels across, with culling (ellipsoids):
-    /// `render`'s default.
-    Splat,
-}
-
-impl Path {
-    /// Every path but the default, in the order reports list them.
-    pub const OPTIONS: [Path; 7] = [
-        Path::Culled,
-        Path::Octagon,
-        Path::Triangle,
-        Path::Conservative,
-        Path::Sorted,
-        Path::Prepass,
-        Path::Splat,
-    ];
-}
-
-impl std::fmt::Display for Path {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Path::Default => "default",
-            Path::Culled => "culled",
-            Path::Octagon => "octagon",
-            Path::Triangle => "triangle",
-            Path::Conservative => "conservative",
-            Path::Sorted => "sorted",
-            Path::Prepass => "prepass",
-            Path::Splat => "splat",
-        })
-    }
+    /// The way of drawing (the `path` column).
+    pub path: Preset,
 }
 
 impl Config {
     /// The frame request of this configuration (`aux` for the accuracy pass).
     fn request(&self, aux: bool) -> FrameRequest {
-        let req = FrameRequest {
-            method: self.method,
-            glyph: self.glyph,
-            depth_correction: self.depth_correction,
+        FrameRequest {
             aux,
-            ..FrameRequest::default()
-        };
-        match self.path {
-            Path::Default | Path::Sorted => req,
-            Path::Culled => FrameRequest { cull: true, ..req },
-            Path::Prepass => FrameRequest {
-                cull: true,
-                prepass: true,
-                ..req
-            },
-            Path::Splat => req.with_render_path(),
-            Path::Octagon | Path::Triangle => FrameRequest {
-                proxy: crate::render::Proxy {
-                    shape: if self.path == Path::Octagon {
-                        ProxyShape::Octagon
-                    } else {
-                        ProxyShape::Triangle
-                    },
-                    ..req.proxy
-                },
-                ..req
-            },
-            Path::Conservative => FrameRequest {
-                proxy: crate::render::Proxy {
-                    conservative: true,
-                    ..req.proxy
-                },
-                ..req
-            },
+            ..FrameRequest::preset(self.method, self.glyph, self.depth_correction, self.path)
         }
     }
 
     /// The scene this configuration draws: front to back for `Sorted`, else file order.
     fn scene<'v>(&self, view: &'v View) -> &'v Scene {
-        if self.path == Path::Sorted {
+        if self.path.sorts() {
             &view.sorted
         } else {
             &view.scene
@@ -206,7 +127,7 @@ pub struct Row {
     pub method: Method,
     pub glyph: GlyphKind,
     pub depth_correction: bool,
-    /// [`Path`] of the configuration.
+    /// [`Preset`] of the configuration.
     pub path: String,
     pub frame_ms_median: f64,
     pub frame_ms_min: f64,
@@ -265,26 +186,29 @@ pub fn run(
         .iter()
         .flat_map(|&glyph| {
             opts.methods.iter().flat_map(move |&method| {
+                // Meshes write their rasterised depth either way (their rows show it costs
+                // nothing); the ray casters write the proxy's depth without correction.
                 let mut v: Vec<Config> = [true, false]
+                    .into_iter()
                     .map(|depth_correction| Config {
                         method,
                         glyph,
                         depth_correction,
-                        path: Path::Default,
+                        path: Preset::Baseline,
                     })
-                    .into();
-                if method == Method::Gumhold {
-                    let mut paths = vec![Path::Culled, Path::Octagon, Path::Triangle, Path::Sorted];
-                    if glyph == GlyphKind::Ellipsoid {
-                        paths.extend([Path::Conservative, Path::Prepass, Path::Splat]);
-                    }
-                    v.extend(paths.into_iter().map(|path| Config {
-                        method,
-                        glyph,
-                        depth_correction: true,
-                        path,
-                    }));
-                }
+                    .collect();
+                v.extend(
+                    Preset::VALUES[1..]
+                        .iter()
+                        .copied()
+                        .filter(|p| p.applies_to(method, glyph))
+                        .map(|path| Config {
+                            method,
+                            glyph,
+                            depth_correction: true,
+                            path,
+                        }),
+                );
                 v
             })
         })
@@ -316,10 +240,8 @@ pub fn run(
             }
             if !references.iter().any(|(g, _)| *g == cfg.glyph) {
                 let req = FrameRequest {
-                    method: Method::Reference,
-                    glyph: cfg.glyph,
                     aux: true,
-                    ..FrameRequest::default()
+                    ..FrameRequest::new(Method::Reference, cfg.glyph)
                 };
                 let f = ReferenceScene::new(&view.scene, &view.camera, cfg.glyph).render(&req);
                 rows.push(reference_row(scene_name, &view.name, cfg.glyph, &f));
@@ -327,11 +249,11 @@ pub fn run(
             }
             let reference = &references.iter().find(|(g, _)| *g == cfg.glyph).unwrap().1;
             let scene = cfg.scene(view);
-            let req = cfg.request(true).with_early_depth(gpu, scene, &view.camera);
+            let req = gpu.with_early_depth(cfg.request(true), scene, &view.camera);
             match gpu.render(scene, &view.camera, &req) {
                 Ok(f) => {
                     // Ids are instance indices: compare against a reference of the same order.
-                    st.accuracy = if cfg.path != Path::Sorted || scene.instances.is_empty() {
+                    st.accuracy = if !cfg.path.sorts() || scene.instances.is_empty() {
                         compare(&f, reference, &view.scene)
                     } else {
                         compare(&f, &reorder_ids(reference, &view.scene, scene), scene)
@@ -364,9 +286,7 @@ pub fn run(
                     continue;
                 }
                 let scene = cfg.scene(view);
-                let req = cfg
-                    .request(false)
-                    .with_early_depth(gpu, scene, &view.camera);
+                let req = gpu.with_early_depth(cfg.request(false), scene, &view.camera);
                 match gpu.render(scene, &view.camera, &req) {
                     Ok(f) => {
                         st.times.extend(&f.frame_ms);
@@ -408,13 +328,15 @@ fn reorder_ids(reference: &Frame, from: &Scene, to: &Scene) -> Frame {
 /// (every proxy pixel is shaded: writing depth turns early depth rejection off): (pixel area,
 /// lavapipe's 4x4-tile count).
 fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(f64, f64)> {
-    use crate::render::gumhold_math::{proxy_shape, tile_invocations};
+    use crate::twin::gumhold_ellipsoid::{proxy_shape, tile_invocations};
     use rayon::prelude::*;
     let (w, h) = (camera.width, camera.height);
     let n = scene.instances.len();
     let per_glyph: Box<dyn Fn(usize) -> (f64, f64) + Sync> = match cfg.method {
         // The model is of the quad.
-        Method::Gumhold if matches!(cfg.path, Path::Octagon | Path::Triangle | Path::Splat) => {
+        Method::Gumhold
+            if matches!(cfg.path, Preset::Octagon | Preset::Triangle | Preset::Splat) =>
+        {
             return None;
         }
         Method::Gumhold => Box::new(|i| {
@@ -425,7 +347,7 @@ fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(
             )
         }),
         Method::Sigg => Box::new(|i| {
-            let p = crate::render::sigg_math::scene_proxy(scene, camera, i, cfg.glyph);
+            let p = crate::twin::sigg::scene_proxy(scene, camera, i, cfg.glyph);
             (
                 p.pixels(w, h) as f64,
                 p.strip_tile_invocations(w, h, 4) as f64,
@@ -449,7 +371,7 @@ fn reference_row(scene: &str, view: &str, glyph: GlyphKind, f: &Frame) -> Row {
         method: Method::Reference,
         glyph,
         depth_correction: true,
-        path: Path::Default.to_string(),
+        path: Preset::Baseline.to_string(),
         frame_ms_median: ms,
         frame_ms_min: ms,
         frame_ms_max: ms,
@@ -479,7 +401,7 @@ struct CostModel {
 
 impl CostModel {
     fn over_budget(&self, cfg: &Config, budget_s: f64) -> Option<String> {
-        let tris = crate::render::method::triangles_per_glyph(cfg.method, cfg.glyph)?;
+        let tris = crate::render::mesh::triangles_per_glyph(cfg.method, cfg.glyph)?;
         let (_, (t0, ms0)) = self
             .measured
             .iter()
@@ -495,7 +417,7 @@ impl CostModel {
     }
 
     fn record(&mut self, cfg: &Config, ms: f64) {
-        let Some(tris) = crate::render::method::triangles_per_glyph(cfg.method, cfg.glyph) else {
+        let Some(tris) = crate::render::mesh::triangles_per_glyph(cfg.method, cfg.glyph) else {
             return;
         };
         let key = (cfg.glyph, cfg.depth_correction);

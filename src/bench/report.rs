@@ -3,6 +3,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::request::Preset;
+
 use super::Row;
 
 pub const CSV_HEADER: &str = "scene,view,method,glyph,depth_correction,path,frame_ms_median,frame_ms_min,frame_ms_max,fragments,vertices,bytes_per_glyph,glyphs_culled,covered_pixels,fragments_per_covered_pixel,coverage_mismatch,id_mismatch,depth_err_rel_p99,normal_err_deg_p99,color_psnr_db,status";
@@ -142,7 +144,7 @@ fn fastest(v: Vec<&Row>) -> Option<&Row> {
 
 /// One paragraph per scene on what the numbers say, computed from the rows.
 pub fn findings(rows: &[Row]) -> String {
-    use crate::render::GlyphKind;
+    use crate::request::GlyphKind;
     let mut out = String::new();
     let mut scenes: Vec<&str> = Vec::new();
     for r in rows {
@@ -156,7 +158,7 @@ pub fn findings(rows: &[Row]) -> String {
             rows.iter()
                 .filter(measured)
                 .filter(|r| r.scene == scene && r.view == view && r.glyph == glyph)
-                .filter(|r| r.depth_correction && r.path == "default" && pred(r))
+                .filter(|r| r.depth_correction && r.path == Preset::Baseline.name() && pred(r))
                 .collect()
         };
         let is_mesh = |r: &Row| r.method.to_string().starts_with("mesh:");
@@ -169,15 +171,15 @@ pub fn findings(rows: &[Row]) -> String {
                         r.scene == scene
                             && r.view == view
                             && r.glyph == glyph
-                            && r.method == crate::render::Method::Gumhold
+                            && r.method == crate::request::Method::Gumhold
                             && r.depth_correction
                             && r.path == path
                     })
                 };
-                let Some(base) = path_row("default") else {
+                let Some(base) = path_row(Preset::Baseline.name()) else {
                     continue;
                 };
-                let _ = write!(out, "- Paths, {view} view, {glyph}s (Gumhold; default ");
+                let _ = write!(out, "- Paths, {view} view, {glyph}s (Gumhold; baseline ");
                 let per = |r: &Row| {
                     r.fragments_per_covered_pixel()
                         .map_or("n/a".to_string(), |f| format!("{f:.2}"))
@@ -188,7 +190,7 @@ pub fn findings(rows: &[Row]) -> String {
                     base.frame_ms_median,
                     per(base)
                 );
-                for path in super::Path::OPTIONS.map(|p| p.to_string()) {
+                for path in Preset::VALUES[1..].iter().map(|p| p.to_string()) {
                     if let Some(r) = path_row(&path) {
                         let _ = write!(
                             out,
@@ -205,7 +207,7 @@ pub fn findings(rows: &[Row]) -> String {
         }
         for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
             let Some(g) = fastest(pick("default", glyph, &|r| {
-                r.method == crate::render::Method::Gumhold
+                r.method == crate::request::Method::Gumhold
             })) else {
                 continue;
             };
@@ -265,7 +267,7 @@ pub fn findings(rows: &[Row]) -> String {
         for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
             let ratio = |view: &str| -> Option<String> {
                 let g = fastest(pick(view, glyph, &|r| {
-                    r.method == crate::render::Method::Gumhold
+                    r.method == crate::request::Method::Gumhold
                 }))?;
                 Some(
                     match fastest(pick(view, glyph, &|r| {
@@ -292,7 +294,10 @@ pub fn findings(rows: &[Row]) -> String {
                 );
             }
         }
-        for method in [crate::render::Method::Gumhold, crate::render::Method::Sigg] {
+        for method in [
+            crate::request::Method::Gumhold,
+            crate::request::Method::Sigg,
+        ] {
             for view in ["close", "default"] {
                 let Some(r) = fastest(pick(view, GlyphKind::Ellipsoid, &|r| r.method == method))
                 else {
@@ -322,7 +327,7 @@ pub fn findings(rows: &[Row]) -> String {
 mod tests {
     use super::*;
     use crate::metrics::Accuracy;
-    use crate::render::{GlyphKind, Method};
+    use crate::request::{GlyphKind, Method};
 
     #[test]
     fn csv_has_the_documented_columns_and_marks_skips() {

@@ -6,18 +6,18 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 
-use super::pipeline::{Timings, build_scene, render_gpu};
-use super::render::parse_size;
-use super::scene::{SceneArgs, load};
+use super::args::{SceneArgs, one_of, parse_size};
+use super::progress::Terminal;
+use tensorglyph::backend::render_gpu;
 use tensorglyph::bench::{self, Options, Row, chart, report};
 use tensorglyph::camera::{Camera, Framing};
-use tensorglyph::load::{Demo, Source, field_spacing};
-use tensorglyph::render::FrameRequest;
-use tensorglyph::render::{GlyphKind, GpuContext, GpuRenderer, Method};
+use tensorglyph::progress::Progress;
+use tensorglyph::render::{GpuContext, GpuRenderer};
+use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset};
 use tensorglyph::scene::Scene;
 use tensorglyph::select::Selection;
+use tensorglyph::staging::{self, Demo, Source, Timings, field_spacing};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -40,7 +40,7 @@ pub struct BenchArgs {
     #[arg(long = "method")]
     pub methods: Vec<Method>,
     /// Only these glyphs (repeatable; default all).
-    #[arg(long = "glyph", value_enum)]
+    #[arg(long = "glyph", value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
     pub glyphs: Vec<GlyphKind>,
     /// Also run the grid:N demo (N³ tensors) once through the staged pipeline of `render`
     /// (load, eigen, scene, upload, first frame) and report stage times and peak memory in
@@ -75,7 +75,12 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
         peak_rss_bytes: None,
     };
     let source = Source::Demo(Demo { n: args.large });
-    match build_scene(&source, &args.scene, &Selection::default(), glyph) {
+    let progress = Terminal::new(args.scene.quiet);
+    let staged = args
+        .scene
+        .recipe(Selection::default(), glyph)
+        .and_then(|recipe| Ok(staging::stage(&source, &recipe, &progress)?));
+    match staged {
         Err(e) => large.error = Some(format!("{e:#}")),
         Ok(staged) => {
             large.timings = staged.timings;
@@ -90,20 +95,14 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
                 h,
             );
             // As `render` draws it by default.
-            let req = FrameRequest {
-                method,
-                glyph,
-                frames: 1,
-                ..FrameRequest::default()
-            }
-            .with_render_path();
+            let req = FrameRequest::preset(method, glyph, true, Preset::DEFAULT);
             let result = render_gpu(
                 gpu,
                 &staged.scene,
                 &camera,
                 &req,
                 &mut large.timings,
-                args.scene.quiet,
+                &progress,
             );
             match result {
                 Ok(_) => large.stages_run = 5,
@@ -114,7 +113,7 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
                     } else {
                         3
                     };
-                    large.error = Some(format!("{e:#}"));
+                    large.error = Some(e.to_string());
                 }
             }
         }
@@ -255,7 +254,9 @@ pub fn run(args: BenchArgs) -> Result<()> {
             Ok(d) => Source::Demo(d),
             Err(_) => Source::File(PathBuf::from(name)),
         };
-        let (field, set) = load(&source, &args.scene)?;
+        let progress = Terminal::new(args.scene.quiet);
+        let field = staging::read(&source, &args.scene.read_options(), &progress)?;
+        let set = staging::decompose(&field, &progress);
         let resolved = style.resolve(&set, field_spacing(&field));
         let views: Vec<(GlyphKind, Vec<bench::View>)> = glyphs
             .iter()
@@ -264,33 +265,14 @@ pub fn run(args: BenchArgs) -> Result<()> {
                 (g, bench::standard_views(&scene, w, h))
             })
             .collect();
-        let pb = progress_bar(args.scene.quiet);
         let report_progress = |done: u64, total: u64, what: &str| {
-            if let Some(pb) = &pb {
-                pb.set_length(total);
-                pb.set_position(done);
-                pb.set_message(format!("{name}: {what}"));
-            }
+            progress.steps(total, "");
+            progress.step_to(done, &format!("{name}: {what}"));
         };
         rows.extend(bench::run(&gpu, name, &views, &opts, &report_progress));
-        if let Some(pb) = pb {
-            pb.finish_and_clear();
-        }
+        progress.end();
     }
     write_outputs(&args, &rows, &adapter, large.as_ref())
-}
-
-fn progress_bar(quiet: bool) -> Option<ProgressBar> {
-    use std::io::IsTerminal;
-    if quiet || !std::io::stderr().is_terminal() {
-        return None;
-    }
-    let pb = ProgressBar::new(1);
-    pb.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} [{elapsed}] {msg}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    Some(pb)
 }
 
 fn chart_name(scene_index: usize, scene: &str, view: &str) -> String {

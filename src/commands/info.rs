@@ -5,8 +5,9 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use super::scene::{SceneArgs, load, source};
-use tensorglyph::load::Demo;
+use super::args::{SceneArgs, source};
+use super::progress::Terminal;
+use tensorglyph::staging::{self, Demo};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
@@ -27,7 +28,9 @@ pub struct InfoArgs {
 
 pub fn run(args: InfoArgs) -> Result<()> {
     let src = source(args.file, args.demo)?;
-    let (field, set) = load(&src, &args.scene)?;
+    let progress = Terminal::new(args.scene.quiet);
+    let field = staging::read(&src, &args.scene.read_options(), &progress)?;
+    let set = staging::decompose(&field, &progress);
     let report =
         tensorglyph::info::info_report(&field, &set, &args.samples).map_err(anyhow::Error::msg)?;
     if args.json {

@@ -1,10 +1,10 @@
-//! One module per subcommand; `scene` holds the options they share.
+//! One module per subcommand; `args` holds the options they share, `progress` the terminal's
+//! progress bars.
 
+pub mod args;
 pub mod bench;
 pub mod info;
-pub mod path;
-pub mod pipeline;
+pub mod progress;
 pub mod render;
-pub mod scene;
 pub mod stability;
 pub mod view;

@@ -7,52 +7,25 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
-use super::path::PathArgs;
-use super::pipeline::{Timings, build_scene, render_gpu, render_reference};
-use super::scene::{SceneArgs, SelectArgs, source};
-use tensorglyph::camera::{Camera, Framing, ViewPreset};
-use tensorglyph::error::RenderError;
+use super::args::{CameraArgs, DrawArgs, SceneArgs, SelectArgs, parse_color, parse_size, source};
+use super::progress::Terminal;
+use tensorglyph::backend::Backend;
+use tensorglyph::camera::Camera;
+use tensorglyph::frame::Frame;
 use tensorglyph::image_out::write_png_atomic;
-use tensorglyph::load::{Demo, Source};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::render::{Frame, FrameRequest, GlyphKind, GpuContext, GpuRenderer, Method};
+use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::Visibility;
+use tensorglyph::staging::{Demo, Source, Timings, stage};
 
-/// Image, camera and method options of `render` and `demo`.
+/// Image and output options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
-pub struct ViewArgs {
+pub struct ImageArgs {
     /// Image size.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Rendering method: gumhold or sigg (GPU ray casting), reference (exact CPU ray caster), or
-    /// the triangle-mesh baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box.
-    #[arg(long, default_value = "gumhold")]
-    pub method: Method,
-    #[arg(long, value_enum, default_value_t = GlyphKind::Ellipsoid)]
-    pub glyph: GlyphKind,
-    /// Write the proxy quad's depth instead of the ray-cast depth.
-    #[arg(long)]
-    pub no_depth_correction: bool,
-    /// View direction preset (ParaView's +X … −Z buttons; iso looks from +x, −y, +z).
-    #[arg(long, value_enum, default_value_t = ViewPreset::Iso)]
-    pub view: ViewPreset,
-    /// Degrees about the up axis, after the preset.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub azimuth: f64,
-    /// Degrees about the camera's right axis, after the preset.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub elevation: f64,
-    /// > 1 moves closer.
-    #[arg(long, default_value_t = 1.0)]
-    pub zoom: f64,
-    /// Vertical field of view in degrees.
-    #[arg(long, default_value_t = 30.0)]
-    pub fov: f64,
-    /// Orthographic projection.
-    #[arg(long)]
-    pub ortho: bool,
-    /// Background: a name (white, black, grey), #rrggbb, or r,g,b in [0, 1].
+    /// Background: a name (white, black, grey, paraview), #rrggbb, or r,g,b in [0, 1].
     #[arg(long, default_value = "white", value_parser = parse_color)]
     pub background: [f64; 4],
     /// Render N frames and time each (the JSON reports the median).
@@ -67,8 +40,21 @@ pub struct ViewArgs {
     /// With --reference-check: write a picture of where the two differ.
     #[arg(long, value_name = "FILE.png")]
     pub diff: Option<PathBuf>,
+}
+
+/// Everything `render` and `demo` share besides the input and output.
+#[derive(Args, Debug, Clone)]
+pub struct FrameArgs {
     #[command(flatten)]
-    pub path: PathArgs,
+    pub image: ImageArgs,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    #[command(flatten)]
+    pub draw: DrawArgs,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub select: SelectArgs,
 }
 
 #[derive(Args, Debug)]
@@ -82,11 +68,7 @@ pub struct RenderArgs {
     #[arg(short, long)]
     pub output: PathBuf,
     #[command(flatten)]
-    pub view: ViewArgs,
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    pub select: SelectArgs,
+    pub frame: FrameArgs,
 }
 
 #[derive(Args, Debug)]
@@ -99,63 +81,7 @@ pub struct DemoArgs {
     #[arg(long, value_name = "FILE")]
     pub write_vtk: Option<PathBuf>,
     #[command(flatten)]
-    pub view: ViewArgs,
-    #[command(flatten)]
-    pub scene: SceneArgs,
-    #[command(flatten)]
-    pub select: SelectArgs,
-}
-
-pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("size '{s}' is not WxH (e.g. 1024x768)"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad width in '{s}'"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("bad height in '{s}'"))?;
-    if w == 0 || h == 0 {
-        return Err(format!("size '{s}' has a zero side"));
-    }
-    Ok((w, h))
-}
-
-fn parse_color(s: &str) -> Result<[f64; 4], String> {
-    let named = match s.to_ascii_lowercase().as_str() {
-        "white" => Some([1.0, 1.0, 1.0]),
-        "black" => Some([0.0, 0.0, 0.0]),
-        "grey" | "gray" => Some([0.5, 0.5, 0.5]),
-        "paraview" => Some([0.32, 0.34, 0.43]),
-        _ => None,
-    };
-    let rgb = if let Some(c) = named {
-        c
-    } else if let Some(hex) = s.strip_prefix('#') {
-        if hex.len() != 6 {
-            return Err(format!("colour '{s}' is not #rrggbb"));
-        }
-        let v = u32::from_str_radix(hex, 16).map_err(|_| format!("colour '{s}' is not #rrggbb"))?;
-        [
-            f64::from((v >> 16) & 255) / 255.0,
-            f64::from((v >> 8) & 255) / 255.0,
-            f64::from(v & 255) / 255.0,
-        ]
-    } else {
-        let parts: Vec<f64> = s
-            .split(',')
-            .map(|p| p.trim().parse::<f64>())
-            .collect::<Result<_, _>>()
-            .map_err(|_| format!("unknown colour '{s}': use a name, #rrggbb or r,g,b"))?;
-        if parts.len() != 3 || parts.iter().any(|x| !(0.0..=1.0).contains(x)) {
-            return Err(format!("colour '{s}' needs three numbers in [0, 1]"));
-        }
-        [parts[0], parts[1], parts[2]]
-    };
-    Ok([rgb[0], rgb[1], rgb[2], 1.0])
+    pub frame: FrameArgs,
 }
 
 /// What `render --json` prints.
@@ -195,7 +121,7 @@ struct RenderReport {
 
 pub fn run(args: RenderArgs) -> Result<()> {
     let src = source(args.file, args.demo)?;
-    render(&src, &args.output, &args.view, &args.scene, &args.select)
+    render(&src, &args.output, &args.frame)
 }
 
 pub fn demo(args: DemoArgs) -> Result<()> {
@@ -204,18 +130,12 @@ pub fn demo(args: DemoArgs) -> Result<()> {
         let field = tensorglyph::field::synthetic::grid(demo.n);
         tensorglyph::field::synthetic::write_legacy_vtk(&field, path)
             .with_context(|| format!("{}: cannot write", path.display()))?;
-        if !args.scene.quiet {
+        if !args.frame.scene.quiet {
             eprintln!("wrote {} ({} tensors)", path.display(), field.len());
         }
         return Ok(());
     }
-    render(
-        &Source::Demo(demo),
-        &args.output,
-        &args.view,
-        &args.scene,
-        &args.select,
-    )
+    render(&Source::Demo(demo), &args.output, &args.frame)
 }
 
 /// Fail before any work if the output cannot be written there.
@@ -237,83 +157,62 @@ fn check_output(path: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(
-    src: &Source,
-    output: &Path,
-    view: &ViewArgs,
-    scene_args: &SceneArgs,
-    select: &SelectArgs,
-) -> Result<()> {
+fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
+    let FrameArgs {
+        image,
+        camera: cam,
+        draw,
+        scene: scene_args,
+        select,
+    } = args;
     check_output(output)?;
-    if let Some(d) = &view.diff {
+    if let Some(d) = &image.diff {
         check_output(d)?;
-        if !view.reference_check {
+        if !image.reference_check {
             bail!("--diff needs --reference-check");
         }
     }
-    if !(view.fov > 0.0 && view.fov < 180.0) {
-        bail!("--fov must be between 0 and 180 degrees, got {}", view.fov);
-    }
-    if !(view.zoom.is_finite() && view.zoom > 0.0) {
-        bail!("--zoom must be a positive number, got {}", view.zoom);
-    }
-    scene_args.style()?;
-    view.path.check()?;
-    let selection = select.selection()?;
-    let staged = build_scene(src, scene_args, &selection, view.glyph)?;
-    let mut timings = staged.timings;
+    let framing = cam.framing()?;
+    let depth_correction = !cam.no_depth_correction;
+    let options = draw.options(cam.method, cam.glyph, depth_correction)?;
+    let recipe = scene_args.recipe(select.selection()?, cam.glyph)?;
+    let progress = Terminal::new(scene_args.quiet);
+    let staged = stage(src, &recipe, &progress)?;
+    let mut timings: Timings = staged.timings;
     let mut scene = staged.scene;
-    let framing = Framing {
-        view: view.view,
-        azimuth: view.azimuth,
-        elevation: view.elevation,
-        zoom: view.zoom,
-        fov_deg: view.fov,
-        ortho: view.ortho,
-    };
-    let (w, h) = view.size;
+    let (w, h) = image.size;
     // The whole field, not the selection: a slice is drawn where it is in the volume.
     let camera = Camera::frame(&framing, staged.frame_centre, staged.frame_radius, w, h);
-    let mut req = view.path.apply(FrameRequest {
-        method: view.method,
-        glyph: view.glyph,
-        depth_correction: !view.no_depth_correction,
-        aux: view.reference_check,
-        background: view.background,
-        frames: view.frames.max(1),
-        ..FrameRequest::default()
-    });
-    if view.path.sort() {
+    if draw.sort() {
         scene.sort_front_to_back(&camera);
     }
-
-    let mut method = view.method;
-    let mut adapter = None;
-    let mut backend = None;
-    let frame: Frame = if method.is_gpu() {
-        match GpuContext::new() {
-            Ok(ctx) => {
-                adapter = Some(ctx.adapter_name.clone());
-                backend = Some(ctx.backend.clone());
-                let gpu = GpuRenderer::new(ctx)?;
-                req = req.with_early_depth(&gpu, &scene, &camera);
-                render_gpu(&gpu, &scene, &camera, &req, &mut timings, scene_args.quiet)?
-            }
-            Err(RenderError::NoAdapter) => {
-                eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
-                method = Method::Reference;
-                req.method = method;
-                render_reference(&scene, &camera, &req, &mut timings, scene_args.quiet)
-            }
-            Err(e) => return Err(e.into()),
-        }
-    } else {
-        render_reference(&scene, &camera, &req, &mut timings, scene_args.quiet)
+    let (backend, fell_back) = Backend::for_method(cam.method)?;
+    if fell_back {
+        eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
+    }
+    let req = backend.adapt(
+        FrameRequest {
+            aux: image.reference_check,
+            background: image.background,
+            frames: image.frames.max(1),
+            ..FrameRequest::with_options(cam.method, cam.glyph, depth_correction, &options)
+        },
+        &scene,
+        &camera,
+    );
+    let method = req.method.method();
+    let (adapter, backend_name) = match backend.gpu() {
+        Some(gpu) => (
+            Some(gpu.ctx.adapter_name.clone()),
+            Some(gpu.ctx.backend.clone()),
+        ),
+        None => (None, None),
     };
+    let frame: Frame = backend.render(&scene, &camera, &req, &mut timings, &progress)?;
 
-    let accuracy = if view.reference_check {
-        let reference = ReferenceScene::new(&scene, &camera, req.glyph).render(&req);
-        if let Some(d) = &view.diff {
+    let accuracy = if image.reference_check {
+        let reference = ReferenceScene::new(&scene, &camera, req.glyph()).render(&req);
+        if let Some(d) = &image.diff {
             write_png_atomic(d, w, h, &diff_image(&frame, &reference))
                 .with_context(|| format!("{}: cannot write", d.display()))?;
         }
@@ -333,9 +232,9 @@ fn render(
     let covered = frame.covered_pixels();
     let report = RenderReport {
         method,
-        glyph: view.glyph,
+        glyph: cam.glyph,
         adapter,
-        backend,
+        backend: backend_name,
         width: w,
         height: h,
         glyphs_total: staged.glyphs_valid,
@@ -358,7 +257,7 @@ fn render(
         peak_rss_bytes: tensorglyph::mem::peak_rss_bytes(),
         accuracy,
     };
-    if view.json {
+    if image.json {
         println!("{}", serde_json::to_string(&report)?);
     } else if !scene_args.quiet {
         eprintln!(

@@ -2,13 +2,11 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use anyhow::{Result, bail};
 use clap::Args;
 
-use super::render::parse_size;
-use super::scene::{SceneArgs, SelectArgs};
-use tensorglyph::load::{Demo, Source};
-use tensorglyph::render::{GlyphKind, Method};
+use super::args::{CameraArgs, DrawArgs, SceneArgs, SelectArgs, parse_size};
+use tensorglyph::staging::{Demo, Source};
 use tensorglyph::viewer::{self, Options, state::Settings};
 
 #[derive(Args, Debug)]
@@ -18,17 +16,6 @@ pub struct ViewArgs {
     /// A built-in field instead of a file: grid40 or grid:N.
     #[arg(long)]
     pub demo: Option<Demo>,
-    /// Rendering method to start with.
-    #[arg(long, default_value = "gumhold")]
-    pub method: Method,
-    #[arg(long, value_enum, default_value_t = GlyphKind::Ellipsoid)]
-    pub glyph: GlyphKind,
-    /// Start without depth correction.
-    #[arg(long)]
-    pub no_depth_correction: bool,
-    /// Start with an orthographic projection.
-    #[arg(long)]
-    pub ortho: bool,
     /// Window size in points.
     #[arg(long, default_value = "1280x800", value_parser = parse_size)]
     pub size: (u32, u32),
@@ -38,6 +25,12 @@ pub struct ViewArgs {
     /// Frames to render before the scripted screenshot.
     #[arg(long, default_value_t = 3)]
     pub frames: u32,
+    /// The method, glyph and camera to start with.
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    /// How frames are drawn, to start with.
+    #[command(flatten)]
+    pub draw: DrawArgs,
     #[command(flatten)]
     pub scene: SceneArgs,
     /// The panel's starting selection.
@@ -50,32 +43,39 @@ pub fn run(args: ViewArgs) -> Result<()> {
         (Some(f), None) => Some(Source::File(f)),
         (None, Some(d)) => Some(Source::Demo(d)),
         (None, None) => None,
-        (Some(_), Some(_)) => anyhow::bail!("give either a FILE or --demo, not both"),
+        (Some(_), Some(_)) => bail!("give either a FILE or --demo, not both"),
     };
     if args.screenshot.is_some() && source.is_none() {
-        anyhow::bail!("--screenshot needs a FILE or --demo");
+        bail!("--screenshot needs a FILE or --demo");
     }
-    if !args.method.is_gpu() {
-        anyhow::bail!(
+    let cam = &args.camera;
+    if !cam.method.is_gpu() {
+        bail!(
             "the viewer draws with the GPU methods only, not '{}'",
-            args.method
+            cam.method
         );
     }
+    if args.draw.sort() {
+        bail!("the viewer draws in file order: --sort (and --preset sorted) are for render");
+    }
+    let depth_correction = !cam.no_depth_correction;
     let settings = Settings {
-        method: args.method,
-        glyph: args.glyph,
-        depth_correction: !args.no_depth_correction,
+        method: cam.method,
+        glyph: cam.glyph,
+        depth_correction,
         style: args.scene.style()?,
         selection: args.select.selection()?,
+        draw: args.draw.options(cam.method, cam.glyph, depth_correction)?,
         ..Settings::default()
     };
     viewer::run(Options {
         source,
         read: args.scene.read_options(),
         settings,
-        ortho: args.ortho,
+        framing: cam.framing()?,
         size: args.size,
         screenshot: args.screenshot,
         frames: args.frames,
-    })
+    })?;
+    Ok(())
 }

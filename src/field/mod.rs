@@ -91,6 +91,29 @@ impl TensorField {
         self.tensors.is_empty()
     }
 
+    /// A field made in code: `tensors[i]` (row-major 3x3) at world position `positions[i]`, as
+    /// unstructured points (no lattice: `--scale auto` fits glyphs to the median
+    /// nearest-neighbour distance).
+    pub fn from_points(positions: Vec<[f64; 3]>, tensors: Vec<[f64; 9]>) -> Self {
+        assert_eq!(positions.len(), tensors.len(), "one position per tensor");
+        Self {
+            format: "in-memory".into(),
+            dataset: DatasetKind::PolyData,
+            dims: None,
+            points: positions.len(),
+            cells: 0,
+            array: TensorArrayInfo {
+                name: "tensors".into(),
+                components: 9,
+                location: Location::Point,
+            },
+            positions,
+            tensors,
+            direction: None,
+            spacing: None,
+        }
+    }
+
     /// Dimensions of the lattice the tensors sit on (points, or cells = points - 1 per axis),
     /// for slicing and strides; `None` for unstructured data.
     pub fn lattice_dims(&self) -> Option<[usize; 3]> {

@@ -1,9 +1,7 @@
 //! Component order of 6-component symmetric tensor arrays.
 
-use clap::ValueEnum;
-
 /// How the six unique entries of a symmetric tensor are ordered in a 6-component array.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ComponentOrder {
     /// XX, YY, ZZ, XY, YZ, XZ: what VTK and ParaView write (legacy `TENSORS6` too).
     #[default]
@@ -13,6 +11,12 @@ pub enum ComponentOrder {
     /// xx, xy, yy, xz, yz, zz (NIfTI lower triangle).
     Nifti,
 }
+
+crate::names::named_values!(ComponentOrder {
+    Vtk => "vtk",
+    Fsl => "fsl",
+    Nifti => "nifti",
+});
 
 impl ComponentOrder {
     /// (row, column) of each stored component.

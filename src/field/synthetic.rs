@@ -247,7 +247,7 @@ mod tests {
         assert_eq!(f.positions[1], [1.0, 0.0, 0.0]);
         assert_eq!(f.positions[40], [0.0, 1.0, 0.0]);
         assert_eq!(f.positions[63_999], [39.0, 39.0, 39.0]);
-        let set = derive_glyphs(&f, None);
+        let set = derive_glyphs(&f, &crate::progress::Silent);
         let s = &set.stats;
         assert_eq!(s.valid, 64_000);
         assert_eq!(s.indefinite, 0);

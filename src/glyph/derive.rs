@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use super::{FieldStats, Glyph, GlyphSet};
 use crate::field::TensorField;
+use crate::progress::Progress;
 use crate::tensor::eigen::{frame_to_quat, symmetric_eigen, symmetrise};
 use crate::tensor::shape::{self, DEFAULT_CLASS_THRESHOLD};
 
@@ -179,8 +180,8 @@ impl Partial {
 }
 
 /// Eigendecompose every tensor of `field` into glyphs and field statistics (see module docs).
-/// `progress`, if given, is advanced by the number of tensors processed (its length is not set).
-pub fn derive_glyphs(field: &TensorField, progress: Option<&indicatif::ProgressBar>) -> GlyphSet {
+/// `progress` is advanced by the number of tensors processed.
+pub fn derive_glyphs(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
     let n = field.len();
     assert_eq!(
         field.positions.len(),
@@ -228,9 +229,7 @@ pub fn derive_glyphs(field: &TensorField, progress: Option<&indicatif::ProgressB
                 }
             }
             debug_assert!(slots.next().is_none(), "as many valid tensors as counted");
-            if let Some(pb) = progress {
-                pb.inc(len as u64);
-            }
+            progress.advance(len as u64);
             p
         })
         .collect();
@@ -284,7 +283,7 @@ mod tests {
         let tensors = vec![
             id, nan, cigar, [0.0; 9], inf, nonsym, both, roundoff, indefinite, [-0.0; 9],
         ];
-        let set = derive_glyphs(&field(tensors), None);
+        let set = derive_glyphs(&field(tensors), &crate::progress::Silent);
         let s = &set.stats;
         assert_eq!(s.tensors, 10);
         assert_eq!(s.skipped_nan, 2);
@@ -314,10 +313,13 @@ mod tests {
 
     #[test]
     fn empty_and_all_invalid() {
-        let set = derive_glyphs(&field(vec![]), None);
+        let set = derive_glyphs(&field(vec![]), &crate::progress::Silent);
         assert_eq!(set.stats.tensors, 0);
         assert!(set.glyphs.is_empty());
-        let set = derive_glyphs(&field(vec![[0.0; 9], [f64::NAN; 9]]), None);
+        let set = derive_glyphs(
+            &field(vec![[0.0; 9], [f64::NAN; 9]]),
+            &crate::progress::Silent,
+        );
         assert_eq!(set.stats.valid, 0);
         assert_eq!(set.stats.fa_min, 0.0);
         assert_eq!(set.stats.eigenvalues_min, [0.0; 3]);
@@ -332,7 +334,7 @@ mod tests {
                 [v, 0.0, 0.0, 0.0, v, 0.0, 0.0, 0.0, v]
             })
             .collect();
-        let set = derive_glyphs(&field(tensors), None);
+        let set = derive_glyphs(&field(tensors), &crate::progress::Silent);
         assert_eq!(set.stats.skipped_zero, n.div_ceil(7));
         assert!(set.glyphs.windows(2).all(|w| w[0].index < w[1].index));
         assert_eq!(set.glyphs.len(), set.stats.valid);

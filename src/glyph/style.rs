@@ -15,7 +15,7 @@ use crate::tensor::shape::{self, DEFAULT_CLASS_THRESHOLD};
 pub use super::spacing::median_nn_distance;
 
 /// How glyphs are coloured.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ColorScheme {
     /// Gumhold's shape classes: cigar red, pancake green, ball blue, unclassified magenta.
     #[default]
@@ -31,6 +31,15 @@ pub enum ColorScheme {
     /// One colour for all glyphs.
     Solid,
 }
+
+crate::names::named_values!(ColorScheme {
+    Shape => "shape",
+    Dec => "dec",
+    Fa => "fa",
+    Md => "md",
+    Sign => "sign",
+    Solid => "solid",
+});
 
 /// Global scale of the radii.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -71,7 +80,7 @@ impl fmt::Display for Scale {
 }
 
 /// Normalisation of |λ| before scaling.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Normalize {
     /// Radii proportional to |λ| across the field.
     #[default]
@@ -81,6 +90,12 @@ pub enum Normalize {
     /// Divide by each glyph's own largest |λ| (all glyphs the same size; shape only).
     PerGlyph,
 }
+
+crate::names::named_values!(Normalize {
+    None => "none",
+    Max => "max",
+    PerGlyph => "per-glyph",
+});
 
 /// User options for glyph geometry and colour.
 #[derive(Debug, Clone, PartialEq)]
@@ -288,18 +303,16 @@ mod tests {
     }
 
     #[test]
-    fn value_enum_names() {
-        use clap::ValueEnum;
-        let names: Vec<String> = ColorScheme::value_variants()
-            .iter()
-            .map(|v| v.to_possible_value().unwrap().get_name().to_string())
-            .collect();
-        assert_eq!(names, ["shape", "dec", "fa", "md", "sign", "solid"]);
-        let names: Vec<String> = Normalize::value_variants()
-            .iter()
-            .map(|v| v.to_possible_value().unwrap().get_name().to_string())
-            .collect();
-        assert_eq!(names, ["none", "max", "per-glyph"]);
+    fn value_names() {
+        assert_eq!(
+            ColorScheme::NAMES,
+            ["shape", "dec", "fa", "md", "sign", "solid"]
+        );
+        assert_eq!(Normalize::NAMES, ["none", "max", "per-glyph"]);
+        for (v, n) in Normalize::VALUES.iter().zip(Normalize::NAMES) {
+            assert_eq!(n.parse::<Normalize>(), Ok(*v));
+        }
+        assert!("per_glyph".parse::<Normalize>().is_err());
     }
 
     #[test]

@@ -8,32 +8,18 @@
 
 pub mod bvh;
 pub mod intersect;
-pub mod shading;
 
 use glam::{DMat3, DMat4, DVec3};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
-use crate::render::headless::{Frame, FrameRequest};
-use crate::render::method::GlyphKind;
+use crate::frame::Frame;
+use crate::request::{FrameRequest, GlyphKind};
+use crate::scene::rules::{EYE_INSIDE_E2, drawable_radii};
 use crate::scene::{GlyphGeometry, Scene};
+use crate::twin::common::{shade, to_unorm8};
 use bvh::{Aabb, Bvh};
 use intersect::{Cylinder, RayHit};
-
-/// Same constant as `EYE_INSIDE_E2` in shaders/gumhold_ellipsoid.wgsl.
-pub const EYE_INSIDE_E2: f64 = 1.00001;
-
-/// Same rule as `drawable` in shaders/common.wgsl: every radius finite, positive and at least
-/// 2⁻²⁴ of the largest (f32 cannot resolve a thinner glyph at its own scale); others are not
-/// drawn by any method.
-pub const MIN_RADIUS_RATIO: f32 = 5.960_464_5e-8;
-
-pub fn drawable_radii(r: [f32; 3]) -> bool {
-    let rmax = r[0].max(r[1]).max(r[2]);
-    let rmin = r[0].min(r[1]).min(r[2]);
-    // NaN fails every comparison (f32::max/min skip NaN, so test each radius too).
-    r.iter().all(|&x| x > 0.0 && x <= 3.0e38) && rmin >= rmax * MIN_RADIUS_RATIO
-}
 
 /// One image row: colour, ids, aux.
 type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>);
@@ -190,7 +176,7 @@ impl<'a> ReferenceScene<'a> {
     pub fn render(&self, req: &FrameRequest) -> Frame {
         let (w, h) = (self.camera.width as usize, self.camera.height as usize);
         let ortho = self.camera.is_ortho();
-        let bg = req.background.map(shading::to_unorm8);
+        let bg = req.background.map(to_unorm8);
         let start = std::time::Instant::now();
         let rows: Vec<Row> = (0..h)
             .into_par_iter()
@@ -211,11 +197,11 @@ impl<'a> ReferenceScene<'a> {
                             let p_view = self.view.transform_point3(hit.point);
                             let c_view = self.view.transform_point3(g.shape.centre());
                             let n_view = self.view.transform_vector3(hit.normal).normalize();
-                            let c = shading::shade(&req.lighting, ortho, g.base, n_view, p_view);
+                            let c = shade(&req.lighting, ortho, g.base, n_view, p_view);
                             color.extend_from_slice(&[
-                                shading::to_unorm8(c.x),
-                                shading::to_unorm8(c.y),
-                                shading::to_unorm8(c.z),
+                                to_unorm8(c.x),
+                                to_unorm8(c.y),
+                                to_unorm8(c.z),
                                 255,
                             ]);
                             ids.push(hit.instance + 1);

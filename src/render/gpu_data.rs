@@ -5,6 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{DMat4, DVec3};
 
 use crate::camera::Camera;
+use crate::frame::Lighting;
 use crate::scene::GlyphInstance;
 
 /// One glyph as the GPU reads it: 32 bytes, decoded by `load_glyph` in shaders/common.wgsl.
@@ -34,7 +35,7 @@ const QUAT_MAX: f64 = ((1u32 << QUAT_BITS) - 1) as f64;
 
 impl GpuGlyph {
     pub fn pack(g: &GlyphInstance) -> Self {
-        let radii = if crate::reference::drawable_radii(g.radii) {
+        let radii = if crate::scene::rules::drawable_radii(g.radii) {
             g.radii
         } else {
             [0.0; 3]
@@ -137,26 +138,6 @@ pub struct ChunkUniform {
 
 pub const CHUNK_UNIFORM_SIZE: usize = 16;
 const _: () = assert!(std::mem::size_of::<ChunkUniform>() == CHUNK_UNIFORM_SIZE);
-
-/// Blinn-Phong headlight parameters: one set for every method and the reference.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Lighting {
-    pub ambient: f32,
-    pub diffuse: f32,
-    pub specular: f32,
-    pub shininess: f32,
-}
-
-impl Default for Lighting {
-    fn default() -> Self {
-        Self {
-            ambient: 0.25,
-            diffuse: 0.75,
-            specular: 0.3,
-            shininess: 24.0,
-        }
-    }
-}
 
 /// Per-frame camera and lighting. Keep in sync with `Camera` in shaders/common.wgsl.
 #[repr(C)]
@@ -304,7 +285,7 @@ mod tests {
 
     #[test]
     fn glyphs_no_method_draws_are_packed_with_zero_radii() {
-        use crate::reference::drawable_radii;
+        use crate::scene::rules::drawable_radii;
         for radii in [
             [1.0, 0.0, 1.0],
             [1.0, -0.5, 1.0],
@@ -328,11 +309,11 @@ mod tests {
             .expect("gumhold_ellipsoid.wgsl parses");
         assert_eq!(
             wgsl_size(&gumhold, "GlyphFrame") as usize,
-            crate::render::prepass::FRAME_SIZE
+            crate::render::gumhold::prepass::FRAME_SIZE
         );
         assert_eq!(
             u64::from(wgsl_size(&gumhold, "SplatInfo")),
-            crate::render::prepass::SPLAT_INFO_SIZE
+            crate::render::gumhold::prepass::SPLAT_INFO_SIZE
         );
     }
 }

@@ -15,12 +15,13 @@ use std::collections::HashMap;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
+use crate::error::RenderError;
 use crate::render::context::GpuContext;
+use crate::render::drawer::Drawer;
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
-use crate::render::headless::Drawer;
-use crate::render::method::{GlyphKind, Method};
-use crate::render::pipeline::{PipelineInput, Variant, glyph_pipeline};
+use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
 use crate::render::shaders::ShaderSource;
+use crate::request::{GlyphKind, Method, Proxy};
 
 /// Mesh pipelines cull back faces: every unit mesh is closed and wound outward, and the glyph
 /// transform c + O diag(r) p keeps orientation (O a rotation, r > 0). Culling halves the
@@ -254,6 +255,15 @@ pub fn shared_mesh_bytes(method: Method, glyph: GlyphKind) -> usize {
     }
 }
 
+/// Triangles per glyph of a tessellated method (`None` for impostors, whose cost does not grow
+/// with a level).
+pub fn triangles_per_glyph(method: Method, glyph: GlyphKind) -> Option<u64> {
+    match method {
+        Method::Mesh(_) | Method::Box => Some(mesh_stats(method, glyph).1 as u64),
+        _ => None,
+    }
+}
+
 /// A mesh method's pipelines (one per output variant) and its shared unit mesh.
 pub struct MeshRenderer {
     pipelines: Vec<wgpu::RenderPipeline>,
@@ -263,14 +273,16 @@ pub struct MeshRenderer {
 }
 
 impl MeshRenderer {
-    /// `None` for a method that is not a mesh method.
+    /// An error for a method that is not a mesh method.
     pub fn new(
         ctx: &GpuContext,
-        layout: &wgpu::PipelineLayout,
+        layouts: &GlyphLayouts,
         method: Method,
         glyph: GlyphKind,
-    ) -> Option<Self> {
-        let mesh = unit_mesh(method, glyph)?;
+    ) -> Result<Self, RenderError> {
+        let layout = &layouts.pipeline;
+        let mesh = unit_mesh(method, glyph)
+            .ok_or_else(|| RenderError::Unsupported(format!("{method} is not a mesh method")))?;
         let source = ShaderSource::Mesh;
         let module = ctx
             .device
@@ -323,7 +335,7 @@ impl MeshRenderer {
                     usage,
                 })
         };
-        Some(Self {
+        Ok(Self {
             pipelines,
             vertices: buffer(
                 bytemuck::cast_slice(&mesh.vertices),
@@ -343,7 +355,7 @@ impl Drawer for MeshRenderer {
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         variant: Variant,
-        _proxy: crate::render::pipeline::Proxy,
+        _proxy: Proxy,
         instances: std::ops::Range<u32>,
     ) {
         // Variant::ALL is in index order.

@@ -1,23 +1,22 @@
-//! GPU renderers. CPU preparation (scene, instances) lives in [`crate::scene`]; this module
-//! uploads and draws.
+//! The GPU back end. A long-lived [`GpuRenderer`] (device, layouts, one drawer cache and the
+//! frame loop), the per-scene [`SceneBuffers`] made by upload, the [`targets`], and one folder
+//! or file per method, each recording its own passes through the [`drawer::Drawer`] trait.
 
 pub mod context;
+pub mod drawer;
 pub mod gpu_data;
 pub mod gumhold;
-pub mod gumhold_math;
-pub mod headless;
 pub mod mesh;
-pub mod method;
 pub mod pipeline;
-pub mod prepass;
 pub mod query;
+pub mod renderer;
+pub mod scene_buffers;
 pub mod shaders;
 pub mod sigg;
-pub mod sigg_math;
+pub mod strip;
 pub mod targets;
 
 pub use context::GpuContext;
-pub use headless::{Frame, FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
-pub use method::{GlyphKind, Method};
-pub use pipeline::{Proxy, ProxyShape};
-pub use prepass::DEFAULT_SPLAT;
+pub use renderer::GpuRenderer;
+pub use scene_buffers::SceneBuffers;
+pub use targets::TargetViews;

@@ -2,25 +2,26 @@
 //! screen-space bounding box of its projected quadric (Sigg eq. 5; cylinders: the union of the
 //! two end discs' boxes), with no vertex buffer; the fragment stage rebuilds the pixel's ray
 //! from its window position. Glyphs crossing the camera plane cover the viewport; glyphs behind
-//! it or around the eye are culled. The box math has an f64 twin in [`crate::render::sigg_math`].
+//! it or around the eye are culled. The box math has an f64 twin in [`crate::twin::sigg`].
 
-use crate::render::context::GpuContext;
-use crate::render::headless::Drawer;
-use crate::render::method::GlyphKind;
 use std::ops::Range;
 
-use crate::render::pipeline::{Proxy, StripRenderer, Variant};
+use crate::render::context::GpuContext;
+use crate::render::drawer::Drawer;
+use crate::render::pipeline::{GlyphLayouts, Variant};
 use crate::render::shaders::ShaderSource;
+use crate::render::strip::StripRenderer;
+use crate::request::{GlyphKind, Proxy};
 
 pub struct SiggRenderer(StripRenderer);
 
 impl SiggRenderer {
-    pub fn new(ctx: &GpuContext, layout: &wgpu::PipelineLayout, glyph: GlyphKind) -> Self {
+    pub fn new(ctx: &GpuContext, layouts: &GlyphLayouts, glyph: GlyphKind) -> Self {
         let source = match glyph {
             GlyphKind::Ellipsoid => ShaderSource::SiggEllipsoid,
             GlyphKind::Cylinder => ShaderSource::SiggCylinder,
         };
-        Self(StripRenderer::new(ctx, layout, source, None))
+        Self(StripRenderer::new(ctx, layouts, source, None))
     }
 }
 

@@ -171,3 +171,81 @@ impl Readback {
         Ok(out)
     }
 }
+
+/// Views of a [`Targets`]' textures, as a render pass attaches them.
+pub struct TargetViews {
+    /// Width and height in pixels.
+    pub(crate) size: (u32, u32),
+    color: wgpu::TextureView,
+    id: wgpu::TextureView,
+    aux: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+}
+
+impl TargetViews {
+    pub fn new(t: &Targets) -> Self {
+        let v = |t: &wgpu::Texture| t.create_view(&Default::default());
+        Self {
+            size: (t.width, t.height),
+            color: v(&t.color),
+            id: v(&t.id),
+            aux: t.aux.as_ref().map(v),
+            depth: v(&t.depth),
+        }
+    }
+
+    /// A pass over the targets, cleared first when `clear` (else drawing over what is there).
+    pub(crate) fn begin_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        background: [f64; 4],
+        clear: bool,
+        timestamp_writes: Option<wgpu::RenderPassTimestampWrites<'_>>,
+    ) -> wgpu::RenderPass<'e> {
+        let load = |c| {
+            if clear {
+                wgpu::LoadOp::Clear(c)
+            } else {
+                wgpu::LoadOp::Load
+            }
+        };
+        let attach = |c: wgpu::Color, view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: load(c),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let [r, g, b, a] = background;
+        let mut attachments = vec![
+            attach(wgpu::Color { r, g, b, a }, &self.color),
+            attach(wgpu::Color::TRANSPARENT, &self.id),
+        ];
+        if let Some(aux) = &self.aux {
+            attachments.push(attach(wgpu::Color::TRANSPARENT, aux));
+        }
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("glyphs"),
+            color_attachments: &attachments,
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: if clear {
+                        wgpu::LoadOp::Clear(1.0)
+                    } else {
+                        wgpu::LoadOp::Load
+                    },
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}

@@ -10,8 +10,8 @@ use super::cases::{self, oblique};
 use super::{Row, Status, within};
 use crate::camera::{Camera, Projection};
 use crate::reference::intersect;
-use crate::render::gumhold_math;
 use crate::scene::{GlyphSpec, Scene};
+use crate::twin::gumhold_ellipsoid;
 
 fn row(case: &'static str, parameter: &'static str, value: f64, method: &str) -> Row {
     Row {
@@ -90,7 +90,8 @@ pub fn mu_form(quick: bool) -> Vec<Row> {
         };
         let view64 = cam.view(DVec3::ZERO);
         let view: Mat4 = view64.as_mat4();
-        let setup = gumhold_math::setup_perspective(&t_inv, DVec3::ZERO, eye).expect("outside");
+        let setup =
+            gumhold_ellipsoid::setup_perspective(&t_inv, DVec3::ZERO, eye).expect("outside");
         // The f32 vertex stage, as the shader computes it.
         let o = Mat3::from_quat(Quat::from_xyzw(
             rot.x as f32,

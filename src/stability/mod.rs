@@ -20,10 +20,11 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
+use crate::frame::Frame;
 use crate::metrics::compare;
 use crate::reference::ReferenceScene;
-use crate::render::headless::{Frame, FrameRequest, GpuRenderer};
-use crate::render::method::{GlyphKind, Method};
+use crate::render::GpuRenderer;
+use crate::request::{FrameRequest, GlyphKind, Method, Preset};
 use crate::scene::Scene;
 use cases::Probe;
 
@@ -118,7 +119,7 @@ pub fn is_exact(method: &str) -> bool {
 }
 
 /// Rows of Gumhold ellipsoids drawn as `render` draws them by default: splats up to
-/// [`crate::render::DEFAULT_SPLAT`] px from the compute prepass, culled.
+/// [`crate::request::DEFAULT_SPLAT`] px from the compute prepass, culled.
 pub const SPLAT_LABEL: &str = "gumhold+splat";
 
 /// Options of a run.
@@ -178,20 +179,19 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         if probe.ellipsoid_only && glyph != GlyphKind::Ellipsoid {
             continue;
         }
-        let req = FrameRequest {
+        let dc = probe.depth_correction;
+        let request = |method, preset| FrameRequest {
             aux: true,
-            glyph,
-            depth_correction: probe.depth_correction,
             background: [0.0, 0.0, 0.0, 1.0],
-            ..FrameRequest::default()
+            ..FrameRequest::preset(method, glyph, dc, preset)
         };
-        let reference = ReferenceScene::new(&probe.scene, &probe.camera, glyph).render(&req);
+        let reference = ReferenceScene::new(&probe.scene, &probe.camera, glyph)
+            .render(&request(Method::Reference, Preset::Baseline));
         let mut variants: Vec<(String, FrameRequest)> = Vec::new();
         for &method in &opts.methods {
-            variants.push((method.to_string(), FrameRequest { method, ..req }));
+            variants.push((method.to_string(), request(method, Preset::Baseline)));
             if method == Method::Gumhold && glyph == GlyphKind::Ellipsoid {
-                let splat = FrameRequest { method, ..req }.with_render_path();
-                variants.push((SPLAT_LABEL.to_string(), splat));
+                variants.push((SPLAT_LABEL.to_string(), request(method, Preset::Splat)));
             }
         }
         for (label, req) in variants {

@@ -7,20 +7,20 @@ use std::sync::{Arc, Mutex};
 use eframe::egui_wgpu::RenderState;
 use glam::DVec3;
 
-use crate::camera::ViewPreset;
+use crate::camera::{Framing, ViewPreset};
 use crate::field::vtk::ReadOptions;
-use crate::load::Source;
+use crate::progress::Silent;
 use crate::render::{GpuContext, GpuRenderer};
 use crate::scene::Scene;
-use crate::select::Selection;
-use crate::viewer::loader::{Loaded, Loading, source_name};
+use crate::staging::{self, Recipe, Source};
+use crate::viewer::loader::{Loaded, Loading};
 use crate::viewer::navigation::{Navigation, axis_view};
 use crate::viewer::panel::{self, Action, PanelInfo, PanelState};
 use crate::viewer::picking::{PickInfo, read_id};
 use crate::viewer::screenshot::{parse_size, save_view, save_window};
 use crate::viewer::state::{BuildKey, RenderKey, Settings};
 use crate::viewer::view3d::View3d;
-use crate::viewer::{Options, Outcome};
+use crate::viewer::{Options, Outcome, ViewerError};
 
 /// The scene built from the current data, settings and selection.
 struct Built {
@@ -45,7 +45,8 @@ pub struct ViewerApp {
     built: Option<Built>,
     scene_generation: u64,
     nav: Option<Navigation>,
-    initial_ortho: bool,
+    /// The camera options the first scene is framed with.
+    framing: Framing,
     view: View3d,
     last_render: Option<RenderKey>,
     hover: Option<(u32, u32)>,
@@ -68,11 +69,11 @@ impl ViewerApp {
         cc: &eframe::CreationContext<'_>,
         opts: Options,
         outcome: Arc<Mutex<Outcome>>,
-    ) -> anyhow::Result<Self> {
+    ) -> Result<Self, ViewerError> {
         let rs = cc
             .wgpu_render_state
             .clone()
-            .ok_or_else(|| anyhow::anyhow!("the viewer needs eframe's wgpu renderer"))?;
+            .ok_or_else(|| ViewerError::Window("the viewer needs eframe's wgpu renderer".into()))?;
         let ctx = GpuContext::from_device(&rs.adapter, rs.device.clone(), rs.queue.clone());
         let gpu = Arc::new(GpuRenderer::new(ctx)?);
         cc.egui_ctx.set_theme(egui::Theme::Dark);
@@ -93,7 +94,7 @@ impl ViewerApp {
             built: None,
             scene_generation: 0,
             nav: None,
-            initial_ortho: opts.ortho,
+            framing: opts.framing,
             view: View3d::default(),
             last_render: None,
             hover: None,
@@ -164,14 +165,33 @@ impl ViewerApp {
         if self.built.as_ref().is_some_and(|b| b.key == key) {
             return;
         }
-        let resolved = key.style.resolve(&data.set, data.spacing);
-        let selected = if key.selection.is_everything() {
-            (0..data.set.glyphs.len()).collect()
-        } else {
-            key.selection.select(&data.field, &data.set)
+        let recipe = Recipe {
+            read: self.read.clone(),
+            style: key.style.clone(),
+            selection: key.selection.clone(),
+            glyph: key.glyph,
         };
-        let subset = Selection::subset(&data.set, &selected);
-        let scene = Scene::build(&subset, &resolved, key.glyph);
+        let built = match staging::build(&data.field, &data.set, data.spacing, &recipe, &Silent) {
+            Ok(b) => b,
+            Err(e) => {
+                // Nothing to draw (an empty selection): say why, keep the data.
+                self.status = Some(e.to_string());
+                staging::Built {
+                    scene: Scene::default(),
+                    selected: Vec::new(),
+                    frame_centre: DVec3::ZERO,
+                    frame_radius: 1.0,
+                    glyphs_valid: data.set.glyphs.len(),
+                }
+            }
+        };
+        let staging::Built {
+            scene,
+            selected,
+            frame_centre,
+            frame_radius,
+            ..
+        } = built;
         if let Err(e) = self.view.set_scene(&self.gpu, &scene) {
             self.error = Some(format!(
                 "cannot upload {} glyphs: {e}",
@@ -183,17 +203,10 @@ impl ViewerApp {
             Some(nav) => nav.set_bounds(scene.centre, scene.radius),
             None => {
                 // Frame the whole field (not the selection) so slicing does not jump the view.
-                let full = if selected.len() == data.set.glyphs.len() {
-                    (scene.centre, scene.radius)
-                } else {
-                    let all = Scene::build(&data.set, &resolved, key.glyph);
-                    (all.centre, all.radius)
-                };
-                self.nav = Some(Navigation::framed(
-                    ViewPreset::Iso,
-                    full.0,
-                    full.1,
-                    self.initial_ortho,
+                self.nav = Some(Navigation::from_framing(
+                    &self.framing,
+                    frame_centre,
+                    frame_radius,
                 ));
             }
         }
@@ -413,7 +426,7 @@ impl ViewerApp {
             let wake = ctx.clone();
             ctx.request_screenshot(move |image| {
                 *saved.lock().unwrap_or_else(|e| e.into_inner()) =
-                    Some(save_window(&image, &path).map_err(|e| format!("{e:#}")));
+                    Some(save_window(&image, &path).map_err(|e| e.to_string()));
                 wake.request_repaint();
             });
         }
@@ -441,7 +454,7 @@ impl eframe::App for ViewerApp {
 
         let loading = self.loading.as_ref().map(|l| {
             let (stage, frac) = l.progress();
-            (source_name(&l.source), stage, frac)
+            (l.source.name(), stage, frac)
         });
         let adapter = self.gpu.adapter_name().to_string();
         egui::Panel::left("panel")

@@ -2,16 +2,16 @@
 //! worker thread, with progress the panel can show. A failure (including a panic in a reader)
 //! comes back as an error message; the data on screen stays.
 
-use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
-
-use indicatif::ProgressBar;
 
 use crate::field::TensorField;
 use crate::field::vtk::ReadOptions;
-use crate::glyph::{GlyphSet, derive_glyphs};
-use crate::load::{Source, field_spacing};
+use crate::glyph::GlyphSet;
+use crate::progress::Progress;
+use crate::staging::{Source, decompose, field_spacing, read};
 
 /// A loaded field and its glyphs.
 pub struct Loaded {
@@ -26,14 +26,7 @@ pub struct Loaded {
 
 impl Loaded {
     pub fn name(&self) -> String {
-        source_name(&self.source)
-    }
-}
-
-pub fn source_name(source: &Source) -> String {
-    match source {
-        Source::File(p) => p.display().to_string(),
-        Source::Demo(d) => format!("demo {d}"),
+        self.source.name()
     }
 }
 
@@ -41,22 +34,17 @@ pub fn source_name(source: &Source) -> String {
 pub fn load_now(
     source: &Source,
     opts: &ReadOptions,
-    progress: Option<&ProgressBar>,
+    progress: &dyn Progress,
 ) -> Result<Loaded, String> {
-    let field = source.load(opts).map_err(|e| e.to_string())?;
+    let field = read(source, opts, progress).map_err(|e| e.to_string())?;
     if field.is_empty() {
-        return Err(format!("{}: no tensors", source_name(source)));
+        return Err(format!("{}: no tensors", source.name()));
     }
-    if let Some(pb) = progress {
-        pb.set_message("eigendecomposition");
-        pb.set_length(field.len() as u64);
-        pb.set_position(0);
-    }
-    let set = derive_glyphs(&field, progress);
+    let set = decompose(&field, progress);
     if set.glyphs.is_empty() {
         return Err(format!(
             "{}: no valid tensors ({} skipped)",
-            source_name(source),
+            source.name(),
             field.len()
         ));
     }
@@ -71,10 +59,30 @@ pub fn load_now(
     })
 }
 
+/// Progress the worker reports and the panel reads.
+#[derive(Default)]
+struct SharedProgress {
+    stage: Mutex<String>,
+    items: AtomicU64,
+    done: AtomicU64,
+}
+
+impl Progress for SharedProgress {
+    fn begin(&self, stage: &str, items: Option<u64>) {
+        *self.stage.lock().unwrap_or_else(|e| e.into_inner()) = stage.to_string();
+        self.items.store(items.unwrap_or(0), Ordering::Relaxed);
+        self.done.store(0, Ordering::Relaxed);
+    }
+
+    fn advance(&self, n: u64) {
+        self.done.fetch_add(n, Ordering::Relaxed);
+    }
+}
+
 /// A load under way.
 pub struct Loading {
     pub source: Source,
-    progress: ProgressBar,
+    progress: Arc<SharedProgress>,
     rx: Receiver<Result<Loaded, String>>,
     handle: Option<JoinHandle<()>>,
 }
@@ -82,8 +90,8 @@ pub struct Loading {
 impl Loading {
     /// Start loading on a worker thread; `wake` is called when it is done (to repaint).
     pub fn start(source: Source, opts: ReadOptions, wake: impl Fn() + Send + 'static) -> Self {
-        let progress = ProgressBar::hidden();
-        progress.set_message("reading");
+        let progress = Arc::new(SharedProgress::default());
+        progress.begin("reading", None);
         let (tx, rx) = channel();
         let pb = progress.clone();
         let src = source.clone();
@@ -91,7 +99,7 @@ impl Loading {
             .name("tensorglyph-load".into())
             .spawn(move || {
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    load_now(&src, &opts, Some(&pb))
+                    load_now(&src, &opts, pb.as_ref())
                 }))
                 .unwrap_or_else(|panic| {
                     let msg = panic
@@ -99,7 +107,7 @@ impl Loading {
                         .map(|s| s.to_string())
                         .or_else(|| panic.downcast_ref::<String>().cloned())
                         .unwrap_or_else(|| "unknown error".into());
-                    Err(format!("{}: reading failed: {msg}", source_name(&src)))
+                    Err(format!("{}: reading failed: {msg}", src.name()))
                 });
                 let _ = tx.send(result);
                 wake();
@@ -115,13 +123,11 @@ impl Loading {
 
     /// (stage, done fraction if known).
     pub fn progress(&self) -> (String, Option<f32>) {
-        let msg = self.progress.message();
-        let frac = self
-            .progress
-            .length()
-            .filter(|&n| n > 0)
-            .map(|n| self.progress.position() as f32 / n as f32);
-        (msg, frac)
+        let p = &self.progress;
+        let stage = p.stage.lock().unwrap_or_else(|e| e.into_inner()).clone();
+        let items = p.items.load(Ordering::Relaxed);
+        let frac = (items > 0).then(|| p.done.load(Ordering::Relaxed) as f32 / items as f32);
+        (stage, frac)
     }
 
     /// The result, once there is one.
@@ -134,10 +140,9 @@ impl Loading {
                 Some(r)
             }
             Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(Err(format!(
-                "{}: the loader stopped",
-                source_name(&self.source)
-            ))),
+            Err(TryRecvError::Disconnected) => {
+                Some(Err(format!("{}: the loader stopped", self.source.name())))
+            }
         }
     }
 }
@@ -145,7 +150,7 @@ impl Loading {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::load::Demo;
+    use crate::staging::Demo;
 
     #[test]
     fn loads_the_demo_off_thread_and_reports_bad_files() {

@@ -16,9 +16,10 @@ pub mod view3d;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
+use crate::camera::Framing;
 use crate::field::vtk::ReadOptions;
-use crate::load::Source;
 use crate::render::context::WANTED_FEATURES;
+use crate::staging::Source;
 use state::Settings;
 
 /// How the viewer starts.
@@ -27,7 +28,8 @@ pub struct Options {
     pub source: Option<Source>,
     pub read: ReadOptions,
     pub settings: Settings,
-    pub ortho: bool,
+    /// The camera options of the first view (`view --view`, `--zoom`, `--ortho`, …).
+    pub framing: Framing,
     /// Window size in points.
     pub size: (u32, u32),
     /// Scripted mode: render `frames` frames, write a screenshot of the whole window, exit.
@@ -41,8 +43,20 @@ pub struct Outcome {
     pub error: Option<String>,
 }
 
+/// Why the viewer stopped with an error.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewerError {
+    #[error("cannot open the viewer window: {0}")]
+    Window(String),
+    /// A scripted run that failed (loading, or writing the screenshot).
+    #[error("{0}")]
+    Scripted(String),
+    #[error(transparent)]
+    Render(#[from] crate::error::RenderError),
+}
+
 /// Open the window and run until it is closed.
-pub fn run(opts: Options) -> anyhow::Result<()> {
+pub fn run(opts: Options) -> Result<(), ViewerError> {
     let (w, h) = if opts.size.0 > 0 && opts.size.1 > 0 {
         opts.size
     } else {
@@ -77,10 +91,10 @@ pub fn run(opts: Options) -> anyhow::Result<()> {
             Ok(Box::new(app))
         }),
     )
-    .map_err(|e| anyhow::anyhow!("cannot open the viewer window: {e}"))?;
+    .map_err(|e| ViewerError::Window(e.to_string()))?;
     let outcome = outcome.lock().unwrap_or_else(|e| e.into_inner()).clone();
     match outcome.error {
-        Some(e) => Err(anyhow::anyhow!(e)),
+        Some(e) => Err(ViewerError::Scripted(e)),
         None => Ok(()),
     }
 }

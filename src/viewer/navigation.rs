@@ -29,10 +29,17 @@ impl Navigation {
     pub fn framed(preset: ViewPreset, centre: DVec3, radius: f64, ortho: bool) -> Self {
         let framing = Framing {
             view: preset,
+            ortho,
             ..Framing::default()
         };
+        Self::from_framing(&framing, centre, radius)
+    }
+
+    /// The view `render` gives of a scene's bounding sphere with these camera options.
+    pub fn from_framing(framing: &Framing, centre: DVec3, radius: f64) -> Self {
+        let ortho = framing.ortho;
         // Perspective framing fixes the distance; orthographic shows the same height there.
-        let cam = Camera::frame(&framing, centre, radius, 1, 1);
+        let cam = Camera::frame(framing, centre, radius, 1, 1);
         let forward = cam.forward();
         Self {
             target: cam.target,

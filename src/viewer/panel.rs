@@ -9,7 +9,7 @@ use egui::{Color32, RichText, Ui};
 use crate::camera::ViewPreset;
 use crate::glyph::colormap::{diverging, viridis};
 use crate::glyph::{ColorScheme, Normalize, Scale};
-use crate::render::{GlyphKind, Method, ProxyShape};
+use crate::request::{GlyphKind, Method, Preset, ProxyShape};
 use crate::select::{Selection, Slicing};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::loader::Loaded;
@@ -188,6 +188,23 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
         ui.selectable_value(&mut settings.glyph, GlyphKind::Cylinder, "cylinder");
     });
     ui.checkbox(&mut settings.depth_correction, "depth correction");
+    // The presets of `render --preset` and the bench's paths; the controls below fine-tune.
+    egui::ComboBox::from_label("preset")
+        .selected_text(
+            Preset::VALUES
+                .iter()
+                .copied()
+                .find(|p| !p.sorts() && p.options() == settings.draw)
+                .map_or("custom", Preset::name),
+        )
+        .show_ui(ui, |ui| {
+            for p in Preset::VALUES.iter().copied().filter(|p| !p.sorts()) {
+                if ui.selectable_label(false, p.name()).clicked() {
+                    settings.draw = p.options();
+                }
+            }
+        });
+    let draw = &mut settings.draw;
     if settings.method == Method::Gumhold {
         ui.horizontal(|ui| {
             ui.label("proxy");
@@ -196,19 +213,21 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
                 (ProxyShape::Octagon, "octagon"),
                 (ProxyShape::Triangle, "triangle"),
             ] {
-                ui.selectable_value(&mut settings.proxy, shape, name);
+                ui.selectable_value(&mut draw.proxy, shape, name);
             }
         });
-        ui.checkbox(&mut settings.conservative_depth, "conservative depth")
-            .on_hover_text(
-                "proxy on the glyph's nearest plane (lets a GPU reject hidden fragments early)",
-            );
+        if settings.glyph == GlyphKind::Ellipsoid && settings.depth_correction {
+            ui.checkbox(&mut draw.conservative, "conservative depth")
+                .on_hover_text(
+                    "proxy on the glyph's nearest plane (lets a GPU reject hidden fragments early)",
+                );
+        }
         if settings.glyph == GlyphKind::Ellipsoid {
-            ui.checkbox(&mut settings.prepass, "compute prepass")
+            ui.checkbox(&mut draw.prepass, "compute prepass")
                 .on_hover_text("build each glyph's proxy once in compute; always on with splats");
             ui.horizontal(|ui| {
                 ui.label("splats up to");
-                ui.add(egui::Slider::new(&mut settings.splat, 0..=128).suffix(" px"))
+                ui.add(egui::Slider::new(&mut draw.splat, 0..=128).suffix(" px"))
                     .on_hover_text(
                         "glyphs at most this many pixels across are ray cast per pixel in \
                          compute instead of drawn (0: off)",
@@ -216,7 +235,7 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
             });
         }
     }
-    ui.checkbox(&mut settings.cull, "frustum culling")
+    ui.checkbox(&mut draw.cull, "frustum culling")
         .on_hover_text("skip glyphs outside the view");
     ui.horizontal(|ui| {
         ui.label("background");
@@ -460,8 +479,12 @@ fn selection_section(ui: &mut Ui, settings: &mut Settings, info: &PanelInfo<'_>)
     }
     ui.add(egui::Slider::new(&mut sel.stride, 1..=16).text("stride"));
     roi_controls(ui, sel, info.data.map(|d| d.bounds));
-    let dims = info.data.and_then(|d| d.field.lattice_dims());
-    let Some(dims) = dims else {
+    // Before the data is loaded there is nothing to slice yet: keep the starting selection
+    // (`view --slice` is applied once the data is there).
+    let Some(data) = info.data else {
+        return;
+    };
+    let Some(dims) = data.field.lattice_dims() else {
         ui.label("slicing: needs structured data");
         sel.slicing = Slicing::Whole;
         return;
@@ -659,7 +682,8 @@ fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
 mod tests {
     use super::*;
     use crate::field::vtk::ReadOptions;
-    use crate::load::{Demo, Source};
+    use crate::select::Plane;
+    use crate::staging::{Demo, Source};
     use crate::viewer::loader::load_now;
 
     /// Run the panel once in a headless egui context.
@@ -706,7 +730,12 @@ mod tests {
 
     #[test]
     fn panel_draws_every_scheme_and_slicing_mode() {
-        let data = load_now(&Source::Demo(Demo { n: 4 }), &ReadOptions::default(), None).unwrap();
+        let data = load_now(
+            &Source::Demo(Demo { n: 4 }),
+            &ReadOptions::default(),
+            &crate::progress::Silent,
+        )
+        .unwrap();
         let ctx = egui::Context::default();
         let mut nav = Navigation::framed(ViewPreset::Iso, glam::DVec3::ZERO, 1.0, false);
         let mut state = PanelState::default();
@@ -770,7 +799,12 @@ mod tests {
 
     #[test]
     fn the_roi_checkbox_turns_the_box_on_at_the_field_bounds() {
-        let data = load_now(&Source::Demo(Demo { n: 4 }), &ReadOptions::default(), None).unwrap();
+        let data = load_now(
+            &Source::Demo(Demo { n: 4 }),
+            &ReadOptions::default(),
+            &crate::progress::Silent,
+        )
+        .unwrap();
         assert_eq!(data.bounds, [0.0, 0.0, 0.0, 3.0, 3.0, 3.0]);
         let ctx = egui::Context::default();
         let mut nav = Navigation::framed(ViewPreset::Iso, glam::DVec3::ZERO, 1.0, false);
@@ -809,6 +843,16 @@ mod tests {
 
     #[test]
     fn without_a_lattice_slicing_falls_back_to_the_whole_volume() {
+        // Unstructured points have no lattice to slice.
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/legacy42_ascii_ugrid_T9.vtk");
+        let data = load_now(
+            &Source::File(path),
+            &ReadOptions::default(),
+            &crate::progress::Silent,
+        )
+        .unwrap();
+        assert!(data.field.lattice_dims().is_none());
         let ctx = egui::Context::default();
         let mut nav = Navigation::framed(ViewPreset::Iso, glam::DVec3::ZERO, 1.0, false);
         let mut state = PanelState::default();
@@ -819,10 +863,33 @@ mod tests {
             &mut settings,
             &mut nav,
             &mut state,
-            &info(None),
+            &info(Some(&data)),
             vec![],
         );
         assert_eq!(settings.selection.slicing, Slicing::Whole);
+    }
+
+    #[test]
+    fn before_the_data_is_loaded_the_starting_slices_stay() {
+        // `view --slice x=0 --slice z=3`: the panel runs before the file is read.
+        let ctx = egui::Context::default();
+        let mut nav = Navigation::framed(ViewPreset::Iso, glam::DVec3::ZERO, 1.0, false);
+        let mut state = PanelState::default();
+        let mut settings = Settings::default();
+        let planes = Slicing::Planes(vec![
+            Plane { axis: 0, index: 0 },
+            Plane { axis: 2, index: 3 },
+        ]);
+        settings.selection.slicing = planes.clone();
+        run_panel(
+            &ctx,
+            &mut settings,
+            &mut nav,
+            &mut state,
+            &info(None),
+            vec![],
+        );
+        assert_eq!(settings.selection.slicing, planes);
     }
 
     #[test]

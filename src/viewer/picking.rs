@@ -77,12 +77,17 @@ pub fn read_id(ctx: &GpuContext, targets: &Targets, x: u32, y: u32) -> Result<u3
 mod tests {
     use super::*;
     use crate::field::vtk::ReadOptions;
-    use crate::load::{Demo, Source};
+    use crate::staging::{Demo, Source};
     use crate::viewer::loader::load_now;
 
     #[test]
     fn ids_map_through_the_selection() {
-        let data = load_now(&Source::Demo(Demo { n: 3 }), &ReadOptions::default(), None).unwrap();
+        let data = load_now(
+            &Source::Demo(Demo { n: 3 }),
+            &ReadOptions::default(),
+            &crate::progress::Silent,
+        )
+        .unwrap();
         let selected = vec![4, 7];
         assert_eq!(PickInfo::of(0, &selected, &data, 0.5), None, "background");
         assert_eq!(

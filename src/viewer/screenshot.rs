@@ -3,11 +3,11 @@
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
-
 use crate::camera::Camera;
+use crate::error::RenderError;
 use crate::image_out::write_png_atomic;
-use crate::render::{FrameRequest, GpuRenderer};
+use crate::render::GpuRenderer;
+use crate::request::FrameRequest;
 use crate::scene::Scene;
 
 /// Render `scene` with `camera` resized to `width` × `height` and write it as a PNG.
@@ -18,29 +18,32 @@ pub fn save_view(
     req: &FrameRequest,
     size: (u32, u32),
     path: &Path,
-) -> Result<()> {
+) -> Result<(), RenderError> {
     let mut cam = *camera;
     cam.width = size.0;
     cam.height = size.1;
     let req = FrameRequest { frames: 1, ..*req };
     let frame = gpu.render(scene, &cam, &req)?;
-    write_png_atomic(path, frame.width, frame.height, &frame.color)
-        .with_context(|| format!("{}: cannot write", path.display()))
+    write_png(path, frame.width, frame.height, &frame.color)
 }
 
 /// Write an egui screenshot (RGBA, sRGB) as a PNG.
-pub fn save_window(image: &egui::ColorImage, path: &Path) -> Result<()> {
+pub fn save_window(image: &egui::ColorImage, path: &Path) -> Result<(), RenderError> {
     let [w, h] = image.size;
     let rgba: Vec<u8> = image.pixels.iter().flat_map(|c| c.to_array()).collect();
-    write_png_atomic(path, w as u32, h as u32, &rgba)
-        .with_context(|| format!("{}: cannot write", path.display()))
+    write_png(path, w as u32, h as u32, &rgba)
+}
+
+fn write_png(path: &Path, w: u32, h: u32, rgba: &[u8]) -> Result<(), RenderError> {
+    write_png_atomic(path, w, h, rgba).map_err(|source| RenderError::Output {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// `WxH` → (w, h), as `render --size` takes it.
 pub fn parse_size(s: &str) -> Option<(u32, u32)> {
-    let (w, h) = s.split_once(['x', 'X'])?;
-    let (w, h) = (w.trim().parse().ok()?, h.trim().parse().ok()?);
-    (w > 0 && h > 0).then_some((w, h))
+    crate::frame::parse_size(s).ok()
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 
 use crate::camera::Camera;
 use crate::glyph::{ColorScheme, GlyphStyle};
-use crate::render::{FrameRequest, GlyphKind, Method, Proxy, ProxyShape};
+use crate::request::{DrawOptions, FrameRequest, GlyphKind, Method};
 use crate::select::{Selection, Slicing};
 
 /// Every option the side panel changes.
@@ -21,12 +21,8 @@ pub struct Settings {
     /// Linear RGB in [0, 1], as `render --background` takes it.
     pub background: [f32; 3],
     /// `render --proxy`, `--conservative-depth`, culling (`--no-cull`), `--prepass` and
-    /// `--splat` (0: off), with `render`'s defaults.
-    pub proxy: ProxyShape,
-    pub conservative_depth: bool,
-    pub cull: bool,
-    pub prepass: bool,
-    pub splat: u32,
+    /// `--splat` (0: off), with `render`'s defaults; the panel shows those the method takes.
+    pub draw: DrawOptions,
 }
 
 impl Default for Settings {
@@ -38,11 +34,7 @@ impl Default for Settings {
             style: GlyphStyle::default(),
             selection: Selection::default(),
             background: [1.0, 1.0, 1.0],
-            proxy: ProxyShape::Quad,
-            conservative_depth: false,
-            cull: true,
-            prepass: false,
-            splat: crate::render::DEFAULT_SPLAT,
+            draw: DrawOptions::default(),
         }
     }
 }
@@ -77,22 +69,11 @@ impl Settings {
     /// The request `render` would get for these settings.
     pub fn request(&self) -> FrameRequest {
         let [r, g, b] = self.background.map(f64::from);
+        // Declaring early depth needs a check over the scene per camera: the viewer does
+        // without (conservative placement alone is still correct).
         FrameRequest {
-            method: self.method,
-            glyph: self.glyph,
-            depth_correction: self.depth_correction,
             background: [r, g, b, 1.0],
-            // Declaring early depth needs a check over the scene per camera: the viewer does
-            // without (conservative placement alone is still correct).
-            proxy: Proxy {
-                shape: self.proxy,
-                conservative: self.conservative_depth,
-                early_depth: false,
-            },
-            cull: self.cull,
-            prepass: self.prepass,
-            splat: self.splat,
-            ..FrameRequest::default()
+            ..FrameRequest::with_options(self.method, self.glyph, self.depth_correction, &self.draw)
         }
     }
 
@@ -165,6 +146,7 @@ pub fn legend(scheme: ColorScheme, md_range: (f64, f64)) -> Legend {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::request::ProxyShape;
     use crate::select::Plane;
 
     #[test]
@@ -177,19 +159,19 @@ mod tests {
         assert_eq!(s.build_key(1), t.build_key(1));
         assert_ne!(s.request(), t.request());
         let mut p = s.clone();
-        p.proxy = ProxyShape::Octagon;
-        p.cull = false;
-        p.conservative_depth = true;
-        p.splat = 0;
-        p.prepass = true;
+        p.draw.proxy = ProxyShape::Octagon;
+        p.draw.cull = false;
+        p.draw.conservative = true;
+        p.draw.splat = 0;
+        p.draw.prepass = true;
         assert_eq!(s.build_key(1), p.build_key(1), "proxy options only redraw");
         let req = p.request();
-        assert_eq!(req.proxy.shape, ProxyShape::Octagon);
-        assert!(!req.cull && req.proxy.conservative && !req.proxy.early_depth);
-        assert!(req.prepass && req.splat == 0);
+        assert_eq!(req.proxy().shape, ProxyShape::Octagon);
+        assert!(!req.cull && req.proxy().conservative && !req.proxy().early_depth);
+        assert!(req.uses_prepass() && req.splat_pixels() == 0);
         let d = s.request();
         assert!(
-            d.cull && d.splat == crate::render::DEFAULT_SPLAT,
+            d.cull && d.splat_pixels() == crate::request::DEFAULT_SPLAT,
             "render's defaults"
         );
         t.selection.stride = 2;

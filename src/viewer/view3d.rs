@@ -8,7 +8,8 @@ use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::render::query::Queries;
 use crate::render::targets::{COLOR_VIEW_SRGB, Targets};
-use crate::render::{FrameRequest, GpuRenderer, SceneBuffers, TargetViews};
+use crate::render::{GpuRenderer, SceneBuffers, TargetViews};
+use crate::request::FrameRequest;
 use crate::scene::Scene;
 
 /// How long the last frame took.

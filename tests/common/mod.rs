@@ -23,9 +23,10 @@ pub fn gpu() -> Option<GpuRenderer> {
 
 use glam::{DQuat, DVec3};
 use tensorglyph::camera::Camera;
+use tensorglyph::frame::Frame;
 use tensorglyph::metrics::{Accuracy, compare};
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::render::{Frame, FrameRequest, GlyphKind, Method};
+use tensorglyph::request::{DrawOptions, FrameRequest, GlyphKind, Method, Preset, Proxy};
 use tensorglyph::scene::{GlyphSpec, Scene};
 
 /// A glyph from its world centre, rotation (axis, angle), radii and colour.
@@ -55,12 +56,12 @@ pub fn check_request(
 ) -> Option<(Frame, Accuracy)> {
     let gpu = gpu()?;
     let frame = gpu.render(scene, camera, req).expect("GPU frame");
-    let reference = ReferenceScene::new(scene, camera, req.glyph).render(req);
+    let reference = ReferenceScene::new(scene, camera, req.glyph()).render(req);
     let acc = compare(&frame, &reference, scene);
     eprintln!(
         "{name} ({} {}): {acc:?} (covered {}, fragments {:?})",
-        req.method,
-        req.glyph,
+        req.method.method(),
+        req.glyph(),
         reference.covered_pixels(),
         frame.fragments
     );
@@ -95,7 +96,7 @@ pub fn assert_scene_bounds(
     camera: &Camera,
     req: &FrameRequest,
 ) -> Accuracy {
-    let reference = ReferenceScene::new(scene, camera, req.glyph).render(req);
+    let reference = ReferenceScene::new(scene, camera, req.glyph()).render(req);
     let a = compare(frame, &reference, scene);
     eprintln!("{label}: {a:?}");
     assert!(reference.covered_pixels() > 5_000, "{label}: a real image");
@@ -109,11 +110,27 @@ pub fn assert_scene_bounds(
 /// A request for `method` and `glyph` with aux data (as [`check_request`] needs).
 pub fn aux_request(method: Method, glyph: GlyphKind, depth_correction: bool) -> FrameRequest {
     FrameRequest {
-        method,
-        glyph,
         aux: true,
-        depth_correction,
-        ..FrameRequest::default()
+        ..FrameRequest::with_options(method, glyph, depth_correction, &baseline())
+    }
+}
+
+/// The baseline's draw options (a proxy per glyph, no culling), to change one at a time.
+pub fn baseline() -> DrawOptions {
+    Preset::Baseline.options()
+}
+
+/// Gumhold with `proxy`'s shape and conservative placement, with the aux target (early depth
+/// is the renderer's to declare: [`GpuRenderer::with_early_depth`]).
+pub fn proxy_request(glyph: GlyphKind, proxy: Proxy) -> FrameRequest {
+    let opts = DrawOptions {
+        proxy: proxy.shape,
+        conservative: proxy.conservative,
+        ..baseline()
+    };
+    FrameRequest {
+        aux: true,
+        ..FrameRequest::with_options(Method::Gumhold, glyph, true, &opts)
     }
 }
 

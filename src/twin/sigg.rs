@@ -6,7 +6,7 @@
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
 use crate::camera::Camera;
-use crate::render::method::GlyphKind;
+use crate::request::GlyphKind;
 use crate::scene::{GlyphGeometry, Scene};
 
 /// An axis-aligned box in NDC.
@@ -242,7 +242,7 @@ pub fn glyph_proxy(
     match kind {
         GlyphKind::Ellipsoid => {
             // `!(E² > bound)` as in the shader: NaN counts as inside.
-            let outside = e_t.length_squared() > crate::reference::EYE_INSIDE_E2;
+            let outside = e_t.length_squared() > crate::scene::rules::EYE_INSIDE_E2;
             if !ortho && !outside {
                 return Proxy::Culled;
             }

@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use crate::render::gpu_data::Lighting;
+use crate::frame::Lighting;
 
 /// `base` in [0, 1]; `n_view` unit; `p_view` the view-space hit point.
 pub fn shade(lighting: &Lighting, ortho: bool, base: DVec3, n_view: DVec3, p_view: DVec3) -> DVec3 {

@@ -35,7 +35,7 @@ pub fn orthonormal_pair(z: DVec3) -> (DVec3, DVec3) {
 pub fn setup_perspective(t_inv: &DMat3, c: DVec3, eye: DVec3) -> Option<QuadSetup> {
     let e_t = *t_inv * (eye - c);
     let e2 = e_t.length_squared();
-    if e2.is_nan() || e2 <= crate::reference::EYE_INSIDE_E2 {
+    if e2.is_nan() || e2 <= crate::scene::rules::EYE_INSIDE_E2 {
         return None;
     }
     let e = e2.sqrt();
@@ -330,9 +330,9 @@ pub fn proxy_shape(
     scene: &crate::scene::Scene,
     camera: &crate::camera::Camera,
     i: usize,
-    glyph: crate::render::GlyphKind,
+    glyph: crate::request::GlyphKind,
 ) -> ProxyShape {
-    use crate::render::GlyphKind;
+    use crate::request::GlyphKind;
     let geo = scene.geometry(i);
     let eye = camera.eye - scene.origin;
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));

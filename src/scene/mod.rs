@@ -3,7 +3,9 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::render::method::GlyphKind;
+use crate::request::GlyphKind;
+
+pub mod rules;
 
 /// One glyph instance at full f32 precision, as built on the CPU: the reference ray casts these,
 /// the GPU reads them packed ([`crate::render::gpu_data::GpuGlyph`], 32 bytes).
@@ -191,16 +193,16 @@ impl Scene {
         style: &crate::glyph::ResolvedStyle,
         glyph: GlyphKind,
     ) -> Self {
-        Self::build_with_progress(set, style, glyph, None)
+        Self::build_with_progress(set, style, glyph, &crate::progress::Silent)
     }
 
     /// [`Self::build`], advancing `progress` by the number of instances made (in steps of
-    /// [`PROGRESS_STEP`]; its length is not set).
+    /// [`PROGRESS_STEP`]).
     pub fn build_with_progress(
         set: &crate::glyph::GlyphSet,
         style: &crate::glyph::ResolvedStyle,
         glyph: GlyphKind,
-        progress: Option<&indicatif::ProgressBar>,
+        progress: &dyn crate::progress::Progress,
     ) -> Self {
         use rayon::prelude::*;
         let origin = centre_box_middle(set);
@@ -210,17 +212,13 @@ impl Scene {
             .par_iter()
             .enumerate()
             .map(|(k, g)| {
-                if let Some(pb) = progress
-                    && (k + 1) % PROGRESS_STEP == 0
-                {
-                    pb.inc(PROGRESS_STEP as u64);
+                if (k + 1) % PROGRESS_STEP == 0 {
+                    progress.advance(PROGRESS_STEP as u64);
                 }
                 instance(g, k, origin, style, glyph)
             })
             .collect();
-        if let Some(pb) = progress {
-            pb.inc((n % PROGRESS_STEP) as u64);
-        }
+        progress.advance((n % PROGRESS_STEP) as u64);
         Self::from_instances(origin, instances)
     }
 
@@ -266,7 +264,7 @@ impl Scene {
         let culling = Culling::new(camera, self.origin, frustum, min_pixel_radius);
         let mut v = Visibility::default();
         for g in &self.instances {
-            if !crate::reference::drawable_radii(g.radii) {
+            if !crate::scene::rules::drawable_radii(g.radii) {
                 v.degenerate += 1;
                 continue;
             }
@@ -278,7 +276,7 @@ impl Scene {
                 v.culled += 1;
             } else if !camera.is_ortho()
                 && (geo.t_inv() * (eye - geo.centre)).length_squared()
-                    <= crate::reference::EYE_INSIDE_E2
+                    <= crate::scene::rules::EYE_INSIDE_E2
             {
                 v.eye_inside += 1;
             }
@@ -391,7 +389,7 @@ impl Scene {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
         self.instances.iter().all(|g| {
-            !crate::reference::drawable_radii(g.radii) || {
+            !crate::scene::rules::drawable_radii(g.radii) || {
                 let geo = GlyphGeometry::of(g);
                 (geo.centre - eye).dot(f) - 1.5 * geo.max_radius() > camera.near * (1.0 + 1e-6)
             }
@@ -440,12 +438,13 @@ pub fn cylinder_frame(rotation: [f32; 4], radii: [f32; 3]) -> ([f32; 4], [f32; 3
 mod tests {
     use super::*;
     use crate::glyph::{GlyphStyle, derive_glyphs};
-    use crate::load::field_spacing;
+    use crate::staging::field_spacing;
+    use std::sync::atomic::{AtomicU64, Ordering};
 
     #[test]
     fn bounding_sphere_is_the_built_scenes() {
         let field = crate::field::synthetic::grid(7);
-        let set = derive_glyphs(&field, None);
+        let set = derive_glyphs(&field, &crate::progress::Silent);
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
         for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
             let scene = Scene::build(&set, &style, glyph);
@@ -469,14 +468,26 @@ mod tests {
         );
     }
 
+    #[derive(Default)]
+    struct Counter(AtomicU64);
+
+    impl crate::progress::Progress for Counter {
+        fn advance(&self, n: u64) {
+            self.0.fetch_add(n, Ordering::Relaxed);
+        }
+    }
+
     #[test]
     fn progress_counts_every_instance() {
         let field = crate::field::synthetic::grid(41); // 68,921: one full step and a remainder
-        let set = derive_glyphs(&field, None);
+        let set = derive_glyphs(&field, &crate::progress::Silent);
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
-        let pb = indicatif::ProgressBar::hidden();
-        let scene = Scene::build_with_progress(&set, &style, GlyphKind::Ellipsoid, Some(&pb));
-        assert_eq!(pb.position(), scene.instances.len() as u64);
+        let counted = Counter::default();
+        let scene = Scene::build_with_progress(&set, &style, GlyphKind::Ellipsoid, &counted);
+        assert_eq!(
+            counted.0.load(Ordering::Relaxed),
+            scene.instances.len() as u64
+        );
         assert_eq!(
             scene.instances,
             Scene::build(&set, &style, GlyphKind::Ellipsoid).instances

@@ -13,14 +13,13 @@
 //! Frames are 176 bytes, so large scenes go through in slices of at most [`SLICE_GLYPHS`]
 //! glyphs sharing the frame buffers: each slice is its compute passes and a render pass.
 
+use std::collections::HashMap;
 use std::sync::Mutex;
 
 use crate::render::context::GpuContext;
-use crate::render::pipeline::buffer_entry;
-
-/// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
-/// to 32 px across measured fastest in every view (README, "Doing less work").
-pub const DEFAULT_SPLAT: u32 = 32;
+use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeline};
+use crate::render::strip::StripRenderer;
+use crate::request::Proxy;
 
 /// Bytes of one `GlyphFrame` (shaders/gumhold_ellipsoid.wgsl).
 pub const FRAME_SIZE: usize = 176;
@@ -125,6 +124,104 @@ impl PrepassLayouts {
             resolve: layout("splat resolve", &resolve_group),
             compute_group,
             resolve_group,
+        }
+    }
+}
+
+/// The prepass's compute pipelines (per proxy) and the splats' full-screen draw (per variant),
+/// built on first use from the Gumhold ellipsoid shader.
+pub struct PrepassCache {
+    pub layouts: PrepassLayouts,
+    compute: Mutex<HashMap<Proxy, (wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>>,
+    resolves: Mutex<HashMap<Variant, wgpu::RenderPipeline>>,
+    /// Splats with 64-bit atomics (splat64.wgsl).
+    int64_atomics: bool,
+}
+
+impl PrepassCache {
+    pub fn new(ctx: &GpuContext, glyphs: &wgpu::BindGroupLayout) -> Self {
+        Self {
+            layouts: PrepassLayouts::new(ctx, glyphs),
+            compute: Mutex::new(HashMap::new()),
+            resolves: Mutex::new(HashMap::new()),
+            int64_atomics: ctx.int64_atomics,
+        }
+    }
+
+    /// The pipelines of a frame with `variant` and `proxy`, from `strips`' shader.
+    pub fn pipelines(
+        &self,
+        strips: &StripRenderer,
+        variant: Variant,
+        proxy: Proxy,
+    ) -> PrepassPipelines {
+        let layouts = &self.layouts;
+        // The frames do not depend on the fragment stage's early-depth declaration.
+        let key = Proxy {
+            early_depth: false,
+            ..proxy
+        };
+        let mut compute = self.compute.lock().unwrap_or_else(|e| e.into_inner());
+        let (frames, splat_ids) = compute
+            .entry(key)
+            .or_insert_with(|| {
+                let constants = strips.constants(key);
+                let make = |entry| {
+                    strips
+                        .device
+                        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                            label: Some(entry),
+                            layout: Some(&layouts.compute),
+                            module: strips.module(false),
+                            entry_point: Some(entry),
+                            compilation_options: wgpu::PipelineCompilationOptions {
+                                constants: &constants,
+                                ..Default::default()
+                            },
+                            cache: None,
+                        })
+                };
+                // With 64-bit atomics cs_frames keeps the ids too.
+                let ids = (!self.int64_atomics).then(|| make("cs_splat_ids"));
+                (make("cs_frames"), ids)
+            })
+            .clone();
+        drop(compute);
+        let resolve = self
+            .resolves
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&variant)
+            .cloned();
+        let resolve = resolve.unwrap_or_else(|| {
+            let p = glyph_pipeline(
+                &strips.device,
+                &layouts.resolve,
+                strips.module(false),
+                "splat resolve",
+                wgpu::PrimitiveTopology::TriangleList,
+                variant,
+                &PipelineInput {
+                    vertex_entry: Some("vs_splat_rect"),
+                    fragment_entry: Some(if variant.aux {
+                        "fs_splat_aux"
+                    } else {
+                        "fs_splat"
+                    }),
+                    ..Default::default()
+                },
+            );
+            self.resolves
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .insert(variant, p.clone());
+            p
+        });
+        PrepassPipelines {
+            frames,
+            splat_ids,
+            draw: strips.pipeline(variant, proxy, true),
+            resolve,
         }
     }
 }

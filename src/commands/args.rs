@@ -1,0 +1,312 @@
+//! The options the commands share, one definition each: where the data comes from and how it
+//! is read and styled (`SceneArgs`), which glyphs are drawn (`SelectArgs`), the camera
+//! (`CameraArgs`, for `render`, `demo` and `view`) and how much work a frame does (`DrawArgs`).
+
+use std::path::PathBuf;
+use std::str::FromStr;
+
+use anyhow::{Result, bail, ensure};
+use clap::Args;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+
+use tensorglyph::camera::{Framing, ViewPreset};
+use tensorglyph::field::ComponentOrder;
+use tensorglyph::field::vtk::ReadOptions;
+pub use tensorglyph::frame::parse_size;
+use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale};
+use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape};
+use tensorglyph::select::{Plane, Selection, Slicing, parse_roi};
+use tensorglyph::staging::{Demo, Recipe, Source};
+
+/// A value parser for one of `names` (clap lists them in `--help` and in its error).
+pub fn one_of<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>
+where
+    T: FromStr<Err = String> + Clone + Send + Sync + 'static,
+{
+    PossibleValuesParser::new(names).try_map(|s| s.parse::<T>())
+}
+
+#[derive(Args, Debug, Clone)]
+pub struct SceneArgs {
+    /// Tensor array to use (default: the active tensors, else the first 9- or 6-component array).
+    #[arg(long)]
+    pub array: Option<String>,
+    /// Component order of 6-component arrays.
+    #[arg(long, default_value = "vtk", value_parser = one_of::<ComponentOrder>(ComponentOrder::NAMES))]
+    pub order: ComponentOrder,
+    /// Colour scheme.
+    #[arg(long, default_value = "shape", value_parser = one_of::<ColorScheme>(ColorScheme::NAMES))]
+    pub color: ColorScheme,
+    /// Glyph scale: `auto` (largest radius = half the grid spacing) or a factor on |λ|.
+    #[arg(long, default_value = "auto")]
+    pub scale: Scale,
+    /// Normalise eigenvalues before scaling.
+    #[arg(long, default_value = "none", value_parser = one_of::<Normalize>(Normalize::NAMES))]
+    pub normalize: Normalize,
+    /// Smallest radius as a fraction of the glyph's largest (keeps T invertible).
+    #[arg(long, default_value_t = 0.01)]
+    pub min_radius: f64,
+    /// No progress bars.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl SceneArgs {
+    pub fn read_options(&self) -> ReadOptions {
+        ReadOptions {
+            array: self.array.clone(),
+            order: self.order,
+        }
+    }
+
+    pub fn style(&self) -> Result<GlyphStyle> {
+        ensure!(
+            self.min_radius.is_finite() && (0.0..=1.0).contains(&self.min_radius),
+            "--min-radius must be between 0 and 1, got {}",
+            self.min_radius
+        );
+        Ok(GlyphStyle {
+            color: self.color,
+            scale: self.scale,
+            normalize: self.normalize,
+            min_radius: self.min_radius,
+            ..GlyphStyle::default()
+        })
+    }
+
+    /// The recipe of a scene of `glyph`s with these options and `selection`.
+    pub fn recipe(&self, selection: Selection, glyph: GlyphKind) -> Result<Recipe> {
+        Ok(Recipe {
+            read: self.read_options(),
+            style: self.style()?,
+            selection,
+            glyph,
+        })
+    }
+}
+
+/// Which glyphs to draw (`render`, `demo`, `view`): the same selection as the viewer's panel.
+/// Every flag narrows the selection; together they keep the glyphs that pass all of them.
+#[derive(Args, Debug, Clone, Default)]
+pub struct SelectArgs {
+    /// Keep glyphs with FA ≥ F (0 to 1).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub fa_min: Option<f64>,
+    /// Keep glyphs with FA ≤ F (0 to 1; 1 keeps indefinite tensors with FA above 1 too).
+    #[arg(long, value_name = "F", allow_hyphen_values = true)]
+    pub fa_max: Option<f64>,
+    /// Every N-th lattice position along each axis (file order for unstructured data); along a
+    /// slice, every N-th position in its plane.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub stride: usize,
+    /// A lattice plane x=I, y=J or z=K (index from 0; structured data only). Repeatable: the
+    /// union of the planes is kept.
+    #[arg(long = "slice", value_name = "AXIS=INDEX")]
+    pub slices: Vec<Plane>,
+    /// Region of interest: keep glyphs whose centre (world coordinates) is in the box
+    /// x0,y0,z0,x1,y1,z1 (bounds included).
+    #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1", value_parser = parse_roi, allow_hyphen_values = true)]
+    pub roi: Option<[f64; 6]>,
+}
+
+impl SelectArgs {
+    /// The selection these flags ask for, checked as far as it can be without the data.
+    pub fn selection(&self) -> Result<Selection> {
+        let sel = Selection {
+            fa_min: self.fa_min.unwrap_or(0.0),
+            fa_max: self.fa_max.unwrap_or(1.0),
+            stride: self.stride,
+            slicing: if self.slices.is_empty() {
+                Slicing::Whole
+            } else {
+                Slicing::Planes(self.slices.clone())
+            },
+            roi: self.roi,
+        };
+        sel.check()?;
+        Ok(sel)
+    }
+}
+
+/// The method, the glyph and the camera (`render`, `demo`, `view`).
+#[derive(Args, Debug, Clone)]
+pub struct CameraArgs {
+    /// Rendering method: gumhold or sigg (GPU ray casting), reference (exact CPU ray caster), or
+    /// the triangle-mesh baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box.
+    #[arg(long, default_value = "gumhold")]
+    pub method: Method,
+    #[arg(long, default_value = "ellipsoid", value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
+    pub glyph: GlyphKind,
+    /// Write the proxy's depth instead of the ray-cast depth.
+    #[arg(long)]
+    pub no_depth_correction: bool,
+    /// View direction preset (ParaView's +X … −Z buttons; iso looks from +x, −y, +z).
+    #[arg(long, default_value = "iso", allow_hyphen_values = true,
+          value_parser = one_of::<ViewPreset>(ViewPreset::NAMES))]
+    pub view: ViewPreset,
+    /// Degrees about the up axis, after the preset.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub azimuth: f64,
+    /// Degrees about the camera's right axis, after the preset.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub elevation: f64,
+    /// > 1 moves closer.
+    #[arg(long, default_value_t = 1.0)]
+    pub zoom: f64,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 30.0)]
+    pub fov: f64,
+    /// Orthographic projection.
+    #[arg(long)]
+    pub ortho: bool,
+}
+
+impl CameraArgs {
+    pub fn framing(&self) -> Result<Framing> {
+        if !(self.fov > 0.0 && self.fov < 180.0) {
+            bail!("--fov must be between 0 and 180 degrees, got {}", self.fov);
+        }
+        if !(self.zoom.is_finite() && self.zoom > 0.0) {
+            bail!("--zoom must be a positive number, got {}", self.zoom);
+        }
+        Ok(Framing {
+            view: self.view,
+            azimuth: self.azimuth,
+            elevation: self.elevation,
+            zoom: self.zoom,
+            fov_deg: self.fov,
+            ortho: self.ortho,
+        })
+    }
+}
+
+/// How much work a frame does: a preset, and options on top of it. The defaults are what
+/// measured fastest on lavapipe with the reference's accuracy (README, "Doing less work").
+#[derive(Args, Debug, Clone)]
+pub struct DrawArgs {
+    /// A named way of drawing: baseline (a quad per glyph, no culling, file order), culled,
+    /// octagon, triangle, conservative, sorted, prepass, or splat (the default); the options
+    /// below change it further.
+    #[arg(long, default_value = "splat", value_parser = one_of::<Preset>(Preset::NAMES))]
+    pub preset: Preset,
+    /// The same as --preset baseline.
+    #[arg(long, conflicts_with_all = ["preset", "prepass", "conservative_depth", "sort", "proxy", "splat", "no_cull"])]
+    pub baseline: bool,
+    /// Proxy polygon of Gumhold's ray casters: quad, octagon (fewer pixels, more triangles) or
+    /// triangle (one triangle, more pixels).
+    #[arg(long, value_parser = one_of::<ProxyShape>(ProxyShape::NAMES))]
+    pub proxy: Option<ProxyShape>,
+    /// Move Gumhold ellipsoid proxies to the glyph's nearest plane (conservative depth), and
+    /// declare it for early depth tests where the adapter supports that.
+    #[arg(long)]
+    pub conservative_depth: bool,
+    /// Draw glyphs outside the view frustum too (by default they are culled).
+    #[arg(long)]
+    pub no_cull: bool,
+    /// Skip glyphs whose projected bounding sphere is smaller than this radius in pixels
+    /// (0: draw all; glyphs under ~0.3 px rarely cover a pixel centre).
+    #[arg(long, default_value_t = 0.0, value_name = "PX")]
+    pub min_pixel_radius: f32,
+    /// Draw front to back (sorted by view depth) instead of in file order: pays where early
+    /// depth tests reject hidden fragments; on lavapipe it measured slower (see the README).
+    /// The prepass draws in no fixed order: sorting applies to `--splat 0` without --prepass.
+    #[arg(long)]
+    pub sort: bool,
+    /// Gumhold ellipsoids: build each glyph's proxy once in a compute pass (not once per
+    /// vertex) and draw only the glyphs it keeps, so culled glyphs cost nothing in the draw
+    /// (on whenever --splat is above 0).
+    #[arg(long)]
+    pub prepass: bool,
+    /// Gumhold ellipsoids with depth correction: ray cast glyphs whose proxy spans at most PX
+    /// pixels across per pixel in a compute pass instead of drawing them (0: draw every glyph;
+    /// default 32 with the splat preset).
+    #[arg(long, value_name = "PX")]
+    pub splat: Option<u32>,
+}
+
+impl DrawArgs {
+    fn preset(&self) -> Preset {
+        if self.baseline {
+            Preset::Baseline
+        } else {
+            self.preset
+        }
+    }
+
+    /// The options asked for, refused where `method` drawing `glyph` would ignore one that was
+    /// given explicitly.
+    pub fn options(
+        &self,
+        method: Method,
+        glyph: GlyphKind,
+        depth_correction: bool,
+    ) -> Result<DrawOptions> {
+        ensure!(
+            self.min_pixel_radius.is_finite() && self.min_pixel_radius >= 0.0,
+            "--min-pixel-radius must be a number of pixels ≥ 0, got {}",
+            self.min_pixel_radius
+        );
+        let preset = self.preset().options();
+        let opts = DrawOptions {
+            proxy: self.proxy.unwrap_or(preset.proxy),
+            conservative: preset.conservative || self.conservative_depth,
+            prepass: preset.prepass || self.prepass,
+            splat: self.splat.unwrap_or(preset.splat),
+            cull: preset.cull && !self.no_cull,
+            min_pixel_radius: self.min_pixel_radius,
+        };
+        if let Err((flag, who)) = opts.check(&preset, method, glyph, depth_correction) {
+            bail!("{flag} applies to {who} only (here: {method}, {glyph}s)");
+        }
+        Ok(opts)
+    }
+
+    /// Whether to sort the instances front to back before upload.
+    pub fn sort(&self) -> bool {
+        self.sort || self.preset().sorts()
+    }
+}
+
+/// Exactly one of a file and `--demo`.
+pub fn source(file: Option<PathBuf>, demo: Option<Demo>) -> Result<Source> {
+    match (file, demo) {
+        (Some(f), None) => Ok(Source::File(f)),
+        (None, Some(d)) => Ok(Source::Demo(d)),
+        (None, None) => bail!("give a FILE or --demo grid40"),
+        (Some(_), Some(_)) => bail!("give either a FILE or --demo, not both"),
+    }
+}
+
+pub fn parse_color(s: &str) -> Result<[f64; 4], String> {
+    let named = match s.to_ascii_lowercase().as_str() {
+        "white" => Some([1.0, 1.0, 1.0]),
+        "black" => Some([0.0, 0.0, 0.0]),
+        "grey" | "gray" => Some([0.5, 0.5, 0.5]),
+        "paraview" => Some([0.32, 0.34, 0.43]),
+        _ => None,
+    };
+    let rgb = if let Some(c) = named {
+        c
+    } else if let Some(hex) = s.strip_prefix('#') {
+        if hex.len() != 6 {
+            return Err(format!("colour '{s}' is not #rrggbb"));
+        }
+        let v = u32::from_str_radix(hex, 16).map_err(|_| format!("colour '{s}' is not #rrggbb"))?;
+        [
+            f64::from((v >> 16) & 255) / 255.0,
+            f64::from((v >> 8) & 255) / 255.0,
+            f64::from(v & 255) / 255.0,
+        ]
+    } else {
+        let parts: Vec<f64> = s
+            .split(',')
+            .map(|p| p.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| format!("unknown colour '{s}': use a name, #rrggbb or r,g,b"))?;
+        if parts.len() != 3 || parts.iter().any(|x| !(0.0..=1.0).contains(x)) {
+            return Err(format!("colour '{s}' needs three numbers in [0, 1]"));
+        }
+        [parts[0], parts[1], parts[2]]
+    };
+    Ok([rgb[0], rgb[1], rgb[2], 1.0])
+}

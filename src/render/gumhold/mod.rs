@@ -1,0 +1,148 @@
+//! Gumhold's method: long-lived pipelines (per output variant and proxy) that draw a 4-vertex
+//! (quad), 8-vertex (octagon) or 3-vertex (triangle) strip per glyph instance, with no vertex
+//! buffer. Ellipsoids use the glyph's own silhouette quad (optionally moved to its nearest plane:
+//! conservative depth, and optionally built once per glyph by the compute prepass, with splats:
+//! [`prepass`]); cylinders the quad of their bounding ellipsoid. The f64 twin of the shader is
+//! [`crate::twin::gumhold_ellipsoid`].
+
+pub mod prepass;
+
+use std::ops::Range;
+
+use crate::render::context::GpuContext;
+use crate::render::drawer::{Drawer, FrameRecording, record_chunks};
+use crate::render::pipeline::{GlyphLayouts, Variant};
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::ShaderSource;
+use crate::render::strip::StripRenderer;
+use crate::request::{FrameRequest, GlyphKind, Proxy};
+use prepass::{PrepassBuffers, PrepassCache, PrepassPipelines, frame_buffer_layout};
+
+pub struct GumholdRenderer {
+    strips: StripRenderer,
+    /// The compute prepass and splats (ellipsoids only).
+    prepass: Option<PrepassCache>,
+}
+
+impl GumholdRenderer {
+    pub fn new(ctx: &GpuContext, layouts: &GlyphLayouts, glyph: GlyphKind) -> Self {
+        match glyph {
+            GlyphKind::Ellipsoid => Self {
+                strips: StripRenderer::new(
+                    ctx,
+                    layouts,
+                    ShaderSource::GumholdEllipsoid,
+                    Some(frame_buffer_layout()),
+                ),
+                prepass: Some(PrepassCache::new(ctx, &layouts.group)),
+            },
+            GlyphKind::Cylinder => Self {
+                strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdCylinder, None),
+                prepass: None,
+            },
+        }
+    }
+
+    /// The prepass pipelines when `req` asks for the prepass and this glyph has it.
+    fn prepass_pipelines(&self, req: &FrameRequest) -> Option<PrepassPipelines> {
+        if !req.uses_prepass() {
+            return None;
+        }
+        let cache = self.prepass.as_ref()?;
+        Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy()))
+    }
+
+    /// The scene's prepass buffers, made on the first frame drawn with the prepass.
+    fn prepass_buffers(
+        &self,
+        ctx: &GpuContext,
+        buffers: &SceneBuffers,
+    ) -> Option<std::sync::Arc<PrepassBuffers>> {
+        let cache = self.prepass.as_ref()?;
+        Some(buffers.method_state(|| {
+            let counts: Vec<u32> = buffers.chunks.iter().map(|c| c.count).collect();
+            PrepassBuffers::new(ctx, &cache.layouts, &counts)
+        }))
+    }
+}
+
+impl Drawer for GumholdRenderer {
+    fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: Variant,
+        proxy: Proxy,
+        instances: Range<u32>,
+    ) {
+        // The request's configuration gives cylinders no conservative proxy.
+        self.strips.draw(pass, variant, proxy, instances);
+    }
+
+    fn render_passes(&self, ctx: &GpuContext, buffers: &SceneBuffers, req: &FrameRequest) -> u32 {
+        if !req.uses_prepass() {
+            return 1;
+        }
+        self.prepass_buffers(ctx, buffers)
+            .map_or(1, |p| (p.slices.len() as u32).max(1))
+    }
+
+    /// Without the prepass, one pass over the chunks; with it, per slice of the scene a compute
+    /// pass (frames, splats) and a render pass drawing the kept frames and resolving the splats.
+    fn record(&self, frame: &FrameRecording<'_>, encoder: &mut wgpu::CommandEncoder) {
+        let (Some(pipelines), Some(prepass)) = (
+            self.prepass_pipelines(frame.req),
+            self.prepass_buffers(frame.ctx, frame.buffers),
+        ) else {
+            return record_chunks(self, frame, encoder);
+        };
+        let req = frame.req;
+        let views = frame.views;
+        let splats = req.splat_pixels() > 0;
+        prepass.write_uniforms(&frame.ctx.queue, req.splat_pixels());
+        if prepass.slices.is_empty() {
+            views.begin_pass(
+                encoder,
+                req.background,
+                true,
+                frame.pass_timestamps(true, true),
+            );
+            return;
+        }
+        let last = prepass.slices.len() - 1;
+        for (k, slice) in prepass.slices.iter().enumerate() {
+            let chunk = &frame.buffers.chunks[slice.chunk].bind_group;
+            let compute_stamp =
+                frame
+                    .timestamps
+                    .filter(|_| k == 0)
+                    .map(|set| wgpu::ComputePassTimestampWrites {
+                        query_set: set,
+                        beginning_of_pass_write_index: Some(0),
+                        end_of_pass_write_index: None,
+                    });
+            prepass.record_compute(
+                encoder,
+                &pipelines,
+                chunk,
+                k,
+                views.size,
+                splats,
+                compute_stamp,
+            );
+            let mut pass = views.begin_pass(
+                encoder,
+                req.background,
+                k == 0,
+                frame.pass_timestamps(false, k == last),
+            );
+            if let Some(set) = frame.stats {
+                pass.begin_pipeline_statistics_query(set, k as u32);
+            }
+            pass.set_bind_group(0, chunk, &[]);
+            prepass.draw(&mut pass, &pipelines, splats);
+            if frame.stats.is_some() {
+                pass.end_pipeline_statistics_query();
+            }
+        }
+    }
+}

@@ -1,0 +1,264 @@
+//! The long-lived GPU renderer: the device, the glyph bind group layout every method shares, one
+//! cache of drawers (each method's pipelines, built on first use: lavapipe compiles a pipeline in
+//! tens of milliseconds), and the frame loop: write the uniforms, let the method's drawer record
+//! its passes, submit, time, count and read the targets back. The loop knows no method.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use crate::camera::Camera;
+use crate::error::RenderError;
+use crate::frame::Frame;
+use crate::render::context::GpuContext;
+use crate::render::drawer::{Drawer, FrameRecording};
+use crate::render::gpu_data::GPU_GLYPH_SIZE;
+use crate::render::gumhold::GumholdRenderer;
+use crate::render::mesh::MeshRenderer;
+use crate::render::pipeline::GlyphLayouts;
+use crate::render::query::Queries;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::sigg::SiggRenderer;
+use crate::render::targets::{Readback, TargetViews, Targets};
+use crate::request::{FrameRequest, GlyphKind, Method};
+use crate::scene::Scene;
+
+type DrawerKey = (Method, GlyphKind);
+
+/// Long-lived GPU state: device, shared layouts and every method's pipelines.
+pub struct GpuRenderer {
+    pub ctx: GpuContext,
+    layouts: GlyphLayouts,
+    drawers: Mutex<HashMap<DrawerKey, Arc<dyn Drawer>>>,
+}
+
+impl GpuRenderer {
+    pub fn new(ctx: GpuContext) -> Result<Self, RenderError> {
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let layouts = GlyphLayouts::new(&ctx);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(format!(
+                "creating the pipeline layout: {e}"
+            )));
+        }
+        Ok(Self {
+            ctx,
+            layouts,
+            drawers: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// The drawer of a method and shape, built on first use.
+    fn drawer(&self, method: Method, glyph: GlyphKind) -> Result<Arc<dyn Drawer>, RenderError> {
+        let mut map = self.drawers.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(d) = map.get(&(method, glyph)) {
+            return Ok(d.clone());
+        }
+        let scope = self
+            .ctx
+            .device
+            .push_error_scope(wgpu::ErrorFilter::Validation);
+        let layouts = &self.layouts;
+        let drawer: Arc<dyn Drawer> = match method {
+            Method::Gumhold => Arc::new(GumholdRenderer::new(&self.ctx, layouts, glyph)),
+            Method::Sigg => Arc::new(SiggRenderer::new(&self.ctx, layouts, glyph)),
+            Method::Mesh(_) | Method::Box => {
+                Arc::new(MeshRenderer::new(&self.ctx, layouts, method, glyph)?)
+            }
+            Method::Reference => {
+                return Err(RenderError::Unsupported(
+                    "the reference is a CPU method; use ReferenceScene".into(),
+                ));
+            }
+        };
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Gpu(format!(
+                "creating {method} pipelines for {glyph}: {e}"
+            )));
+        }
+        map.insert((method, glyph), drawer.clone());
+        Ok(drawer)
+    }
+
+    pub fn adapter_name(&self) -> &str {
+        &self.ctx.adapter_name
+    }
+
+    /// `req` with conservative depth declared to the GPU (`Proxy::early_depth`) where it holds:
+    /// a conservative proxy, an adapter with SHADER_EARLY_DEPTH_TEST, and every glyph of
+    /// `scene` far enough in front of the near plane for the move.
+    pub fn with_early_depth(
+        &self,
+        req: FrameRequest,
+        scene: &Scene,
+        camera: &Camera,
+    ) -> FrameRequest {
+        let mut req = req;
+        let holds = req.proxy().conservative
+            && self.ctx.early_depth_test
+            && scene.conservative_depth_holds(camera);
+        req.method.set_early_depth(holds);
+        req
+    }
+
+    /// Render `scene` seen by `camera` with the request's method and glyph shape.
+    pub fn render(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<Frame, RenderError> {
+        let buffers = self.upload(scene)?;
+        self.render_uploaded(&buffers, camera, req)
+    }
+
+    /// Upload a scene's instances once; the result is drawn by [`Self::encode`] or
+    /// [`Self::render_uploaded`] as often as the camera or the request change (the viewer keeps
+    /// it while the scene is unchanged).
+    pub fn upload(&self, scene: &Scene) -> Result<SceneBuffers, RenderError> {
+        self.upload_chunked(scene, self.max_chunk_glyphs())
+    }
+
+    /// Glyphs one storage buffer binding can hold on this device.
+    pub fn max_chunk_glyphs(&self) -> usize {
+        let limits = &self.ctx.limits;
+        let bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        (bytes / GPU_GLYPH_SIZE as u64).clamp(1, u64::from(u32::MAX)) as usize
+    }
+
+    /// [`Self::upload`] in buffers of at most `chunk` glyphs each.
+    pub fn upload_chunked(&self, scene: &Scene, chunk: usize) -> Result<SceneBuffers, RenderError> {
+        SceneBuffers::upload(&self.ctx, &self.layouts.group, scene, chunk)
+    }
+
+    /// Render instances uploaded by [`Self::upload`] (timing upload and frames apart).
+    pub fn render_uploaded(
+        &self,
+        buffers: &SceneBuffers,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<Frame, RenderError> {
+        let ctx = &self.ctx;
+        let targets = Targets::new(ctx, camera.width, camera.height, req.aux)?;
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let result = self.render_into(buffers, camera, req, &targets);
+        let oom = pollster::block_on(oom.pop());
+        let invalid = pollster::block_on(scope.pop());
+        if let Some(e) = oom.or(invalid) {
+            return Err(RenderError::Gpu(e.to_string()));
+        }
+        result
+    }
+
+    /// Record one frame of an uploaded scene into `views` (cleared first). The camera uniform is
+    /// written through the queue, so it takes effect at the next submit. `timestamps`, when
+    /// given, get the frame's begin (index 0) and end (index 1).
+    pub fn encode(
+        &self,
+        buffers: &SceneBuffers,
+        camera: &Camera,
+        req: &FrameRequest,
+        views: &TargetViews,
+        encoder: &mut wgpu::CommandEncoder,
+        timestamps: Option<&wgpu::QuerySet>,
+    ) -> Result<(), RenderError> {
+        let drawer = self.drawer(req.method.method(), req.glyph())?;
+        buffers.write_uniforms(&self.ctx.queue, camera, req);
+        let frame = FrameRecording {
+            ctx: &self.ctx,
+            buffers,
+            req,
+            views,
+            stats: None,
+            timestamps,
+        };
+        drawer.record(&frame, encoder);
+        Ok(())
+    }
+
+    fn render_into(
+        &self,
+        buffers: &SceneBuffers,
+        camera: &Camera,
+        req: &FrameRequest,
+        targets: &Targets,
+    ) -> Result<Frame, RenderError> {
+        let ctx = &self.ctx;
+        let device = &ctx.device;
+        let drawer = self.drawer(req.method.method(), req.glyph())?;
+        buffers.write_uniforms(&ctx.queue, camera, req);
+        // Per render pass: [vertex invocations, fragment invocations] (ordered by flag bit).
+        let passes = drawer.render_passes(ctx, buffers, req);
+        let stats = ctx.pipeline_statistics.then(|| {
+            Queries::new(
+                device,
+                "pipeline statistics",
+                wgpu::QueryType::PipelineStatistics(
+                    wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS
+                        | wgpu::PipelineStatisticsTypes::FRAGMENT_SHADER_INVOCATIONS,
+                ),
+                passes,
+            )
+        });
+        let views = TargetViews::new(targets);
+        let frames = req.frames.max(1);
+        let mut frame_ms = Vec::with_capacity(frames as usize);
+        let mut readbacks = None;
+        let mut counts = None;
+        for f in 0..frames {
+            let last = f + 1 == frames;
+            let mut encoder = device.create_command_encoder(&Default::default());
+            let recording = FrameRecording {
+                ctx,
+                buffers,
+                req,
+                views: &views,
+                stats: stats.as_ref().filter(|_| f == 0).map(|s| &s.set),
+                timestamps: None,
+            };
+            drawer.record(&recording, &mut encoder);
+            if let (Some(s), true) = (&stats, f == 0) {
+                s.resolve(&mut encoder);
+            }
+            if last {
+                readbacks = Some((
+                    Readback::record(ctx, &mut encoder, &targets.color, 4),
+                    Readback::record(ctx, &mut encoder, &targets.id, 4),
+                    targets
+                        .aux
+                        .as_ref()
+                        .map(|t| Readback::record(ctx, &mut encoder, t, 16)),
+                ));
+            }
+            let start = Instant::now();
+            ctx.queue.submit([encoder.finish()]);
+            ctx.wait()?;
+            frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            if let (Some(s), true) = (&stats, f == 0) {
+                counts = Some(s.read(ctx)?);
+            }
+        }
+        let (color_rb, id_rb, aux_rb) = readbacks.expect("at least one frame");
+        let color = color_rb.read(ctx)?;
+        let ids: Vec<u32> = bytemuck::pod_collect_to_vec(&id_rb.read(ctx)?);
+        let aux = match aux_rb {
+            Some(rb) => Some(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&rb.read(ctx)?)),
+            None => None,
+        };
+        Ok(Frame {
+            width: targets.width,
+            height: targets.height,
+            color,
+            ids,
+            aux,
+            frame_ms,
+            fragments: counts
+                .as_ref()
+                .map(|c: &Vec<u64>| c.iter().skip(1).step_by(2).sum()),
+            vertices: counts.as_ref().map(|c| c.iter().step_by(2).sum()),
+        })
+    }
+}

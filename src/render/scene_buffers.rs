@@ -1,0 +1,205 @@
+//! A scene on the GPU: its packed instances in chunks that each fit one storage binding, the
+//! camera and chunk uniforms, and the per-scene state a method keeps (Gumhold's prepass
+//! buffers). Built by upload, drawn by [`crate::render::GpuRenderer`] as often as the camera or
+//! the request change.
+
+use std::any::{Any, TypeId};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use crate::camera::Camera;
+use crate::error::RenderError;
+use crate::render::context::GpuContext;
+use crate::render::gpu_data::{CameraUniform, ChunkUniform, GPU_GLYPH_SIZE, GpuGlyph};
+use crate::request::FrameRequest;
+use crate::scene::{GlyphInstance, Scene};
+
+/// A scene's instances and camera uniform on the GPU, bound for drawing.
+pub struct SceneBuffers {
+    origin: glam::DVec3,
+    count: u32,
+    camera_buffer: wgpu::Buffer,
+    pub(crate) chunks: Vec<ChunkBuffers>,
+    /// What methods keep per scene, made on the first frame that needs it.
+    method_state: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
+}
+
+/// One storage buffer of packed instances and its uniform, bound as group 0.
+pub(crate) struct ChunkBuffers {
+    pub(crate) base: u32,
+    pub(crate) count: u32,
+    _glyphs: wgpu::Buffer,
+    uniform: wgpu::Buffer,
+    pub(crate) bind_group: wgpu::BindGroup,
+}
+
+impl SceneBuffers {
+    /// Upload `scene` in buffers of at most `chunk` glyphs each, bound with `layout` (the glyph
+    /// group every method shares). The instances are packed straight into each buffer's
+    /// mapping (no second copy of the scene on the CPU).
+    pub(crate) fn upload(
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        scene: &Scene,
+        chunk: usize,
+    ) -> Result<Self, RenderError> {
+        let device = &ctx.device;
+        let chunk = chunk.max(1);
+        if scene.instances.len() > u32::MAX as usize - 1 {
+            return Err(RenderError::Unsupported(format!(
+                "{} glyphs: at most {} can be drawn",
+                scene.instances.len(),
+                u32::MAX - 1
+            )));
+        }
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("camera"),
+            size: std::mem::size_of::<CameraUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        // A binding may not be empty: an empty scene gets one chunk with an unused instance.
+        let pieces: Vec<&[GlyphInstance]> = if scene.instances.is_empty() {
+            vec![&[]]
+        } else {
+            scene.instances.chunks(chunk).collect()
+        };
+        let mut chunks = Vec::with_capacity(pieces.len());
+        let mut base = 0u32;
+        for piece in pieces {
+            chunks.push(ChunkBuffers::upload(
+                ctx,
+                layout,
+                piece,
+                base,
+                &camera_buffer,
+            )?);
+            base += piece.len() as u32;
+        }
+        let oom = pollster::block_on(oom.pop());
+        let invalid = pollster::block_on(scope.pop());
+        if let Some(e) = oom.or(invalid) {
+            return Err(RenderError::Gpu(format!(
+                "uploading {} glyph instances: {e}",
+                scene.instances.len()
+            )));
+        }
+        Ok(Self {
+            origin: scene.origin,
+            count: base,
+            camera_buffer,
+            chunks,
+            method_state: Mutex::new(HashMap::new()),
+        })
+    }
+
+    /// Number of glyph instances drawn.
+    pub fn count(&self) -> u32 {
+        self.count
+    }
+
+    /// Number of storage buffers the instances were split into.
+    pub fn chunks(&self) -> usize {
+        self.chunks.len()
+    }
+
+    /// Write the camera and chunk uniforms of a frame (through the queue: they take effect at
+    /// the next submit).
+    pub(crate) fn write_uniforms(&self, queue: &wgpu::Queue, camera: &Camera, req: &FrameRequest) {
+        let uniform = CameraUniform::new(camera, self.origin, &req.lighting);
+        queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&uniform));
+        for c in &self.chunks {
+            let u = ChunkUniform {
+                base: c.base,
+                min_pixel_radius: req.min_pixel_radius,
+                cull: u32::from(req.cull),
+                _pad: 0,
+            };
+            queue.write_buffer(&c.uniform, 0, bytemuck::bytes_of(&u));
+        }
+    }
+
+    /// The state of type `T` a method keeps for this scene, made by `make` on first use.
+    pub(crate) fn method_state<T: Any + Send + Sync>(&self, make: impl FnOnce() -> T) -> Arc<T> {
+        let mut map = self.method_state.lock().unwrap_or_else(|e| e.into_inner());
+        let entry = map
+            .entry(TypeId::of::<T>())
+            .or_insert_with(|| Arc::new(make()));
+        Arc::clone(entry)
+            .downcast::<T>()
+            .unwrap_or_else(|_| unreachable!("keyed by its own type"))
+    }
+}
+
+impl ChunkBuffers {
+    /// A storage buffer of `piece` packed straight into its mapping, its uniform and its bind
+    /// group.
+    fn upload(
+        ctx: &GpuContext,
+        layout: &wgpu::BindGroupLayout,
+        piece: &[GlyphInstance],
+        base: u32,
+        camera_buffer: &wgpu::Buffer,
+    ) -> Result<Self, RenderError> {
+        use rayon::prelude::*;
+        let device = &ctx.device;
+        let glyphs = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("glyph instances"),
+            size: (piece.len().max(1) * GPU_GLYPH_SIZE) as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: true,
+        });
+        {
+            let mut view = glyphs
+                .slice(..)
+                .get_mapped_range_mut()
+                .map_err(|e| RenderError::Gpu(format!("mapping a glyph buffer for upload: {e}")))?;
+            // The mapping is write-only: pack in blocks (in parallel) and copy each in.
+            const BLOCK: usize = 1 << 16;
+            let mut packed: Vec<GpuGlyph> = Vec::with_capacity(BLOCK.min(piece.len()));
+            for (k, block) in piece.chunks(BLOCK).enumerate() {
+                block
+                    .par_iter()
+                    .map(GpuGlyph::pack)
+                    .collect_into_vec(&mut packed);
+                let at = k * BLOCK * GPU_GLYPH_SIZE;
+                view.slice(at..at + block.len() * GPU_GLYPH_SIZE)
+                    .copy_from_slice(bytemuck::cast_slice(&packed));
+            }
+        }
+        glyphs.unmap();
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("chunk"),
+            size: std::mem::size_of::<ChunkUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("glyphs"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: camera_buffer.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: glyphs.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: uniform.as_entire_binding(),
+                },
+            ],
+        });
+        Ok(Self {
+            base,
+            count: piece.len() as u32,
+            _glyphs: glyphs,
+            uniform,
+            bind_group,
+        })
+    }
+}

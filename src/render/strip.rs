@@ -1,0 +1,132 @@
+//! The ray casters' pipelines for one shader: each draws a triangle strip per instance (glyph)
+//! with no vertex buffer, the shader placing the proxy's corners. Pipelines are built on first
+//! use per output variant and proxy (lavapipe compiles one in tens of milliseconds).
+
+use std::collections::HashMap;
+use std::sync::{Mutex, OnceLock};
+
+use crate::render::context::GpuContext;
+use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
+use crate::render::shaders::ShaderSource;
+use crate::request::Proxy;
+
+pub struct StripRenderer {
+    pub(crate) device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    source: ShaderSource,
+    modules: [OnceLock<wgpu::ShaderModule>; 2],
+    /// Keyed by variant, proxy and whether the vertices come from `instance_input`.
+    pipelines: Mutex<HashMap<(Variant, Proxy, bool), wgpu::RenderPipeline>>,
+    /// Per-instance vertex input of the `vs_frames` entry point, for shaders that have one.
+    instance_input: Option<wgpu::VertexBufferLayout<'static>>,
+    /// The shader's splats use 64-bit atomics (splat64.wgsl).
+    int64_atomics: bool,
+}
+
+impl StripRenderer {
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &GlyphLayouts,
+        source: ShaderSource,
+        instance_input: Option<wgpu::VertexBufferLayout<'static>>,
+    ) -> Self {
+        let r = Self {
+            device: ctx.device.clone(),
+            layout: layouts.pipeline.clone(),
+            source,
+            modules: Default::default(),
+            pipelines: Mutex::new(HashMap::new()),
+            instance_input,
+            int64_atomics: ctx.int64_atomics,
+        };
+        // Build the default variant now, so shader errors surface where the drawer is made.
+        r.pipeline(Variant::ALL[0], Proxy::default(), false);
+        r
+    }
+
+    /// The shader module, without or with the early-depth declaration (built on first use).
+    pub(crate) fn module(&self, early_depth: bool) -> &wgpu::ShaderModule {
+        self.modules[usize::from(early_depth)].get_or_init(|| {
+            self.device
+                .create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some(self.source.name()),
+                    source: wgpu::ShaderSource::Wgsl(
+                        self.source.text_for(early_depth, self.int64_atomics).into(),
+                    ),
+                })
+        })
+    }
+
+    /// Values of the proxy `override`s, for shaders that have them.
+    pub(crate) fn constants(&self, proxy: Proxy) -> Vec<(&'static str, f64)> {
+        if !self.source.has_proxy_constants() {
+            return Vec::new();
+        }
+        vec![
+            ("PROXY_VERTICES", f64::from(proxy.vertices())),
+            (
+                "CONSERVATIVE_DEPTH",
+                if proxy.conservative { 1.0 } else { 0.0 },
+            ),
+        ]
+    }
+
+    /// The strip pipeline of `variant` and `proxy`; with `from_instances`, its vertices come
+    /// from the per-instance input (`vs_frames`) instead of the glyph storage buffer.
+    pub(crate) fn pipeline(
+        &self,
+        variant: Variant,
+        proxy: Proxy,
+        from_instances: bool,
+    ) -> wgpu::RenderPipeline {
+        let key = (variant, proxy, from_instances);
+        if let Some(p) = self
+            .pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+        {
+            return p.clone();
+        }
+        // early_depth_test only means something where the fragment writes depth.
+        let module = self.module(proxy.early_depth && variant.depth_correction);
+        let constants = self.constants(proxy);
+        let instance_buffers = [self.instance_input.clone()];
+        let (entry, buffers): (_, &[_]) = if from_instances {
+            ("vs_frames", &instance_buffers)
+        } else {
+            ("vs_main", &[])
+        };
+        let p = glyph_pipeline(
+            &self.device,
+            &self.layout,
+            module,
+            self.source.name(),
+            wgpu::PrimitiveTopology::TriangleStrip,
+            variant,
+            &PipelineInput {
+                vertex_entry: Some(entry),
+                buffers,
+                constants: &constants,
+                ..Default::default()
+            },
+        );
+        self.pipelines
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(key, p.clone());
+        p
+    }
+
+    /// Draw `instances` with `proxy` (callers pass the proxy their shader supports).
+    pub fn draw(
+        &self,
+        pass: &mut wgpu::RenderPass<'_>,
+        variant: Variant,
+        proxy: Proxy,
+        instances: std::ops::Range<u32>,
+    ) {
+        pass.set_pipeline(&self.pipeline(variant, proxy, false));
+        pass.draw(0..proxy.vertices(), instances);
+    }
+}

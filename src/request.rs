@@ -1,0 +1,687 @@
+//! What to draw and how: the method, the glyph shape, the proxy options and the request a back
+//! end renders. Shared by the GPU renderer, the exact reference, the CLI, the viewer and the
+//! bench, below all of them.
+
+use std::fmt;
+use std::num::NonZeroU32;
+use std::str::FromStr;
+
+use crate::frame::Lighting;
+
+/// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
+/// to 32 px across measured fastest in every view (README, "Doing less work").
+pub const DEFAULT_SPLAT: u32 = 32;
+
+/// How glyphs are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Gumhold's perspective-correct silhouette quad, ray cast per fragment.
+    Gumhold,
+    /// Sigg et al.'s screen-space bounding box of the projected quadric, ray cast per fragment.
+    Sigg,
+    /// The exact f64 CPU ray caster (accuracy truth, and the fallback without a GPU).
+    Reference,
+    /// Baseline: an instanced triangle mesh (icosphere / prism subdivided N times, 0..=6).
+    Mesh(u8),
+    /// Baseline: the glyph's oriented box, flat shaded (a "cuboid" glyph).
+    Box,
+}
+
+impl Method {
+    /// Every GPU method, in the order reports list them.
+    pub fn gpu_methods() -> Vec<Method> {
+        let mut m = vec![Method::Gumhold, Method::Sigg];
+        m.extend((0..=Method::MAX_MESH_LEVEL).map(Method::Mesh));
+        m.push(Method::Box);
+        m
+    }
+
+    /// The finest `mesh:N` level (an icosphere of 81 920 triangles).
+    pub const MAX_MESH_LEVEL: u8 = 6;
+
+    pub fn is_gpu(self) -> bool {
+        !matches!(self, Method::Reference)
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Method::Gumhold => write!(f, "gumhold"),
+            Method::Sigg => write!(f, "sigg"),
+            Method::Reference => write!(f, "reference"),
+            Method::Mesh(n) => write!(f, "mesh:{n}"),
+            Method::Box => write!(f, "box"),
+        }
+    }
+}
+
+impl FromStr for Method {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "gumhold" => Ok(Method::Gumhold),
+            "sigg" => Ok(Method::Sigg),
+            "reference" => Ok(Method::Reference),
+            "box" => Ok(Method::Box),
+            _ if s.starts_with("mesh:") => {
+                let max = Method::MAX_MESH_LEVEL;
+                let level = &s["mesh:".len()..];
+                let digits = !level.is_empty() && level.bytes().all(|b| b.is_ascii_digit());
+                match level.parse::<u8>() {
+                    Ok(n) if digits && n <= max => Ok(Method::Mesh(n)),
+                    _ => Err(format!(
+                        "invalid mesh level in '{s}': use mesh:N with N an integer from 0 to {max}"
+                    )),
+                }
+            }
+            _ => Err(format!(
+                "unknown method '{s}': use gumhold, sigg, reference, mesh:N (N = 0..={}) or box",
+                Method::MAX_MESH_LEVEL
+            )),
+        }
+    }
+}
+
+impl serde::Serialize for Method {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// The glyph shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GlyphKind {
+    #[default]
+    Ellipsoid,
+    /// Capped elliptic cylinder along the principal axis (or along e3 for planar tensors).
+    Cylinder,
+}
+
+crate::names::named_values!(GlyphKind {
+    Ellipsoid => "ellipsoid",
+    Cylinder => "cylinder",
+});
+
+/// The polygon around the unit circle that Gumhold's proxy is made of (gumhold-ellipsoid.md §10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ProxyShape {
+    /// Gumhold's quad: 4 vertices, 2 triangles, 4/π = 1.27 of the silhouette's area.
+    #[default]
+    Quad,
+    /// The circumscribed octagon: 8 vertices, 6 triangles, 1.05 of the area.
+    Octagon,
+    /// The circumscribed triangle: 3 vertices, 1 triangle, 3√3/π = 1.65 of the area.
+    Triangle,
+}
+
+crate::names::named_values!(ProxyShape {
+    Quad => "quad",
+    Octagon => "octagon",
+    Triangle => "triangle",
+});
+
+impl ProxyShape {
+    pub fn vertices(self) -> u32 {
+        match self {
+            ProxyShape::Quad => 4,
+            ProxyShape::Octagon => 8,
+            ProxyShape::Triangle => 3,
+        }
+    }
+}
+
+/// How the ray casters bound each glyph, as the GPU pipelines are keyed: derived from a
+/// [`MethodConfig`] (Gumhold takes all of it, conservative depth only for ellipsoids; Sigg's
+/// screen boxes and the meshes use [`Proxy::BASELINE`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Proxy {
+    pub shape: ProxyShape,
+    /// Place the proxy on the glyph's nearest view plane (rasterised depth ≤ ray-cast depth).
+    pub conservative: bool,
+    /// Declare it to the GPU (`@early_depth_test(greater_equal)`): only with `conservative`, an
+    /// adapter with SHADER_EARLY_DEPTH_TEST and every glyph far enough in front of the near plane
+    /// for the move ([`crate::scene::Scene::conservative_depth_holds`]).
+    pub early_depth: bool,
+}
+
+impl Proxy {
+    /// Gumhold's quad at the silhouette plane.
+    pub const BASELINE: Proxy = Proxy {
+        shape: ProxyShape::Quad,
+        conservative: false,
+        early_depth: false,
+    };
+
+    pub fn vertices(self) -> u32 {
+        self.shape.vertices()
+    }
+}
+
+impl Default for Proxy {
+    fn default() -> Self {
+        Self::BASELINE
+    }
+}
+
+/// How Gumhold's method draws ellipsoids with their ray-cast depth.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EllipsoidPath {
+    /// A proxy per glyph built in the vertex stage.
+    Direct,
+    /// Proxy frames built once per glyph in a compute pass; only the glyphs it keeps are drawn.
+    Prepass,
+    /// The prepass, and glyphs whose proxy spans at most this many pixels across are ray cast
+    /// per pixel in compute ("splats") instead of drawn.
+    Splat(NonZeroU32),
+}
+
+/// Gumhold ellipsoids' depth: the proxy's own, or the ray-cast one (which conservative proxies
+/// and splats need).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum EllipsoidDepth {
+    /// The proxy's rasterised depth (`--no-depth-correction`), optionally from the prepass.
+    Proxy { prepass: bool },
+    /// Per-pixel ray-cast depth.
+    RayCast {
+        /// Proxies on the glyph's nearest view plane.
+        conservative: bool,
+        /// Conservative depth declared to the GPU ([`Proxy::early_depth`]).
+        early_depth: bool,
+        path: EllipsoidPath,
+    },
+}
+
+/// Gumhold's method, per glyph shape: only what that shape can be drawn with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum GumholdConfig {
+    Ellipsoid {
+        shape: ProxyShape,
+        depth: EllipsoidDepth,
+    },
+    /// Cylinders use the quad of their bounding ellipsoid, drawn per glyph.
+    Cylinder {
+        shape: ProxyShape,
+        depth_correction: bool,
+    },
+}
+
+/// A method with the options it takes, and only those: a request for Sigg's method with splats,
+/// or for cylinders from the prepass, cannot be written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MethodConfig {
+    Gumhold(GumholdConfig),
+    Sigg {
+        glyph: GlyphKind,
+        depth_correction: bool,
+    },
+    /// The triangle-mesh baselines: `Method::Mesh(level)` or `Method::Box`; a mesh's depth is
+    /// its rasterised depth.
+    Mesh {
+        method: MeshMethod,
+        glyph: GlyphKind,
+    },
+    /// The exact CPU reference.
+    Reference {
+        glyph: GlyphKind,
+    },
+}
+
+/// Which tessellated baseline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MeshMethod {
+    /// An icosphere (a prism for cylinders) subdivided this many times, 0..=[`Method::MAX_MESH_LEVEL`].
+    Level(u8),
+    /// The glyph's oriented box.
+    Box,
+}
+
+impl MethodConfig {
+    pub fn method(&self) -> Method {
+        match self {
+            MethodConfig::Gumhold(_) => Method::Gumhold,
+            MethodConfig::Sigg { .. } => Method::Sigg,
+            MethodConfig::Mesh {
+                method: MeshMethod::Level(n),
+                ..
+            } => Method::Mesh(*n),
+            MethodConfig::Mesh {
+                method: MeshMethod::Box,
+                ..
+            } => Method::Box,
+            MethodConfig::Reference { .. } => Method::Reference,
+        }
+    }
+
+    pub fn glyph(&self) -> GlyphKind {
+        match self {
+            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { .. }) => GlyphKind::Ellipsoid,
+            MethodConfig::Gumhold(GumholdConfig::Cylinder { .. }) => GlyphKind::Cylinder,
+            MethodConfig::Sigg { glyph, .. }
+            | MethodConfig::Mesh { glyph, .. }
+            | MethodConfig::Reference { glyph } => *glyph,
+        }
+    }
+
+    /// Whether fragments write the ray-cast depth (meshes and the reference write their exact
+    /// surface depth, which counts as corrected).
+    pub fn depth_correction(&self) -> bool {
+        match self {
+            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { depth, .. }) => {
+                matches!(depth, EllipsoidDepth::RayCast { .. })
+            }
+            MethodConfig::Gumhold(GumholdConfig::Cylinder {
+                depth_correction, ..
+            })
+            | MethodConfig::Sigg {
+                depth_correction, ..
+            } => *depth_correction,
+            MethodConfig::Mesh { .. } | MethodConfig::Reference { .. } => true,
+        }
+    }
+
+    /// The proxy the GPU pipelines are keyed by.
+    pub fn proxy(&self) -> Proxy {
+        match self {
+            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { shape, depth }) => match depth {
+                EllipsoidDepth::Proxy { .. } => Proxy {
+                    shape: *shape,
+                    ..Proxy::BASELINE
+                },
+                EllipsoidDepth::RayCast {
+                    conservative,
+                    early_depth,
+                    ..
+                } => Proxy {
+                    shape: *shape,
+                    conservative: *conservative,
+                    early_depth: *early_depth,
+                },
+            },
+            MethodConfig::Gumhold(GumholdConfig::Cylinder { shape, .. }) => Proxy {
+                shape: *shape,
+                ..Proxy::BASELINE
+            },
+            _ => Proxy::BASELINE,
+        }
+    }
+
+    /// Whether frames come from Gumhold's compute prepass.
+    pub fn uses_prepass(&self) -> bool {
+        match self {
+            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { depth, .. }) => match depth {
+                EllipsoidDepth::Proxy { prepass } => *prepass,
+                EllipsoidDepth::RayCast { path, .. } => *path != EllipsoidPath::Direct,
+            },
+            _ => false,
+        }
+    }
+
+    /// The splat size in pixels (0: none).
+    pub fn splat_pixels(&self) -> u32 {
+        match self {
+            MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+                depth:
+                    EllipsoidDepth::RayCast {
+                        path: EllipsoidPath::Splat(px),
+                        ..
+                    },
+                ..
+            }) => px.get(),
+            _ => 0,
+        }
+    }
+
+    /// Declare (or not) conservative depth to the GPU, where the configuration is conservative.
+    pub fn set_early_depth(&mut self, on: bool) {
+        if let MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+            depth:
+                EllipsoidDepth::RayCast {
+                    conservative,
+                    early_depth,
+                    ..
+                },
+            ..
+        }) = self
+        {
+            *early_depth = on && *conservative;
+        }
+    }
+}
+
+/// The options a user sets (command-line flags, the viewer's widgets, a [`Preset`]), as one flat
+/// set: [`DrawOptions::config`] turns them into the [`MethodConfig`] of a method, glyph and depth
+/// setting, leaving out what that method does not take; [`DrawOptions::check`] says which of
+/// them it does not take.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DrawOptions {
+    /// Gumhold: the proxy polygon.
+    pub proxy: ProxyShape,
+    /// Gumhold ellipsoids with depth correction: proxies on the glyph's nearest plane.
+    pub conservative: bool,
+    /// Gumhold ellipsoids: the compute prepass (always on with splats).
+    pub prepass: bool,
+    /// Gumhold ellipsoids with depth correction: splats up to this many pixels (0: none).
+    pub splat: u32,
+    /// Cull glyphs outside the view frustum (or wholly in front of the near plane).
+    pub cull: bool,
+    /// Skip glyphs whose projected bounding sphere has a radius below this many pixels.
+    pub min_pixel_radius: f32,
+}
+
+impl Default for DrawOptions {
+    /// `render`'s default path ([`Preset::Splat`]).
+    fn default() -> Self {
+        Preset::DEFAULT.options()
+    }
+}
+
+impl DrawOptions {
+    /// The configuration of `method` drawing `glyph` with these options.
+    pub fn config(&self, method: Method, glyph: GlyphKind, depth_correction: bool) -> MethodConfig {
+        match method {
+            Method::Gumhold => MethodConfig::Gumhold(match glyph {
+                GlyphKind::Ellipsoid => GumholdConfig::Ellipsoid {
+                    shape: self.proxy,
+                    depth: if depth_correction {
+                        EllipsoidDepth::RayCast {
+                            conservative: self.conservative,
+                            early_depth: false,
+                            path: match NonZeroU32::new(self.splat) {
+                                Some(px) => EllipsoidPath::Splat(px),
+                                None if self.prepass => EllipsoidPath::Prepass,
+                                None => EllipsoidPath::Direct,
+                            },
+                        }
+                    } else {
+                        // Splats need the ray-cast depth: without it the prepass draws them.
+                        EllipsoidDepth::Proxy {
+                            prepass: self.prepass || self.splat > 0,
+                        }
+                    },
+                },
+                GlyphKind::Cylinder => GumholdConfig::Cylinder {
+                    shape: self.proxy,
+                    depth_correction,
+                },
+            }),
+            Method::Sigg => MethodConfig::Sigg {
+                glyph,
+                depth_correction,
+            },
+            Method::Mesh(level) => MethodConfig::Mesh {
+                method: MeshMethod::Level(level),
+                glyph,
+            },
+            Method::Box => MethodConfig::Mesh {
+                method: MeshMethod::Box,
+                glyph,
+            },
+            Method::Reference => MethodConfig::Reference { glyph },
+        }
+    }
+
+    /// The first option set away from `baseline` that `method` drawing `glyph` does not take, as
+    /// (option name, what takes it): for refusing explicit options that would be ignored.
+    pub fn check(
+        &self,
+        baseline: &DrawOptions,
+        method: Method,
+        glyph: GlyphKind,
+        depth_correction: bool,
+    ) -> Result<(), (&'static str, &'static str)> {
+        let gumhold = method == Method::Gumhold;
+        let ellipsoid = gumhold && glyph == GlyphKind::Ellipsoid;
+        let rules: [(&str, bool, bool, &str); 4] = [
+            (
+                "--proxy",
+                self.proxy != baseline.proxy,
+                gumhold,
+                "Gumhold's method",
+            ),
+            (
+                "--conservative-depth",
+                self.conservative != baseline.conservative,
+                ellipsoid && depth_correction,
+                "Gumhold ellipsoids with depth correction",
+            ),
+            (
+                "--prepass",
+                self.prepass != baseline.prepass,
+                ellipsoid,
+                "Gumhold ellipsoids",
+            ),
+            (
+                "--splat",
+                self.splat != baseline.splat && self.splat > 0,
+                ellipsoid && depth_correction,
+                "Gumhold ellipsoids with depth correction",
+            ),
+        ];
+        match rules.into_iter().find(|(_, set, takes, _)| *set && !*takes) {
+            Some((name, _, _, who)) => Err((name, who)),
+            None => Ok(()),
+        }
+    }
+}
+
+/// Named ways of drawing, shared by `render` (`--preset`), the viewer and the bench (its `path`
+/// column): [`Preset::Baseline`] is the path before the work-saving options (a quad drawn for
+/// every glyph in file order), [`Preset::Splat`] `render`'s default, the others one option each
+/// on top of the baseline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Preset {
+    /// Quads, no culling, file order.
+    Baseline,
+    /// The baseline with frustum culling in the vertex stage.
+    Culled,
+    /// The baseline with the octagon proxy.
+    Octagon,
+    /// The baseline with the triangle proxy.
+    Triangle,
+    /// The baseline with conservative depth (Gumhold ellipsoids).
+    Conservative,
+    /// The baseline drawn front to back.
+    Sorted,
+    /// The compute prepass with culling (Gumhold ellipsoids).
+    Prepass,
+    /// Splats up to [`DEFAULT_SPLAT`] pixels across from the prepass, with culling (Gumhold
+    /// ellipsoids; other methods are culled): `render`'s and the viewer's default.
+    #[default]
+    Splat,
+}
+
+impl Preset {
+    pub const DEFAULT: Preset = Preset::Splat;
+    /// The options of this preset.
+    pub fn options(self) -> DrawOptions {
+        let baseline = DrawOptions {
+            proxy: ProxyShape::Quad,
+            conservative: false,
+            prepass: false,
+            splat: 0,
+            cull: false,
+            min_pixel_radius: 0.0,
+        };
+        match self {
+            Preset::Baseline | Preset::Sorted => baseline,
+            Preset::Culled => DrawOptions {
+                cull: true,
+                ..baseline
+            },
+            Preset::Octagon => DrawOptions {
+                proxy: ProxyShape::Octagon,
+                ..baseline
+            },
+            Preset::Triangle => DrawOptions {
+                proxy: ProxyShape::Triangle,
+                ..baseline
+            },
+            Preset::Conservative => DrawOptions {
+                conservative: true,
+                ..baseline
+            },
+            Preset::Prepass => DrawOptions {
+                cull: true,
+                prepass: true,
+                ..baseline
+            },
+            Preset::Splat => DrawOptions {
+                cull: true,
+                splat: DEFAULT_SPLAT,
+                ..baseline
+            },
+        }
+    }
+
+    /// Whether the instances are drawn front to back (sorted on the CPU before upload).
+    pub fn sorts(self) -> bool {
+        self == Preset::Sorted
+    }
+
+    /// Whether this preset changes anything for `method` drawing `glyph` (with depth
+    /// correction) beyond what the baseline does.
+    pub fn applies_to(self, method: Method, glyph: GlyphKind) -> bool {
+        let ellipsoid = method == Method::Gumhold && glyph == GlyphKind::Ellipsoid;
+        match self {
+            Preset::Baseline => true,
+            Preset::Culled | Preset::Octagon | Preset::Triangle | Preset::Sorted => {
+                method == Method::Gumhold
+            }
+            Preset::Conservative | Preset::Prepass | Preset::Splat => ellipsoid,
+        }
+    }
+}
+
+crate::names::named_values!(Preset {
+    Baseline => "baseline",
+    Culled => "culled",
+    Octagon => "octagon",
+    Triangle => "triangle",
+    Conservative => "conservative",
+    Sorted => "sorted",
+    Prepass => "prepass",
+    Splat => "splat",
+});
+
+/// What to draw and what to read back.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRequest {
+    /// The method, glyph shape and the options that method takes.
+    pub method: MethodConfig,
+    /// Read back view normals and view z (for `--reference-check`).
+    pub aux: bool,
+    /// Linear RGBA in [0, 1].
+    pub background: [f64; 4],
+    /// Frames to render and time (the targets of the last one are read back).
+    pub frames: u32,
+    pub lighting: Lighting,
+    /// Cull glyphs outside the view frustum (or wholly in front of the near plane) in the
+    /// vertex stage (every GPU method).
+    pub cull: bool,
+    /// Skip glyphs whose projected bounding sphere has a radius below this many pixels (0: none).
+    pub min_pixel_radius: f32,
+}
+
+impl FrameRequest {
+    /// `method` drawing `glyph` with depth correction on the baseline path (a proxy drawn for
+    /// every glyph, no culling), the rest as [`FrameRequest::default`].
+    pub fn new(method: Method, glyph: GlyphKind) -> Self {
+        Self::with_options(method, glyph, true, &Preset::Baseline.options())
+    }
+
+    /// `method` drawing `glyph` with these options.
+    pub fn with_options(
+        method: Method,
+        glyph: GlyphKind,
+        depth_correction: bool,
+        options: &DrawOptions,
+    ) -> Self {
+        Self {
+            method: options.config(method, glyph, depth_correction),
+            cull: options.cull,
+            min_pixel_radius: options.min_pixel_radius,
+            ..Self::default()
+        }
+    }
+
+    /// `method` drawing `glyph` with a preset's options.
+    pub fn preset(
+        method: Method,
+        glyph: GlyphKind,
+        depth_correction: bool,
+        preset: Preset,
+    ) -> Self {
+        Self::with_options(method, glyph, depth_correction, &preset.options())
+    }
+
+    pub fn glyph(&self) -> GlyphKind {
+        self.method.glyph()
+    }
+
+    pub fn depth_correction(&self) -> bool {
+        self.method.depth_correction()
+    }
+
+    pub fn proxy(&self) -> Proxy {
+        self.method.proxy()
+    }
+
+    /// Whether frames come from the compute prepass.
+    pub fn uses_prepass(&self) -> bool {
+        self.method.uses_prepass()
+    }
+
+    /// The splat size in effect (0: none).
+    pub fn splat_pixels(&self) -> u32 {
+        self.method.splat_pixels()
+    }
+}
+
+impl Default for FrameRequest {
+    /// Gumhold ellipsoids with depth correction, the baseline path, white background, one frame.
+    fn default() -> Self {
+        Self {
+            method: MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+                shape: ProxyShape::Quad,
+                depth: EllipsoidDepth::RayCast {
+                    conservative: false,
+                    early_depth: false,
+                    path: EllipsoidPath::Direct,
+                },
+            }),
+            aux: false,
+            background: [1.0, 1.0, 1.0, 1.0],
+            frames: 1,
+            lighting: Lighting::default(),
+            cull: false,
+            min_pixel_radius: 0.0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn methods_round_trip_through_their_names() {
+        for m in [
+            Method::Gumhold,
+            Method::Sigg,
+            Method::Reference,
+            Method::Box,
+        ] {
+            assert_eq!(m.to_string().parse::<Method>(), Ok(m));
+        }
+        for n in 0..=Method::MAX_MESH_LEVEL {
+            assert_eq!(format!("mesh:{n}").parse::<Method>(), Ok(Method::Mesh(n)));
+        }
+        assert!("voodoo".parse::<Method>().unwrap_err().contains("voodoo"));
+        for bad in ["mesh:7", "mesh:x", "mesh:", "mesh:-1", "mesh:+3", "mesh"] {
+            let e = bad.parse::<Method>().unwrap_err();
+            assert!(e.contains(bad) && e.contains("mesh:N"), "{bad}: {e}");
+        }
+    }
+}

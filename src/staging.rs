@@ -1,0 +1,348 @@
+//! Staging: source → tensor field → glyphs → selection and style → scene, with the bounds the
+//! camera frames. One path for `render`, `demo`, `bench`, the viewer and the examples.
+//!
+//! [`stage`] runs every stage once, timed, and drops the field and the glyph set as soon as the
+//! scene no longer needs them (so peak memory stays near the largest single stage: the
+//! eigendecomposition, field and glyphs together). The viewer keeps the field and glyphs to
+//! restyle and reselect, and calls [`read`], [`decompose`] and [`build`] itself.
+
+use std::path::PathBuf;
+use std::str::FromStr;
+use std::time::Instant;
+
+use glam::DVec3;
+use serde::Serialize;
+
+use crate::error::LoadError;
+use crate::field::TensorField;
+use crate::field::vtk::{ReadOptions, read_field};
+use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
+use crate::progress::{Progress, stage as run_stage};
+use crate::request::GlyphKind;
+use crate::scene::Scene;
+use crate::select::{Selection, SelectionError};
+
+/// A built-in analytic field: `grid40` (the canonical 64,000-glyph demo) or `grid:N`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Demo {
+    pub n: usize,
+}
+
+impl FromStr for Demo {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let n = match s {
+            "grid40" => 40,
+            _ => s
+                .strip_prefix("grid:")
+                .and_then(|n| n.parse::<usize>().ok())
+                .filter(|&n| (1..=1024).contains(&n))
+                .ok_or_else(|| {
+                    format!("unknown demo '{s}': use grid40 or grid:N (1 ≤ N ≤ 1024)")
+                })?,
+        };
+        Ok(Demo { n })
+    }
+}
+
+impl std::fmt::Display for Demo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.n == 40 {
+            write!(f, "grid40")
+        } else {
+            write!(f, "grid:{}", self.n)
+        }
+    }
+}
+
+/// Where a scene comes from: a file or a built-in demo field.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Source {
+    File(PathBuf),
+    Demo(Demo),
+}
+
+impl Source {
+    pub fn load(&self, opts: &ReadOptions) -> Result<TensorField, LoadError> {
+        match self {
+            Source::File(p) => read_field(p, opts),
+            Source::Demo(d) => Ok(crate::field::synthetic::grid(d.n)),
+        }
+    }
+
+    /// The file's path, or `demo grid40`.
+    pub fn name(&self) -> String {
+        match self {
+            Source::File(p) => p.display().to_string(),
+            Source::Demo(d) => format!("demo {d}"),
+        }
+    }
+}
+
+/// The neighbour distance `--scale auto` fits the largest glyph to: the grid spacing, else the
+/// median nearest-neighbour distance of the positions.
+pub fn field_spacing(field: &TensorField) -> f64 {
+    field
+        .spacing
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .unwrap_or_else(|| crate::glyph::style::median_nn_distance(&field.positions))
+}
+
+/// Why staging stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum StageError {
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error(transparent)]
+    Selection(#[from] SelectionError),
+    #[error("the selection keeps no glyph: {asked} leaves none of the {valid} valid glyphs")]
+    EmptySelection { asked: String, valid: usize },
+    #[error("no glyph to draw: the field has no valid tensor")]
+    NoValidTensor,
+}
+
+/// What a scene is made of, besides its source.
+#[derive(Debug, Clone, Default)]
+pub struct Recipe {
+    pub read: ReadOptions,
+    pub style: GlyphStyle,
+    pub selection: Selection,
+    pub glyph: GlyphKind,
+}
+
+/// Wall-clock milliseconds of each stage.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Timings {
+    /// Reading the file or generating the demo field.
+    pub load: f64,
+    /// Eigendecomposition of every tensor (`derive_glyphs`).
+    pub eigen: f64,
+    /// Selection, style and `Scene::build` (and the whole field's bounds when a selection is
+    /// drawn).
+    pub scene: f64,
+    /// Uploading the instances to the GPU (0 for the CPU reference).
+    pub upload: f64,
+    /// The first frame: targets, pipelines, draw and read-back.
+    pub first_frame: f64,
+    /// Peak resident set size (VmHWM) after each stage, in the order of [`Self::stages`].
+    #[serde(skip)]
+    pub peak_rss_after: [Option<u64>; 5],
+}
+
+impl Timings {
+    /// (stage name, ms) in pipeline order.
+    pub fn stages(&self) -> [(&'static str, f64); 5] {
+        [
+            ("load", self.load),
+            ("eigen", self.eigen),
+            ("scene", self.scene),
+            ("upload", self.upload),
+            ("first_frame", self.first_frame),
+        ]
+    }
+
+    /// "after load … ms, …": the stages that ran, and the peak memory so far, on one line.
+    pub fn describe(&self) -> String {
+        let ran: Vec<String> = self
+            .stages()
+            .iter()
+            .filter(|(_, ms)| *ms > 0.0)
+            .map(|(name, ms)| format!("{name} {ms:.0} ms"))
+            .collect();
+        let peak = crate::mem::peak_rss_bytes().map_or(String::new(), |b| {
+            format!(", peak RSS {:.0} MiB", b as f64 / 1048576.0)
+        });
+        format!("after {}{peak}", ran.join(", "))
+    }
+}
+
+pub(crate) fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// A scene, the bounds the camera frames, and what it took.
+pub struct Staged {
+    pub scene: Scene,
+    /// Bounding sphere of the whole field (every valid glyph), which the camera frames so a
+    /// selection is drawn in place.
+    pub frame_centre: DVec3,
+    pub frame_radius: f64,
+    /// Valid tensors (glyphs before the selection).
+    pub glyphs_valid: usize,
+    /// Glyphs the selection kept (the scene's instances).
+    pub glyphs_selected: usize,
+    pub timings: Timings,
+}
+
+/// Read the file (or make the demo field).
+pub fn read(
+    source: &Source,
+    opts: &ReadOptions,
+    progress: &dyn Progress,
+) -> Result<TensorField, LoadError> {
+    run_stage(progress, "reading", None, || source.load(opts))
+}
+
+/// Eigendecompose every tensor.
+pub fn decompose(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
+    run_stage(
+        progress,
+        "eigendecomposition",
+        Some(field.len() as u64),
+        || derive_glyphs(field, progress),
+    )
+}
+
+/// Every stage once: read, decompose, select, style and build; the field and glyphs are gone
+/// when this returns.
+pub fn stage(
+    source: &Source,
+    recipe: &Recipe,
+    progress: &dyn Progress,
+) -> Result<Staged, StageError> {
+    recipe.selection.check()?;
+    let mut timings = Timings::default();
+
+    let t = Instant::now();
+    let field = read(source, &recipe.read, progress)?;
+    timings.load = ms(t);
+    timings.peak_rss_after[0] = crate::mem::peak_rss_bytes();
+    // Lattice checks before the long part.
+    recipe.selection.check_field(&field)?;
+
+    let t = Instant::now();
+    let set = decompose(&field, progress);
+    timings.eigen = ms(t);
+    timings.peak_rss_after[1] = crate::mem::peak_rss_bytes();
+
+    let t = Instant::now();
+    let resolved = recipe.style.resolve(&set, field_spacing(&field));
+    let indices = select(&field, &set, &recipe.selection)?;
+    drop(field);
+    let built = match indices {
+        None => {
+            let scene = build_scene(&set, &resolved, recipe.glyph, progress);
+            let valid = set.glyphs.len();
+            drop(set);
+            Built::whole(scene, valid)
+        }
+        Some(indices) => {
+            let (c, r) = whole_field_bounds(&set, &resolved, recipe.glyph, progress);
+            let subset = Selection::subset(&set, &indices);
+            let valid = set.glyphs.len();
+            drop(set);
+            let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
+            Built::selected(scene, (c, r), valid, indices)
+        }
+    };
+    timings.scene = ms(t);
+    timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
+    Ok(Staged {
+        glyphs_selected: built.scene.instances.len(),
+        glyphs_valid: built.glyphs_valid,
+        frame_centre: built.frame_centre,
+        frame_radius: built.frame_radius,
+        scene: built.scene,
+        timings,
+    })
+}
+
+/// A scene built from a field and glyphs that stay (the viewer's).
+pub struct Built {
+    pub scene: Scene,
+    /// Instance k is glyph `selected[k]` of the set.
+    pub selected: Vec<usize>,
+    /// Bounding sphere of the whole field.
+    pub frame_centre: DVec3,
+    pub frame_radius: f64,
+    pub glyphs_valid: usize,
+}
+
+impl Built {
+    fn whole(scene: Scene, valid: usize) -> Self {
+        Self {
+            frame_centre: scene.centre,
+            frame_radius: scene.radius,
+            selected: (0..valid).collect(),
+            glyphs_valid: valid,
+            scene,
+        }
+    }
+
+    fn selected(scene: Scene, (c, r): (DVec3, f64), valid: usize, selected: Vec<usize>) -> Self {
+        Self {
+            scene,
+            selected,
+            frame_centre: c,
+            frame_radius: r,
+            glyphs_valid: valid,
+        }
+    }
+}
+
+/// Select, style and build from a field and its glyphs, keeping both.
+pub fn build(
+    field: &TensorField,
+    set: &GlyphSet,
+    spacing: f64,
+    recipe: &Recipe,
+    progress: &dyn Progress,
+) -> Result<Built, StageError> {
+    let resolved = recipe.style.resolve(set, spacing);
+    Ok(match select(field, set, &recipe.selection)? {
+        None => Built::whole(
+            build_scene(set, &resolved, recipe.glyph, progress),
+            set.glyphs.len(),
+        ),
+        Some(indices) => {
+            let bounds = whole_field_bounds(set, &resolved, recipe.glyph, progress);
+            let subset = Selection::subset(set, &indices);
+            let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
+            Built::selected(scene, bounds, set.glyphs.len(), indices)
+        }
+    })
+}
+
+/// The glyphs `selection` keeps (`None`: all of them); an error when it keeps none or there is
+/// none to keep.
+fn select(
+    field: &TensorField,
+    set: &GlyphSet,
+    selection: &Selection,
+) -> Result<Option<Vec<usize>>, StageError> {
+    let valid = set.glyphs.len();
+    let indices = (!selection.is_everything()).then(|| selection.select(field, set));
+    if indices.as_ref().is_some_and(|i| i.is_empty()) {
+        return Err(StageError::EmptySelection {
+            asked: selection.describe(),
+            valid,
+        });
+    }
+    if valid == 0 {
+        return Err(StageError::NoValidTensor);
+    }
+    Ok(indices)
+}
+
+fn build_scene(
+    set: &GlyphSet,
+    style: &ResolvedStyle,
+    glyph: GlyphKind,
+    progress: &dyn Progress,
+) -> Scene {
+    run_stage(progress, "scene", Some(set.glyphs.len() as u64), || {
+        Scene::build_with_progress(set, style, glyph, progress)
+    })
+}
+
+/// The whole field's bounding sphere, without building its scene.
+fn whole_field_bounds(
+    set: &GlyphSet,
+    style: &ResolvedStyle,
+    glyph: GlyphKind,
+    progress: &dyn Progress,
+) -> (DVec3, f64) {
+    run_stage(progress, "bounds of the whole field", None, || {
+        Scene::bounding_sphere(set, style, glyph)
+    })
+}
