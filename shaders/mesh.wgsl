@@ -17,7 +17,7 @@ struct VsOut {
 }
 
 // Which glyph the mesh approximates; MeshRenderer sets it to true for cylinders.
-const MESH_CYLINDER: bool = false;
+override MESH_CYLINDER: bool = false;
 // reference::EYE_INSIDE_E2.
 const MESH_EYE_INSIDE_E2: f32 = 1.00001;
 

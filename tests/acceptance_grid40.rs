@@ -36,7 +36,7 @@ fn grid40_gumhold_meets_the_published_bounds() {
         let frame = gpu.render(&scene, &camera, &req).unwrap();
         let a = compare(&frame, &reference, &scene);
         eprintln!("splat {}: {a:?}", req.splat_pixels());
-        // The acceptance bounds. Coverage and identity flip only on pixel centres
+        // grid40's acceptance bounds (README, Accuracy). Coverage and identity flip only on pixel centres
         // within f32 rounding of a silhouette or an intersection curve; depth (relative to the
         // glyph's largest radius) and normals are limited at the rims by the f32 interpolation
         // of q (drawn quads) or by the pixel ray's f32 offset (splats).

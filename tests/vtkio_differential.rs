@@ -56,7 +56,7 @@ fn values_of(attrs: &[Attributes], name: &str) -> Option<Vec<f64>> {
     found
 }
 
-/// The vtkio limitations the reader works around (see the note on issue 2), recognised from a
+/// The vtkio limitations the reader works around (src/field/vtk.rs says why the reader is our own), recognised from a
 /// file's bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Limitation {

@@ -163,7 +163,7 @@ pub fn findings(rows: &[Row]) -> String {
         };
         let is_mesh = |r: &Row| r.method.to_string().starts_with("mesh:");
         let _ = writeln!(out, "**{scene}.**\n");
-        // Issue 7's paths for Gumhold's method, against the default path measured in the same run.
+        // Gumhold's presets against the baseline measured in the same run.
         for view in ["default", "close", "far"] {
             for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
                 let path_row = |path: &str| {

@@ -299,6 +299,77 @@ mod tests {
         }
     }
 
+    /// (member name, byte offset) of the WGSL struct `name`, per naga's layout.
+    fn wgsl_offsets(module: &wgpu::naga::Module, name: &str) -> Vec<(String, u32)> {
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("struct {name} not in WGSL"));
+        match &ty.inner {
+            wgpu::naga::TypeInner::Struct { members, .. } => members
+                .iter()
+                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                .collect(),
+            other => panic!("{name} is not a struct: {other:?}"),
+        }
+    }
+
+    /// Every member of the WGSL struct at the offset its Rust twin gives it (`rust` lists the
+    /// WGSL member names with the Rust offsets; padding the WGSL leaves implicit is not listed).
+    fn assert_offsets(module: &wgpu::naga::Module, name: &str, rust: &[(&str, usize)]) {
+        let wgsl = wgsl_offsets(module, name);
+        let names: Vec<&str> = wgsl.iter().map(|(n, _)| n.as_str()).collect();
+        let listed: Vec<&str> = rust.iter().map(|(n, _)| *n).collect();
+        assert_eq!(names, listed, "{name}: members");
+        for ((member, w), (_, r)) in wgsl.iter().zip(rust) {
+            assert_eq!(*w as usize, *r, "{name}.{member}: offset");
+        }
+    }
+
+    #[test]
+    fn offsets_match_wgsl() {
+        use crate::render::gumhold::prepass::GlyphFrame;
+        use std::mem::offset_of;
+        let module = shaders::parse(shaders::COMMON).expect("common.wgsl parses");
+        let g = offset_of!(GpuGlyph, radius_rgb);
+        let q = offset_of!(GpuGlyph, rotation);
+        assert_offsets(
+            &module,
+            "GpuGlyph",
+            &[
+                ("centre", offset_of!(GpuGlyph, centre)),
+                ("radius_rgb0", g),
+                ("radius_rgb1", g + 4),
+                ("radius_rgb2", g + 8),
+                ("rotation0", q),
+                ("rotation1", q + 4),
+            ],
+        );
+        macro_rules! fields {
+            ($ty:ty: $($f:ident),+) => { [$((stringify!($f), offset_of!($ty, $f))),+] };
+        }
+        assert_offsets(
+            &module,
+            "Camera",
+            &fields!(CameraUniform: view_proj, view, inv_view_proj, eye, forward, depth,
+                viewport, light, frustum, pixels),
+        );
+        assert_offsets(
+            &module,
+            "Chunk",
+            &fields!(ChunkUniform: base, min_pixel_radius, cull, _pad),
+        );
+        let gumhold = shaders::parse(&shaders::ShaderSource::GumholdEllipsoid.text())
+            .expect("gumhold_ellipsoid.wgsl parses");
+        assert_offsets(
+            &gumhold,
+            "GlyphFrame",
+            &fields!(GlyphFrame: centre, u, t0, move_to, t1, id, t2, color, m_t, tz_x, x_t,
+                tz_y, y_t, tz_z, ray_t, n0, n1, n2),
+        );
+    }
+
     #[test]
     fn sizes_match_wgsl() {
         let module = shaders::parse(shaders::COMMON).expect("common.wgsl parses");

@@ -288,28 +288,18 @@ impl MeshRenderer {
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(source.name()),
-                source: wgpu::ShaderSource::Wgsl(
-                    source
-                        .text()
-                        .replace(
-                            "const MESH_CYLINDER: bool = false;",
-                            if glyph == GlyphKind::Cylinder {
-                                "const MESH_CYLINDER: bool = true;"
-                            } else {
-                                "const MESH_CYLINDER: bool = false;"
-                            },
-                        )
-                        .into(),
-                ),
+                source: wgpu::ShaderSource::Wgsl(source.text().into()),
             });
         let buffers = [Some(wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<MeshVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &VERTEX_ATTRIBUTES,
         })];
+        let cylinder = f64::from(u8::from(glyph == GlyphKind::Cylinder));
         let input = PipelineInput {
             buffers: &buffers,
             cull_mode: MESH_CULL_MODE,
+            constants: &[("MESH_CYLINDER", cylinder)],
             ..Default::default()
         };
         let label = format!("{method} {glyph}");

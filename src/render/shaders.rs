@@ -2,6 +2,12 @@
 //! parts it needs (`cylinder_slab.wgsl` for cylinders, `sigg.wgsl` for Sigg's method), its own
 //! file and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`]
 //! runs naga's validator over each composition.
+//!
+//! Specialisation has two kinds, each with one mechanism: what changes which WGSL is valid (an
+//! entry point's attribute, 64-bit atomics) is a [`ShaderDefs`] flag, applied from the one table
+//! [`SWAPS`] when the module's text is composed; values a pipeline picks (the proxy polygon,
+//! conservative placement, the mesh's glyph shape) are WGSL `override` constants set per
+//! pipeline.
 
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
@@ -53,28 +59,16 @@ impl ShaderSource {
         )
     }
 
-    /// The source with the depth-writing fragment entry points declared conservative
-    /// (`@early_depth_test(greater_equal)`: the written depth is never less than the
-    /// rasterised one), for pipelines whose proxy guarantees that.
-    pub fn text_with(self, early_depth: bool) -> String {
-        self.text_for(early_depth, false)
-    }
-
-    /// [`Self::text_with`], and with `int64_atomics` Gumhold ellipsoids' splats use one 64-bit
-    /// atomic per pixel (splat64.wgsl) instead of two 32-bit passes (splat32.wgsl).
-    pub fn text_for(self, early_depth: bool, int64_atomics: bool) -> String {
+    /// The composed source, specialised by `defs`.
+    pub fn text_with(self, defs: ShaderDefs) -> String {
         let mut text = self.text();
-        if int64_atomics && self == ShaderSource::GumholdEllipsoid {
-            text = text.replace(SPLAT32, SPLAT64);
+        // A def changes the shaders that have its text (splats are Gumhold ellipsoids').
+        for (on, from, to) in SWAPS {
+            if on(&defs) {
+                text = text.replace(from, to);
+            }
         }
-        if early_depth {
-            text.replace(
-                "@fragment\nfn fs_depth",
-                "@fragment @early_depth_test(greater_equal)\nfn fs_depth",
-            )
-        } else {
-            text
-        }
+        text
     }
 
     pub fn text(self) -> String {
@@ -89,6 +83,28 @@ impl ShaderSource {
         format!("{COMMON}\n{body}\n{OUTPUTS}")
     }
 }
+
+/// Module-level variants of a shader (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ShaderDefs {
+    /// The depth-writing fragment entry points declared `@early_depth_test(greater_equal)`: the
+    /// written depth is never less than the rasterised one (conservative proxies).
+    pub early_depth: bool,
+    /// Gumhold ellipsoids' splats keep depth and id in one 64-bit atomic per pixel
+    /// (splat64.wgsl) instead of two 32-bit passes (splat32.wgsl).
+    pub int64_atomics: bool,
+}
+
+/// Every shader def: when it is on, this text of the composition is replaced by that one.
+type Swap = (fn(&ShaderDefs) -> bool, &'static str, &'static str);
+pub const SWAPS: [Swap; 2] = [
+    (|d| d.int64_atomics, SPLAT32, SPLAT64),
+    (
+        |d| d.early_depth,
+        "@fragment\nfn fs_depth",
+        "@fragment @early_depth_test(greater_equal)\nfn fs_depth",
+    ),
+];
 
 /// Parse WGSL with naga (the same front end wgpu uses).
 pub fn parse(text: &str) -> Result<wgpu::naga::Module, String> {
@@ -114,7 +130,11 @@ mod tests {
         for s in ShaderSource::ALL {
             for early in [false, true] {
                 for int64 in [false, true] {
-                    if let Err(e) = validate(&s.text_for(early, int64)) {
+                    let defs = ShaderDefs {
+                        early_depth: early,
+                        int64_atomics: int64,
+                    };
+                    if let Err(e) = validate(&s.text_with(defs)) {
                         panic!(
                             "{} (early depth {early}, 64-bit atomics {int64}) does not validate:\n{e}",
                             s.name()
@@ -127,7 +147,10 @@ mod tests {
 
     #[test]
     fn early_depth_declared_on_both_depth_entry_points() {
-        let text = ShaderSource::GumholdEllipsoid.text_with(true);
+        let text = ShaderSource::GumholdEllipsoid.text_with(ShaderDefs {
+            early_depth: true,
+            ..ShaderDefs::default()
+        });
         assert_eq!(text.matches("@early_depth_test(greater_equal)").count(), 2);
         let module = parse(&text).expect("parses");
         let declared = module

@@ -7,7 +7,7 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::render::context::GpuContext;
 use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
-use crate::render::shaders::ShaderSource;
+use crate::render::shaders::{ShaderDefs, ShaderSource};
 use crate::request::Proxy;
 
 pub struct StripRenderer {
@@ -51,7 +51,12 @@ impl StripRenderer {
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
                     label: Some(self.source.name()),
                     source: wgpu::ShaderSource::Wgsl(
-                        self.source.text_for(early_depth, self.int64_atomics).into(),
+                        self.source
+                            .text_with(ShaderDefs {
+                                early_depth,
+                                int64_atomics: self.int64_atomics,
+                            })
+                            .into(),
                     ),
                 })
         })

@@ -86,7 +86,7 @@ pub fn assert_tight(name: &str, a: &Accuracy) {
 }
 
 /// Compare `frame` (rendered with `req`, which asks for aux data) with the reference of the same
-/// scene and camera and hold it to the bounds of a many-glyph scene: the acceptance
+/// scene and camera and hold it to the bounds of a many-glyph scene: grid40's acceptance
 /// bounds for coverage, depth and normals, with ids at 0.2 % (small scenes have proportionally
 /// more glyph-to-glyph edges than grid40).
 pub fn assert_scene_bounds(

@@ -21,8 +21,40 @@ use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeli
 use crate::render::strip::StripRenderer;
 use crate::request::Proxy;
 
-/// Bytes of one `GlyphFrame` (shaders/gumhold_ellipsoid.wgsl).
-pub const FRAME_SIZE: usize = 176;
+/// One glyph's proxy frame as `cs_frames` writes it and `vs_frames` reads it: the twin of
+/// `GlyphFrame` in shaders/gumhold_ellipsoid.wgsl (names and offsets checked against naga's
+/// layout in `render::gpu_data`'s tests). WGSL's `vec3<f32>` is 16-aligned: a scalar fills the
+/// fourth lane where the shader has one, padding elsewhere.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GlyphFrame {
+    pub centre: [f32; 3],
+    pub u: f32,
+    pub t0: [f32; 3],
+    pub move_to: f32,
+    pub t1: [f32; 3],
+    pub id: u32,
+    pub t2: [f32; 3],
+    pub color: u32,
+    pub m_t: [f32; 3],
+    pub tz_x: f32,
+    pub x_t: [f32; 3],
+    pub tz_y: f32,
+    pub y_t: [f32; 3],
+    pub tz_z: f32,
+    pub ray_t: [f32; 3],
+    pub _pad0: f32,
+    pub n0: [f32; 3],
+    pub _pad1: f32,
+    pub n1: [f32; 3],
+    pub _pad2: f32,
+    pub n2: [f32; 3],
+    pub _pad3: f32,
+}
+
+/// Bytes of one [`GlyphFrame`].
+pub const FRAME_SIZE: usize = std::mem::size_of::<GlyphFrame>();
+const _: () = assert!(FRAME_SIZE == 176);
 /// Glyphs per slice: each frame buffer holds this many (46 MB).
 pub const SLICE_GLYPHS: u32 = 1 << 18;
 /// `@workgroup_size` of the compute entry points.
@@ -32,25 +64,32 @@ pub const SPLAT_INFO_SIZE: u64 = 36;
 /// Bytes of the `Slice` uniform.
 const SLICE_UNIFORM_SIZE: u64 = 16;
 
-/// `GlyphFrame` as the per-instance vertex attributes of `vs_frames` (`FrameInput`): (location,
-/// format, byte offset in the WGSL struct).
+/// [`GlyphFrame`] as the per-instance vertex attributes of `vs_frames` (`FrameInput`, one
+/// location each; a `vec4` location reads a `vec3` with the scalar after it).
 pub const FRAME_ATTRIBUTES: [wgpu::VertexAttribute; 13] = {
+    use std::mem::offset_of;
     use wgpu::VertexFormat::{Float32x3, Float32x4, Uint32};
     let fields = [
-        (Float32x4, 0),
-        (Float32x4, 16),
-        (Float32x3, 32),
-        (Uint32, 44),
-        (Float32x3, 48),
-        (Uint32, 60),
-        (Float32x4, 64),
-        (Float32x4, 80),
-        (Float32x4, 96),
-        (Float32x3, 112),
-        (Float32x3, 128),
-        (Float32x3, 144),
-        (Float32x3, 160),
+        (Float32x4, offset_of!(GlyphFrame, centre)),
+        (Float32x4, offset_of!(GlyphFrame, t0)),
+        (Float32x3, offset_of!(GlyphFrame, t1)),
+        (Uint32, offset_of!(GlyphFrame, id)),
+        (Float32x3, offset_of!(GlyphFrame, t2)),
+        (Uint32, offset_of!(GlyphFrame, color)),
+        (Float32x4, offset_of!(GlyphFrame, m_t)),
+        (Float32x4, offset_of!(GlyphFrame, x_t)),
+        (Float32x4, offset_of!(GlyphFrame, y_t)),
+        (Float32x3, offset_of!(GlyphFrame, ray_t)),
+        (Float32x3, offset_of!(GlyphFrame, n0)),
+        (Float32x3, offset_of!(GlyphFrame, n1)),
+        (Float32x3, offset_of!(GlyphFrame, n2)),
     ];
+    // The vec4 reads: each vec3 with its scalar right after it.
+    assert!(offset_of!(GlyphFrame, u) == offset_of!(GlyphFrame, centre) + 12);
+    assert!(offset_of!(GlyphFrame, move_to) == offset_of!(GlyphFrame, t0) + 12);
+    assert!(offset_of!(GlyphFrame, tz_x) == offset_of!(GlyphFrame, m_t) + 12);
+    assert!(offset_of!(GlyphFrame, tz_y) == offset_of!(GlyphFrame, x_t) + 12);
+    assert!(offset_of!(GlyphFrame, tz_z) == offset_of!(GlyphFrame, y_t) + 12);
     let mut out = [wgpu::VertexAttribute {
         format: Float32x4,
         offset: 0,
@@ -60,7 +99,7 @@ pub const FRAME_ATTRIBUTES: [wgpu::VertexAttribute; 13] = {
     while i < fields.len() {
         out[i] = wgpu::VertexAttribute {
             format: fields[i].0,
-            offset: fields[i].1,
+            offset: fields[i].1 as u64,
             shader_location: i as u32,
         };
         i += 1;
