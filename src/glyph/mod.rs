@@ -1,4 +1,4 @@
-//! Tensor → glyph: eigendecomposition of every valid tensor ([`derive`]), then per-glyph radii and
+//! Tensor → glyph: eigendecomposition of every valid tensor ([`mod@derive`]), then per-glyph radii and
 //! colour from user options ([`style`]).
 
 pub mod colormap;

@@ -151,7 +151,7 @@ pub struct CameraUniform {
     pub eye: [f32; 4],
     /// xyz: unit view direction.
     pub forward: [f32; 4],
-    /// B = P[2][3], P[2][2], near, far.
+    /// B = `P[2][3]`, `P[2][2]`, near, far.
     pub depth: [f32; 4],
     /// width, height, 1/width, 1/height.
     pub viewport: [f32; 4],

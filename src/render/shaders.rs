@@ -1,6 +1,6 @@
 //! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
 //! parts it needs (`cylinder_slab.wgsl` for cylinders, `sigg.wgsl` for Sigg's method), its own
-//! file and `outputs.wgsl` (the shared fragment entry points); [`tests::all_shaders_validate`]
+//! file and `outputs.wgsl` (the shared fragment entry points); `tests::all_shaders_validate`
 //! runs naga's validator over each composition.
 //!
 //! Specialisation has two kinds, each with one mechanism: what changes which WGSL is valid (an

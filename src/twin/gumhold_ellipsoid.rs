@@ -115,7 +115,7 @@ pub struct FrameConstants {
     /// World-space eye (perspective) and unit view direction.
     pub eye: DVec3,
     pub forward: DVec3,
-    /// B = P[2][3] and P[2][2] of the projection.
+    /// B = `P[2][3]` and `P[2][2]` of the projection.
     pub b: f64,
     pub p22: f64,
     pub ortho: bool,
