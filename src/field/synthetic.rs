@@ -32,7 +32,7 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::{DatasetKind, Location, TensorArrayInfo, TensorField};
+use super::{DatasetKind, Location, TensorField};
 
 /// Soft-max sharpness of the shape weights (larger: fewer unclassified tensors).
 const SHAPE_BETA: f64 = 2.6;
@@ -71,17 +71,9 @@ pub fn grid(n: usize) -> TensorField {
         format: "synthetic".into(),
         dataset: DatasetKind::ImageData,
         dims: Some([n; 3]),
-        points: total,
         cells: n.saturating_sub(1).pow(3),
-        array: TensorArrayInfo {
-            name: "tensors".into(),
-            components: 9,
-            location: Location::Point,
-        },
-        positions,
-        tensors,
-        direction: None,
         spacing: Some(1.0),
+        ..TensorField::from_points(positions, tensors)
     }
 }
 

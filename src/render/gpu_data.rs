@@ -216,17 +216,28 @@ mod tests {
     use super::*;
     use crate::render::shaders;
 
-    /// The WGSL struct named `name` in `module`, and its size per naga's layout rules.
-    fn wgsl_size(module: &wgpu::naga::Module, name: &str) -> u32 {
+    /// The WGSL struct named `name` in `module`: its members (name, byte offset) and its size,
+    /// per naga's layout rules.
+    fn wgsl_struct(module: &wgpu::naga::Module, name: &str) -> (Vec<(String, u32)>, u32) {
         let (_, ty) = module
             .types
             .iter()
             .find(|(_, t)| t.name.as_deref() == Some(name))
             .unwrap_or_else(|| panic!("struct {name} not in WGSL"));
         match &ty.inner {
-            wgpu::naga::TypeInner::Struct { span, .. } => *span,
+            wgpu::naga::TypeInner::Struct { members, span } => (
+                members
+                    .iter()
+                    .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
+                    .collect(),
+                *span,
+            ),
             other => panic!("{name} is not a struct: {other:?}"),
         }
+    }
+
+    fn wgsl_size(module: &wgpu::naga::Module, name: &str) -> u32 {
+        wgsl_struct(module, name).1
     }
 
     fn instance(rotation: [f32; 4], radii: [f32; 3]) -> GlyphInstance {
@@ -299,26 +310,10 @@ mod tests {
         }
     }
 
-    /// (member name, byte offset) of the WGSL struct `name`, per naga's layout.
-    fn wgsl_offsets(module: &wgpu::naga::Module, name: &str) -> Vec<(String, u32)> {
-        let (_, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some(name))
-            .unwrap_or_else(|| panic!("struct {name} not in WGSL"));
-        match &ty.inner {
-            wgpu::naga::TypeInner::Struct { members, .. } => members
-                .iter()
-                .map(|m| (m.name.clone().unwrap_or_default(), m.offset))
-                .collect(),
-            other => panic!("{name} is not a struct: {other:?}"),
-        }
-    }
-
     /// Every member of the WGSL struct at the offset its Rust twin gives it (`rust` lists the
     /// WGSL member names with the Rust offsets; padding the WGSL leaves implicit is not listed).
     fn assert_offsets(module: &wgpu::naga::Module, name: &str, rust: &[(&str, usize)]) {
-        let wgsl = wgsl_offsets(module, name);
+        let (wgsl, _) = wgsl_struct(module, name);
         let names: Vec<&str> = wgsl.iter().map(|(n, _)| n.as_str()).collect();
         let listed: Vec<&str> = rust.iter().map(|(n, _)| *n).collect();
         assert_eq!(names, listed, "{name}: members");
