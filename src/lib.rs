@@ -67,7 +67,7 @@ pub use error::{LoadError, RenderError};
 pub use field::vtk::{ReadOptions, read_field};
 pub use field::{ComponentOrder, TensorField};
 pub use frame::{Frame, Lighting};
-pub use glyph::{ColorScheme, GlyphSet, GlyphStyle, Normalize, Scale};
+pub use glyph::{ColorScheme, GlyphSet, GlyphStyle, Normalize, Scale, SizeBy};
 pub use image_out::write_png_atomic;
 pub use metrics::{Accuracy, compare, diff_image};
 pub use progress::{Progress, Silent};

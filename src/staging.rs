@@ -171,6 +171,8 @@ pub struct Staged {
     pub glyphs_valid: usize,
     /// Glyphs the selection kept (the scene's instances).
     pub glyphs_selected: usize,
+    /// Of those, glyphs `--scale auto` scaled down to the size of the robust largest one.
+    pub glyphs_clamped: usize,
     pub timings: Timings,
 }
 
@@ -239,6 +241,7 @@ pub fn stage(
     timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
     Ok(Staged {
         glyphs_selected: built.scene.instances.len(),
+        glyphs_clamped: built.glyphs_clamped,
         glyphs_valid: built.glyphs_valid,
         frame_centre: built.frame_centre,
         frame_radius: built.frame_radius,
@@ -250,6 +253,8 @@ pub fn stage(
 /// A scene built from a field and glyphs that stay (the viewer's).
 pub struct Built {
     pub scene: Scene,
+    /// Instances `--scale auto` scaled down to the robust largest size.
+    pub glyphs_clamped: usize,
     /// Instance k is glyph `selected[k]` of the set.
     pub selected: Vec<usize>,
     /// Bounding sphere of the whole field.
@@ -259,8 +264,9 @@ pub struct Built {
 }
 
 impl Built {
-    fn whole(scene: Scene, valid: usize) -> Self {
+    fn whole((scene, clamped): (Scene, usize), valid: usize) -> Self {
         Self {
+            glyphs_clamped: clamped,
             frame_centre: scene.centre,
             frame_radius: scene.radius,
             selected: (0..valid).collect(),
@@ -269,9 +275,15 @@ impl Built {
         }
     }
 
-    fn selected(scene: Scene, (c, r): (DVec3, f64), valid: usize, selected: Vec<usize>) -> Self {
+    fn selected(
+        (scene, clamped): (Scene, usize),
+        (c, r): (DVec3, f64),
+        valid: usize,
+        selected: Vec<usize>,
+    ) -> Self {
         Self {
             scene,
+            glyphs_clamped: clamped,
             selected,
             frame_centre: c,
             frame_radius: r,
@@ -324,15 +336,19 @@ fn select(
     Ok(indices)
 }
 
+/// The scene of `set`, and how many of its glyphs the style clamps.
 fn build_scene(
     set: &GlyphSet,
     style: &ResolvedStyle,
     glyph: GlyphKind,
     progress: &dyn Progress,
-) -> Scene {
-    run_stage(progress, "scene", Some(set.glyphs.len() as u64), || {
+) -> (Scene, usize) {
+    use rayon::prelude::*;
+    let scene = run_stage(progress, "scene", Some(set.glyphs.len() as u64), || {
         Scene::build_with_progress(set, style, glyph, progress)
-    })
+    });
+    let clamped = set.glyphs.par_iter().filter(|g| style.clamps(g)).count();
+    (scene, clamped)
 }
 
 /// The whole field's bounding sphere, without building its scene.

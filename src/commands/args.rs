@@ -13,7 +13,7 @@ use tensorglyph::camera::{Framing, ViewPreset};
 use tensorglyph::field::ComponentOrder;
 use tensorglyph::field::vtk::ReadOptions;
 pub use tensorglyph::frame::parse_size;
-use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale};
+use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape};
 use tensorglyph::select::{Plane, Selection, Slicing, parse_roi};
 use tensorglyph::staging::{Demo, Recipe, Source};
@@ -40,6 +40,11 @@ pub struct SceneArgs {
     /// Glyph scale: `auto` (largest radius = half the grid spacing) or a factor on |λ|.
     #[arg(long, default_value = "auto")]
     pub scale: Scale,
+    /// How radii follow |λ|: auto (log for stress-like fields, whose tensors are mostly
+    /// indefinite, else linear), linear, sqrt, log (for fields spanning orders of magnitude), fa
+    /// (shape at a size ∝ FA) or none (shape only).
+    #[arg(long, default_value = "auto", value_parser = one_of::<SizeBy>(SizeBy::NAMES))]
+    pub size_by: SizeBy,
     /// Normalise eigenvalues before scaling.
     #[arg(long, default_value = "none", value_parser = one_of::<Normalize>(Normalize::NAMES))]
     pub normalize: Normalize,
@@ -69,6 +74,7 @@ impl SceneArgs {
             color: self.color,
             scale: self.scale,
             normalize: self.normalize,
+            size_by: self.size_by,
             min_radius: self.min_radius,
             ..GlyphStyle::default()
         })

@@ -96,6 +96,8 @@ struct RenderReport {
     glyphs_total: usize,
     /// Valid glyphs the selection kept (= glyphs_total without a selection).
     glyphs_selected: usize,
+    /// Selected glyphs `--scale auto` scaled down to the robust largest size.
+    glyphs_clamped: usize,
     glyphs_drawn: usize,
     glyphs_eye_inside: usize,
     glyphs_behind_camera: usize,
@@ -239,6 +241,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         height: h,
         glyphs_total: staged.glyphs_valid,
         glyphs_selected: staged.glyphs_selected,
+        glyphs_clamped: staged.glyphs_clamped,
         glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate - culled,
         glyphs_culled: culled,
         glyphs_visible: frame.visible_glyphs(),

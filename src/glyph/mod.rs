@@ -7,7 +7,7 @@ pub mod spacing;
 pub mod style;
 
 pub use derive::derive_glyphs;
-pub use style::{ColorScheme, GlyphStyle, Normalize, ResolvedStyle, Scale};
+pub use style::{ColorScheme, GlyphStyle, Normalize, ResolvedStyle, Scale, SizeBy};
 
 use serde::Serialize;
 

@@ -97,12 +97,51 @@ crate::names::named_values!(Normalize {
     PerGlyph => "per-glyph",
 });
 
+/// How a glyph's radii follow its eigenvalues, before the global scale: the choices MRtrix,
+/// SCIRun and ParaView users ask for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SizeBy {
+    /// [`SizeBy::Log`] for stress-like fields (more than half of the tensors indefinite), else
+    /// [`SizeBy::Linear`] (diffusion tensors, positive definite).
+    #[default]
+    Auto,
+    /// `r_i ∝ |λ_i|`: the tensor's own ellipsoid.
+    Linear,
+    /// `r_i ∝ √|λ_i|` (for diffusion: the displacement's standard deviation), a gentler spread.
+    Sqrt,
+    /// `r_i ∝ ln(1 + |λ_i| / λ_ref)`, λ_ref the field's median largest |λ|: for fields spanning
+    /// orders of magnitude (stress near a load).
+    Log,
+    /// The glyph's shape (`|λ_i| / max |λ|`) at a size ∝ its FA (clamped to 1).
+    Fa,
+    /// The glyph's shape only: every glyph the same size.
+    None,
+}
+
+crate::names::named_values!(SizeBy {
+    Auto => "auto",
+    Linear => "linear",
+    Sqrt => "sqrt",
+    Log => "log",
+    Fa => "fa",
+    None => "none",
+});
+
+/// `--scale auto` sizes glyphs from this percentile of their largest mapped radius (nearest
+/// rank), so that a few outliers — a singularity, CSF in a brain — do not shrink every other
+/// glyph to a speck; the glyphs above it are clamped to its size and counted.
+pub const AUTO_PERCENTILE: f64 = 0.98;
+
+/// At most this many glyphs (evenly spread in file order) estimate the percentile.
+const PERCENTILE_SAMPLES: usize = 1 << 20;
+
 /// User options for glyph geometry and colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GlyphStyle {
     pub color: ColorScheme,
     pub scale: Scale,
     pub normalize: Normalize,
+    pub size_by: SizeBy,
     /// Relative minimum radius ε: `r_i ← max(r_i, ε · r_max)` per glyph (default 0.01).
     pub min_radius: f64,
     /// Shape-class threshold τ (default 0.5).
@@ -117,6 +156,7 @@ impl Default for GlyphStyle {
             color: ColorScheme::Shape,
             scale: Scale::Auto,
             normalize: Normalize::None,
+            size_by: SizeBy::Auto,
             min_radius: 0.01,
             class_threshold: DEFAULT_CLASS_THRESHOLD,
             solid_color: [200, 200, 200],
@@ -135,41 +175,23 @@ impl GlyphStyle {
             Normalize::Max if field_max > 0.0 => field_max,
             _ => 1.0,
         };
-        let k = match self.scale {
-            Scale::Factor(f) => f,
-            Scale::Auto => {
-                let spacing = if spacing.is_finite() && spacing > 0.0 {
-                    spacing
-                } else {
-                    1.0
-                };
-                // Largest normalised |λ| over the field.
-                let largest = match self.normalize {
-                    Normalize::None => field_max,
-                    Normalize::Max | Normalize::PerGlyph => {
-                        if field_max > 0.0 {
-                            1.0
-                        } else {
-                            0.0
-                        }
-                    }
-                };
-                if largest > 0.0 {
-                    0.5 * spacing / largest
-                } else {
-                    1.0
-                }
-            }
-        };
         let md_range = if stats.valid > 0 {
             (stats.md_min, stats.md_max)
         } else {
             (0.0, 0.0)
         };
-        ResolvedStyle {
-            k,
+        let size_by = match self.size_by {
+            SizeBy::Auto if 2 * stats.indefinite > stats.valid => SizeBy::Log,
+            SizeBy::Auto => SizeBy::Linear,
+            s => s,
+        };
+        let mut style = ResolvedStyle {
+            k: 1.0,
             norm_div,
             normalize: self.normalize,
+            size_by,
+            log_ref: 1.0,
+            cap: f64::INFINITY,
             min_radius: if self.min_radius.is_finite() {
                 self.min_radius.max(0.0)
             } else {
@@ -179,8 +201,58 @@ impl GlyphStyle {
             class_threshold: self.class_threshold,
             solid_color: self.solid_color,
             md_range,
+        };
+        if size_by == SizeBy::Log {
+            // λ_ref: the median largest |λ|, so that the typical glyph sits where the
+            // logarithm bends.
+            let linear = ResolvedStyle {
+                size_by: SizeBy::Linear,
+                ..style.clone()
+            };
+            let r = percentile_largest(set, &linear, 0.5);
+            style.log_ref = if r > 0.0 { r } else { 1.0 };
         }
+        match self.scale {
+            Scale::Factor(f) => style.k = f,
+            Scale::Auto => {
+                let spacing = if spacing.is_finite() && spacing > 0.0 {
+                    spacing
+                } else {
+                    1.0
+                };
+                // The robust largest radius at k = 1 becomes half the spacing; larger glyphs
+                // are clamped to that size.
+                let largest = percentile_largest(set, &style, AUTO_PERCENTILE);
+                if largest > 0.0 {
+                    style.k = 0.5 * spacing / largest;
+                    style.cap = 0.5 * spacing;
+                }
+            }
+        }
+        style
     }
+}
+
+/// The `p`-quantile (nearest rank) of the glyphs' largest radius under `style` (at its `k`).
+fn percentile_largest(set: &GlyphSet, style: &ResolvedStyle, p: f64) -> f64 {
+    let n = set.glyphs.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let step = n.div_ceil(PERCENTILE_SAMPLES);
+    let mut sizes: Vec<f64> = set
+        .glyphs
+        .iter()
+        .step_by(step)
+        .map(|g| style.unclamped(g).into_iter().fold(0.0, f64::max))
+        .filter(|r| r.is_finite())
+        .collect();
+    if sizes.is_empty() {
+        return 0.0;
+    }
+    let rank = ((p * sizes.len() as f64).ceil() as usize).clamp(1, sizes.len()) - 1;
+    let (_, r, _) = sizes.select_nth_unstable_by(rank, f64::total_cmp);
+    *r
 }
 
 /// A [`GlyphStyle`] with its field-dependent numbers fixed.
@@ -191,6 +263,12 @@ pub struct ResolvedStyle {
     /// Field-wide divisor (field max |λ| for [`Normalize::Max`], else 1).
     pub norm_div: f64,
     pub normalize: Normalize,
+    pub size_by: SizeBy,
+    /// λ_ref of [`SizeBy::Log`].
+    pub log_ref: f64,
+    /// The largest radius a glyph may have (`--scale auto`; infinite with a factor): larger
+    /// glyphs are scaled down to it, shape kept.
+    pub cap: f64,
     pub min_radius: f64,
     pub color: ColorScheme,
     pub class_threshold: f64,
@@ -200,20 +278,55 @@ pub struct ResolvedStyle {
 }
 
 impl ResolvedStyle {
-    /// Radii in the glyph's frame order (`r_i` along `e_i`): `r_i = k · |λ_i| / n`, then
+    /// Radii in the glyph's frame order (`r_i` along `e_i`): `r_i = k · s(|λ_i|) / n` with `s`
+    /// the [`SizeBy`] map and `n` the normalisation, clamped to [`Self::cap`] (shape kept), then
     /// `r_i ← max(r_i, ε · r_max)`. A zero glyph gives zero radii.
     pub fn radii(&self, g: &Glyph) -> [f32; 3] {
-        let m = g.eigenvalues.map(|l| f64::from(l).abs());
-        let div = match self.normalize {
-            Normalize::PerGlyph => {
-                let mx = m[0].max(m[1]).max(m[2]);
-                if mx > 0.0 { mx } else { 1.0 }
-            }
-            _ => self.norm_div,
-        };
-        let r = m.map(|x| self.k * x / div);
+        let mut r = self.unclamped(g);
+        let largest = r[0].max(r[1]).max(r[2]);
+        if largest > self.cap {
+            r = r.map(|x| x * (self.cap / largest));
+        }
         let floor = self.min_radius * r[0].max(r[1]).max(r[2]);
         r.map(|x| x.max(floor) as f32)
+    }
+
+    /// Whether [`Self::radii`] scales this glyph down to the cap.
+    pub fn clamps(&self, g: &Glyph) -> bool {
+        self.unclamped(g).into_iter().fold(0.0, f64::max) > self.cap
+    }
+
+    /// `k · s(|λ_i|) / n`, before the cap and the minimum radius.
+    fn unclamped(&self, g: &Glyph) -> [f64; 3] {
+        let m = g.eigenvalues.map(|l| f64::from(l).abs());
+        let glyph_max = m[0].max(m[1]).max(m[2]);
+        let shape = |x: f64| if glyph_max > 0.0 { x / glyph_max } else { 0.0 };
+        let mapped = match self.size_by {
+            // Resolved to Linear or Log by `GlyphStyle::resolve`.
+            SizeBy::Auto | SizeBy::Linear => m,
+            SizeBy::Sqrt => m.map(f64::sqrt),
+            SizeBy::Log => m.map(|x| (x / self.log_ref).ln_1p()),
+            SizeBy::Fa => {
+                let fa = shape::fa(g.eigenvalues.map(f64::from)).min(1.0);
+                m.map(|x| fa * shape(x))
+            }
+            SizeBy::None => m.map(shape),
+        };
+        let div = match (self.normalize, self.size_by) {
+            // Fa and None are per-glyph already.
+            (_, SizeBy::Fa | SizeBy::None) => 1.0,
+            (Normalize::PerGlyph, _) => {
+                let mx = mapped[0].max(mapped[1]).max(mapped[2]);
+                if mx > 0.0 { mx } else { 1.0 }
+            }
+            (Normalize::Max, SizeBy::Auto | SizeBy::Linear) => self.norm_div,
+            (Normalize::Max, SizeBy::Sqrt) => self.norm_div.sqrt(),
+            (Normalize::Max, SizeBy::Log) => (self.norm_div / self.log_ref)
+                .ln_1p()
+                .max(f64::MIN_POSITIVE),
+            (Normalize::None, _) => 1.0,
+        };
+        mapped.map(|x| self.k * x / div)
     }
 
     /// RGBA8 colour of a glyph by the chosen scheme (alpha 255).
@@ -288,6 +401,71 @@ mod tests {
             },
             glyphs,
         }
+    }
+
+    #[test]
+    fn auto_scale_sizes_from_the_robust_largest_and_clamps_outliers() {
+        // 200 unit glyphs and 2 outliers a thousand times larger (1 % of the field).
+        let mut glyphs = vec![glyph([1.0, 0.5, 0.25]); 200];
+        glyphs.extend([glyph([1000.0, 10.0, 10.0]), glyph([2000.0, 1.0, 1.0])]);
+        let s = set(glyphs);
+        let style = GlyphStyle::default().resolve(&s, 2.0);
+        // The 98th percentile is a unit glyph: its largest radius is half the spacing.
+        assert_eq!(style.radii(&s.glyphs[0]), [1.0, 0.5, 0.25]);
+        assert!(!style.clamps(&s.glyphs[0]));
+        // The outliers are scaled down to that size, shape kept.
+        for g in &s.glyphs[200..] {
+            assert!(style.clamps(g));
+            let r = style.radii(g);
+            assert_eq!(r[0], 1.0);
+        }
+        assert!((style.radii(&s.glyphs[200])[1] - 0.01).abs() < 1e-7);
+        // A factor is exact: nothing is clamped.
+        let exact = GlyphStyle {
+            scale: Scale::Factor(0.5),
+            ..GlyphStyle::default()
+        }
+        .resolve(&s, 2.0);
+        assert_eq!(exact.radii(&s.glyphs[201]), [1000.0, 10.0, 10.0]);
+        assert!(s.glyphs.iter().all(|g| !exact.clamps(g)));
+    }
+
+    #[test]
+    fn size_maps() {
+        let s = set(vec![glyph([4.0, 1.0, -0.25])]);
+        let with = |size_by| {
+            GlyphStyle {
+                scale: Scale::Factor(1.0),
+                size_by,
+                min_radius: 0.0,
+                ..GlyphStyle::default()
+            }
+            .resolve(&s, 1.0)
+            .radii(&s.glyphs[0])
+        };
+        assert_eq!(with(SizeBy::Linear), [4.0, 1.0, 0.25]);
+        assert_eq!(with(SizeBy::Sqrt), [2.0, 1.0, 0.5]);
+        assert_eq!(with(SizeBy::None), [1.0, 0.25, 0.0625]);
+        let fa = shape::fa([4.0, 1.0, -0.25]).min(1.0);
+        for (r, want) in with(SizeBy::Fa).iter().zip([fa, 0.25 * fa, 0.0625 * fa]) {
+            assert!((f64::from(*r) - want).abs() < 1e-6);
+        }
+        // Log: λ_ref is the median largest |λ| (4 here): ln(1 + |λ| / 4).
+        let log = with(SizeBy::Log);
+        for (r, l) in log.iter().zip([4.0f64, 1.0, 0.25]) {
+            assert!((f64::from(*r) - (l / 4.0).ln_1p()).abs() < 1e-6, "{log:?}");
+        }
+    }
+
+    #[test]
+    fn auto_size_is_log_for_stress_like_fields() {
+        let mut s = set(vec![glyph([2.0, 1.0, -1.0]), glyph([8.0, -1.0, -3.0])]);
+        assert_eq!(
+            GlyphStyle::default().resolve(&s, 1.0).size_by,
+            SizeBy::Linear
+        );
+        s.stats.indefinite = 2;
+        assert_eq!(GlyphStyle::default().resolve(&s, 1.0).size_by, SizeBy::Log);
     }
 
     #[test]

@@ -178,6 +178,7 @@ impl ViewerApp {
                 self.status = Some(e.to_string());
                 staging::Built {
                     scene: Scene::default(),
+                    glyphs_clamped: 0,
                     selected: Vec::new(),
                     frame_centre: DVec3::ZERO,
                     frame_radius: 1.0,

@@ -4,7 +4,7 @@
 use egui::{Color32, Ui};
 
 use crate::glyph::colormap::{diverging, viridis};
-use crate::glyph::{ColorScheme, Normalize, Scale};
+use crate::glyph::{ColorScheme, Normalize, Scale, SizeBy};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::panel::{PanelInfo, PanelState};
 use crate::viewer::state::{Legend, Settings, legend};
@@ -44,16 +44,19 @@ pub(super) fn style_section(
             ui.colored_label(Color32::from_rgb(200, 30, 30), "auto or a number > 0");
         }
     });
-    egui::ComboBox::from_label("normalise")
-        .selected_text(match style.normalize {
-            Normalize::None => "none",
-            Normalize::Max => "max",
-            Normalize::PerGlyph => "per-glyph",
-        })
+    egui::ComboBox::from_label("size by")
+        .selected_text(style.size_by.name())
         .show_ui(ui, |ui| {
-            ui.selectable_value(&mut style.normalize, Normalize::None, "none");
-            ui.selectable_value(&mut style.normalize, Normalize::Max, "max");
-            ui.selectable_value(&mut style.normalize, Normalize::PerGlyph, "per-glyph");
+            for &s in SizeBy::VALUES {
+                ui.selectable_value(&mut style.size_by, s, s.name());
+            }
+        });
+    egui::ComboBox::from_label("normalise")
+        .selected_text(style.normalize.name())
+        .show_ui(ui, |ui| {
+            for &n in Normalize::VALUES {
+                ui.selectable_value(&mut style.normalize, n, n.name());
+            }
         });
     ui.add(egui::Slider::new(&mut style.min_radius, 0.0..=1.0).text("min radius"));
 }
