@@ -48,6 +48,6 @@ fn the_default_scale_shows_a_point_load_field() {
 
 #[test]
 fn a_scale_factor_is_exact_and_clamps_nothing() {
-    let (_, j) = coverage(&["--scale", "0.05", "--size-by", "linear"]);
+    let (_, j) = coverage(&["--scale", "0.05"]);
     assert_eq!(j["glyphs_clamped"], 0);
 }

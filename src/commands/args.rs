@@ -40,8 +40,8 @@ pub struct SceneArgs {
     /// Glyph scale: `auto` (largest radius = half the grid spacing) or a factor on |λ|.
     #[arg(long, default_value = "auto")]
     pub scale: Scale,
-    /// How radii follow |λ|: auto (log for stress-like fields, whose tensors are mostly
-    /// indefinite, else linear), linear, sqrt, log (for fields spanning orders of magnitude), fa
+    /// How radii follow |λ|: auto (with --scale auto, log for stress-like fields, whose tensors
+    /// are mostly indefinite, else linear), linear, sqrt, log (for fields spanning orders of magnitude), fa
     /// (shape at a size ∝ FA) or none (shape only).
     #[arg(long, default_value = "auto", value_parser = one_of::<SizeBy>(SizeBy::NAMES))]
     pub size_by: SizeBy,

@@ -101,8 +101,9 @@ crate::names::named_values!(Normalize {
 /// SCIRun and ParaView users ask for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum SizeBy {
-    /// [`SizeBy::Log`] for stress-like fields (more than half of the tensors indefinite), else
-    /// [`SizeBy::Linear`] (diffusion tensors, positive definite).
+    /// With `--scale auto`, [`SizeBy::Log`] for stress-like fields (more than half of the
+    /// tensors indefinite), else [`SizeBy::Linear`] (diffusion tensors, positive definite); with
+    /// a scale factor, [`SizeBy::Linear`] (the factor is exact).
     #[default]
     Auto,
     /// `r_i ∝ |λ_i|`: the tensor's own ellipsoid.
@@ -180,10 +181,12 @@ impl GlyphStyle {
         } else {
             (0.0, 0.0)
         };
-        let size_by = match self.size_by {
-            SizeBy::Auto if 2 * stats.indefinite > stats.valid => SizeBy::Log,
-            SizeBy::Auto => SizeBy::Linear,
-            s => s,
+        // `--scale F` stays exact (r = F·|λ|) unless a map is asked for by name.
+        let stress_like = 2 * stats.indefinite > stats.valid;
+        let size_by = match (self.size_by, self.scale) {
+            (SizeBy::Auto, Scale::Auto) if stress_like => SizeBy::Log,
+            (SizeBy::Auto, _) => SizeBy::Linear,
+            (s, _) => s,
         };
         let mut style = ResolvedStyle {
             k: 1.0,
