@@ -349,3 +349,29 @@ fn bench_writes_csv_charts_and_report() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## What this shows"));
 }
+
+/// Command-line mistakes clap catches are one line too, with the accepted values where there
+/// is a list, exit status 2; help still prints in full.
+#[test]
+fn usage_errors_are_one_line() {
+    for (args, needle) in [
+        (&["render", "--demo", "grid40"][..], "--output"),
+        (
+            &["render", "--demo", "grid40", "-o", "x.png", "--bogus"][..],
+            "--bogus",
+        ),
+        (
+            &["render", "--demo", "grid40", "-o", "x.png", "--view", "up"][..],
+            "one of: iso, +x, -x",
+        ),
+    ] {
+        let r = tg(args);
+        assert_eq!(r.status.code(), Some(2), "{args:?}");
+        let err = stderr(&r);
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+    let help = tg(&["render", "--help"]);
+    assert!(help.status.success());
+    assert!(String::from_utf8_lossy(&help.stdout).contains("--preset"));
+}
