@@ -12,7 +12,7 @@ use super::pipeline::{Timings, build_scene, render_gpu, render_reference};
 use super::scene::{SceneArgs, SelectArgs, source};
 use tensorglyph::camera::{Camera, Framing, ViewPreset};
 use tensorglyph::error::RenderError;
-use tensorglyph::image_out::write_png_atomic;
+use tensorglyph::image_out::write_png;
 use tensorglyph::load::{Demo, Source};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
@@ -218,8 +218,9 @@ pub fn demo(args: DemoArgs) -> Result<()> {
     )
 }
 
-/// Fail before any work if the output cannot be written there.
-fn check_output(path: &Path) -> Result<()> {
+/// Fail before any work if the output cannot be written there (also: a FIFO, device or the
+/// input file itself, see `image_out::check_output`).
+fn check_output(path: &Path, inputs: &[&Path]) -> Result<()> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -234,6 +235,8 @@ fn check_output(path: &Path) -> Result<()> {
     if path.is_dir() {
         bail!("{}: is a folder, not a file", path.display());
     }
+    tensorglyph::image_out::check_output(path, inputs)
+        .with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
 }
 
@@ -244,9 +247,13 @@ fn render(
     scene_args: &SceneArgs,
     select: &SelectArgs,
 ) -> Result<()> {
-    check_output(output)?;
+    let inputs: Vec<&Path> = match src {
+        Source::File(p) => vec![p.as_path()],
+        Source::Demo(_) => Vec::new(),
+    };
+    check_output(output, &inputs)?;
     if let Some(d) = &view.diff {
-        check_output(d)?;
+        check_output(d, &inputs)?;
         if !view.reference_check {
             bail!("--diff needs --reference-check");
         }
@@ -314,14 +321,14 @@ fn render(
     let accuracy = if view.reference_check {
         let reference = ReferenceScene::new(&scene, &camera, req.glyph).render(&req);
         if let Some(d) = &view.diff {
-            write_png_atomic(d, w, h, &diff_image(&frame, &reference))
+            write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
                 .with_context(|| format!("{}: cannot write", d.display()))?;
         }
         Some(compare(&frame, &reference, &scene))
     } else {
         None
     };
-    write_png_atomic(output, w, h, &frame.color)
+    write_png(output, &inputs, w, h, &frame.color)
         .with_context(|| format!("{}: cannot write", output.display()))?;
 
     let Visibility {
