@@ -82,9 +82,7 @@ pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, LoadErrorKind> {
         .map_err(|_| LoadErrorKind::Other(format!("the file is too large ({len} bytes)")))?;
     let mut bytes = Vec::new();
     bytes.try_reserve_exact(cap).map_err(|_| {
-        LoadErrorKind::Other(format!(
-            "cannot allocate {len} bytes to read the file into"
-        ))
+        LoadErrorKind::Other(format!("cannot allocate {len} bytes to read the file into"))
     })?;
     // A file that grows while it is read is cut at the size it had when opened.
     file.take(len)

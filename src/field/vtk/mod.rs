@@ -76,8 +76,8 @@ pub fn read_field_bytes(
 }
 
 fn guarded(path: &Path, f: impl FnOnce() -> Res<TensorField>) -> Result<TensorField, LoadError> {
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(
-        |payload| {
+    let result =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
             let msg = payload
                 .downcast_ref::<&str>()
                 .map(|s| s.to_string())
@@ -87,8 +87,7 @@ fn guarded(path: &Path, f: impl FnOnce() -> Res<TensorField>) -> Result<TensorFi
                 "internal reader error (please report this file): {}",
                 escape_for_error(msg)
             )))
-        },
-    );
+        });
     result.map_err(|kind| LoadError::new(path, kind))
 }
 

@@ -28,6 +28,36 @@ pub(super) struct Ctx<'a> {
     pub appended: Option<(usize, bool)>,
 }
 
+/// How many values (or bytes) an array must hold: `min..=max`.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Need {
+    pub min: usize,
+    pub max: usize,
+}
+
+impl Need {
+    pub fn exactly(n: usize) -> Need {
+        Need { min: n, max: n }
+    }
+
+    fn bytes(self, size: usize) -> Option<Need> {
+        Some(Need {
+            min: self.min.checked_mul(size)?,
+            max: self.max.checked_mul(size)?,
+        })
+    }
+}
+
+impl std::fmt::Display for Need {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.min == self.max {
+            write!(f, "{}", self.min)
+        } else {
+            write!(f, "{} to {}", self.min, self.max)
+        }
+    }
+}
+
 /// Where encoded bytes come from.
 #[derive(Clone, Copy)]
 pub(super) enum Src<'a> {
@@ -67,16 +97,27 @@ impl Ctx<'_> {
         usize::try_from(v).map_err(|_| malformed(format!("{what}: size {v} too large")))
     }
 
-    /// The decoded (uncompressed) bytes of a binary or appended array that must hold exactly
-    /// `need` bytes. A header claiming more is refused before anything is inflated or
+    /// The decoded (uncompressed) bytes of a binary or appended array, which must hold `need`
+    /// bytes. A header claiming another size is refused before anything is inflated or
     /// allocated for it, and no block inflates past its own claim: memory is bounded by what
-    /// the dataset's geometry needs, not by what the data claims.
-    fn bytes(&self, src: Src<'_>, what: &str, need: usize) -> Res<Vec<u8>> {
+    /// the data holds and the geometry needs, whichever is less (a geometry that lies about
+    /// its size costs nothing either).
+    fn bytes(&self, src: Src<'_>, what: &str, need: Need) -> Res<Vec<u8>> {
         let hs = self.header;
-        let too_much = |claim: &dyn std::fmt::Display| {
+        let wrong_size = |claim: &dyn std::fmt::Display, more: bool| {
             malformed(format!(
-                "{what}: the data claims {claim} bytes but the array needs {need}"
+                "{what}: the data {} {claim} bytes but the array needs {need}",
+                if more { "claims" } else { "holds" }
             ))
+        };
+        let check = |claim: u64| -> Res<()> {
+            if claim > need.max as u64 {
+                Err(wrong_size(&claim, true))
+            } else if claim < need.min as u64 {
+                Err(wrong_size(&claim, false))
+            } else {
+                Ok(())
+            }
         };
         // Header and payload, each either raw bytes or a separately encoded base64 chunk.
         let take = |src: &Src<'_>, pos: usize, n: usize, label: &str| -> Res<(Vec<u8>, usize)> {
@@ -127,9 +168,7 @@ impl Ctx<'_> {
         if self.compressor == Compressor::None {
             let (h, pos) = take(&src, 0, hs, "header")?;
             let n = self.uint(&h);
-            if n > need as u64 {
-                return Err(too_much(&n));
-            }
+            check(n)?;
             let (d, _) = take(&src, pos, n as usize, "data")?;
             return Ok(d);
         }
@@ -147,9 +186,8 @@ impl Ctx<'_> {
                 .and_then(|v| v.checked_add(if lbs64 == 0 { bs64 } else { lbs64 })),
         };
         match claimed {
-            Some(c) if c <= need as u64 => {}
-            Some(c) => return Err(too_much(&c)),
-            None => return Err(too_much(&format!("{nb64} × {bs64}"))),
+            Some(c) => check(c)?,
+            None => return Err(wrong_size(&format!("{nb64} × {bs64}"), true)),
         }
         let nb = self.to_usize(nb64, what)?;
         let bs = self.to_usize(bs64, what)?;
@@ -223,16 +261,17 @@ impl Ctx<'_> {
         Ok(out)
     }
 
-    /// Decode a DataArray into f64 values; the dataset needs `need` of them. Binary data that
-    /// claims more is refused before it is decoded (see [`Ctx::bytes`]); fewer, or ascii data
-    /// of another length, are returned for the caller to report with the counts it knows.
-    pub fn values(&self, a: &Tag, what: &str, need: usize) -> Res<Vec<f64>> {
+    /// Decode a DataArray into f64 values; the dataset needs `need` of them. Binary data of
+    /// another size is refused before it is decoded (see [`Ctx::bytes`]); ascii data (bounded
+    /// by its text) of another length is returned for the caller to report with the counts it
+    /// knows.
+    pub fn values(&self, a: &Tag, what: &str, need: Need) -> Res<Vec<f64>> {
         let ty_name = a.get("type").unwrap_or("");
         let ty = Scalar::from_xml(ty_name).ok_or_else(|| {
             LoadErrorKind::UnsupportedDataset(format!("{what}: data type '{}'", esc(ty_name)))
         })?;
         let need = need
-            .checked_mul(ty.size())
+            .bytes(ty.size())
             .ok_or_else(|| malformed(format!("{what}: {need} values overflow")))?;
         let format = a.get("format").unwrap_or("ascii");
         let bytes = match format {
@@ -299,7 +338,7 @@ impl Ctx<'_> {
 
     /// Decode base64 data, telling separately encoded header chunks (padded, as VTK writes
     /// compressed data) from one joint stream (as VTK writes uncompressed data).
-    fn b64_bytes(&self, text: &[u8], what: &str, need: usize) -> Res<Vec<u8>> {
+    fn b64_bytes(&self, text: &[u8], what: &str, need: Need) -> Res<Vec<u8>> {
         let hs = self.header;
         let padded_at = |nbytes: usize| text.get(b64_len(nbytes).wrapping_sub(1)) == Some(&b'=');
         match self.compressor {

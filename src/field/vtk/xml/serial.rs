@@ -1,7 +1,7 @@
 //! One serial dataset (`.vti`, `.vtr`, `.vts`, `.vtu`, `.vtp`), possibly in several pieces.
 
 use super::attrs::{count_attr, direction, extent, floats};
-use super::decode::Ctx;
+use super::decode::{Ctx, Need};
 use super::tokenize::{Doc, Tag};
 use super::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
@@ -90,7 +90,8 @@ pub(super) fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<
             let mut coords: [Vec<f64>; 3] = Default::default();
             for a in 0..3 {
                 let axis = ["x", "y", "z"][a];
-                coords[a] = ctx.values(c[a], &format!("{axis} coordinates"), d[a])?;
+                coords[a] =
+                    ctx.values(c[a], &format!("{axis} coordinates"), Need::exactly(d[a]))?;
                 if coords[a].len() != d[a] {
                     return Err(malformed(format!(
                         "{axis} coordinates: {} values for extent {e:?}",
@@ -102,9 +103,12 @@ pub(super) fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<
         }
         DatasetKind::StructuredGrid => {
             let d = point_dims(&extent(piece.get("Extent"), "Piece Extent")?)?;
-            let n = d[0].checked_mul(d[1]).and_then(|v| v.checked_mul(d[2]));
-            let points = piece_points(ctx, &arrays_in(0, "Points"), n.unwrap_or(0))?;
-            if n != Some(points.len()) {
+            let n = d[0]
+                .checked_mul(d[1])
+                .and_then(|v| v.checked_mul(d[2]))
+                .ok_or_else(|| malformed(format!("point dimensions {d:?} overflow")))?;
+            let points = piece_points(ctx, &arrays_in(0, "Points"), n)?;
+            if n != points.len() {
                 return Err(malformed(format!(
                     "{} points for point dimensions {d:?}",
                     points.len()
@@ -248,7 +252,10 @@ pub(super) fn parse_serial<'a>(ctx: &'a Ctx<'a>, doc: &'a Doc, ty: &str) -> Res<
                 } else {
                     segments.iter().filter(|s| s.0 == k).map(|s| s.2).sum()
                 };
-                per_piece.push(ctx.values(t, &what, rows.saturating_mul(nc))?);
+                let need = rows
+                    .checked_mul(nc)
+                    .ok_or_else(|| malformed(format!("{what}: {rows} tuples overflow")))?;
+                per_piece.push(ctx.values(t, &what, Need::exactly(need))?);
             }
             if npieces == 1 && segments.len() <= 1 {
                 return Ok(per_piece.pop().unwrap_or_default());
@@ -284,7 +291,10 @@ fn piece_points(ctx: &Ctx, arrays: &[&Tag], n: usize) -> Res<Vec<[f64; 3]>> {
     let t = arrays
         .first()
         .ok_or_else(|| malformed("no <Points> array"))?;
-    let v = ctx.values(t, "Points", n.saturating_mul(3))?;
+    let n3 = n
+        .checked_mul(3)
+        .ok_or_else(|| malformed(format!("{n} points overflow")))?;
+    let v = ctx.values(t, "Points", Need::exactly(n3))?;
     if v.len() % 3 != 0 {
         return Err(malformed("Points: not a multiple of 3 values"));
     }
@@ -310,18 +320,25 @@ fn read_cells(
     };
     // Offsets first: their last entry is the connectivity's length, which bounds its decoding.
     // One more than the cells, for writers that store the leading 0.
-    let off = ctx.values(off, &format!("{sec} offsets"), ncells.saturating_add(1))?;
+    let off = ctx.values(
+        off,
+        &format!("{sec} offsets"),
+        Need {
+            min: ncells,
+            max: ncells.saturating_add(1),
+        },
+    )?;
     let nconn = match off.last() {
         Some(&x) if x >= 0.0 && x.is_finite() => x as usize,
         _ => 0,
     };
-    let conn = ctx.values(conn, &format!("{sec} connectivity"), nconn)?;
+    let conn = ctx.values(conn, &format!("{sec} connectivity"), Need::exactly(nconn))?;
     let conn = to_indices(&conn, "point id", npoints)?;
     let off = to_indices(&off, "cell offset", conn.len())?;
     let mut c = Cells::from_offsets(off, conn)?;
     if with_types {
         let t = by_name("types").ok_or_else(|| malformed("<Cells> without types"))?;
-        let t = ctx.values(t, "cell types", ncells)?;
+        let t = ctx.values(t, "cell types", Need::exactly(ncells))?;
         if t.len() != c.len() {
             return Err(malformed(format!(
                 "{} cell types for {} cells",
