@@ -222,7 +222,10 @@ mod tests {
         // An escape is never cut in half.
         let e = escape_for_error(vec![0u8; 100]);
         assert!(e.ends_with("\\x00…"), "{e}");
-        assert_eq!(escape_for_error("x".repeat(ERROR_TEXT_MAX)), "x".repeat(ERROR_TEXT_MAX));
+        assert_eq!(
+            escape_for_error("x".repeat(ERROR_TEXT_MAX)),
+            "x".repeat(ERROR_TEXT_MAX)
+        );
     }
 
     #[test]
