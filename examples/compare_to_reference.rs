@@ -27,16 +27,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         staged.glyphs_selected,
         gpu.adapter_name()
     );
-    println!("method   coverage   id         depth p99  normal p99  PSNR");
+    println!("method   coverage   id         depth p99  normal p99 PSNR");
     for method in [Method::Gumhold, Method::Sigg, Method::Mesh(2), Method::Box] {
         let frame = gpu.render(scene, &camera, &request(method))?;
         let a = compare(&frame, &reference, scene);
         println!(
-            "{method:<8} {:<10.2e} {:<10.2e} {:<10.2e} {:<10.4}° {:.1} dB",
+            "{method:<8} {:<10.2e} {:<10.2e} {:<10.2e} {:<10} {:.1} dB",
             a.coverage_mismatch,
             a.id_mismatch,
             a.depth_err_rel_p99,
-            a.normal_err_deg_p99,
+            format!("{:.4}°", a.normal_err_deg_p99),
             a.color_psnr_db
         );
     }

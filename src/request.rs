@@ -45,13 +45,14 @@ impl Method {
 }
 
 impl fmt::Display for Method {
+    // `pad`, so that width and alignment (`{:<8}`) apply.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Method::Gumhold => write!(f, "gumhold"),
-            Method::Sigg => write!(f, "sigg"),
-            Method::Reference => write!(f, "reference"),
-            Method::Mesh(n) => write!(f, "mesh:{n}"),
-            Method::Box => write!(f, "box"),
+            Method::Gumhold => f.pad("gumhold"),
+            Method::Sigg => f.pad("sigg"),
+            Method::Reference => f.pad("reference"),
+            Method::Mesh(n) => f.pad(&format!("mesh:{n}")),
+            Method::Box => f.pad("box"),
         }
     }
 }
