@@ -35,8 +35,9 @@ fn escape_bytes(mut b: &[u8], max: usize) -> String {
     use fmt::Write as _;
     // Every shown character takes at most 4 bytes: the ellipsis is reached before this cut, and
     // a huge input costs nothing beyond it.
-    if b.len() / 4 > max {
-        b = &b[..max.saturating_add(2).saturating_mul(4)];
+    let cut = max.saturating_add(2).saturating_mul(4);
+    if b.len() > cut {
+        b = &b[..cut];
     }
     let mut out = String::new();
     let mut shown = 0usize;
@@ -226,6 +227,11 @@ mod tests {
             escape_for_error("x".repeat(ERROR_TEXT_MAX)),
             "x".repeat(ERROR_TEXT_MAX)
         );
+        // Found by tests/robustness.rs: lengths just above 4 × the limit were cut past the end.
+        for n in 4 * ERROR_TEXT_MAX - 4..4 * ERROR_TEXT_MAX + 16 {
+            let e = escape_for_error("y".repeat(n));
+            assert_eq!(e.chars().count(), ERROR_TEXT_MAX + 1, "{n}");
+        }
     }
 
     #[test]

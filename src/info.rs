@@ -180,7 +180,8 @@ pub fn human_summary(r: &InfoReport) -> String {
     let _ = writeln!(
         o,
         "tensor array '{}': {} components, {} data",
-        r.tensor_array.name,
+        // From the file: a name must not drive the terminal.
+        crate::error::escape_for_error(&r.tensor_array.name),
         r.tensor_array.components,
         r.tensor_array.location.as_str()
     );

@@ -25,6 +25,8 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#![forbid(unsafe_code)]
+
 // Below everything: shared vocabulary.
 pub mod camera;
 pub mod error;

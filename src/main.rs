@@ -1,5 +1,7 @@
 //! The `tensorglyph` command line: demo, info, render, view, bench, stability.
 
+#![forbid(unsafe_code)]
+
 mod commands;
 
 use std::process::ExitCode;

@@ -175,6 +175,16 @@ fn long_names_are_cut_and_paths_escaped() {
     assert!(e.to_string().contains("'a\\x1B[2Jb' not found"), "{e}");
 }
 
+/// Found by tests/robustness.rs (xml_ugrid_binary_lzma_u32.vtu, byte 1486 bit 2 flipped): a
+/// 326-byte piece of file text sliced past its end in escape_for_error, a panic that the reader
+/// turned into "internal reader error".
+#[test]
+fn error_text_of_326_bytes_is_cut_cleanly() {
+    let (_, msg) = clean_error(&regression("long_base64_error_text.vtu"));
+    assert!(!msg.contains("internal reader error"), "{msg}");
+    assert!(msg.contains('…'), "{msg}");
+}
+
 #[test]
 fn info_failure_prints_exactly_one_line() {
     let out = bin()

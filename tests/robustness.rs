@@ -131,7 +131,10 @@ fn run(files: Vec<PathBuf>, seed: u64) {
                         Ok(Ok(_)) => Ok(label.clone()),
                         Ok(Err(e)) => {
                             let s = e.to_string();
-                            if s.contains(r.file_name().unwrap().to_str().unwrap()) {
+                            // read_field's catch_unwind turns a panic into this error.
+                            if s.contains("internal reader error") {
+                                Err(format!("{label}: the reader panicked: {s}"))
+                            } else if s.contains(r.file_name().unwrap().to_str().unwrap()) {
                                 Ok(label.clone())
                             } else {
                                 Err(format!("{label}: error does not name the file: {s}"))
