@@ -75,6 +75,11 @@ impl Backend {
         timings: &mut Timings,
         progress: &dyn Progress,
     ) -> Result<Frame, StageFailed> {
+        crate::frame::check_size(camera.width, camera.height).map_err(|error| StageFailed {
+            stage: "first frame",
+            ran: timings.describe(),
+            error,
+        })?;
         match self {
             Backend::Gpu(gpu) => render_gpu(gpu, scene, camera, req, timings, progress),
             Backend::Reference => Ok(render_reference(scene, camera, req, timings, progress)),

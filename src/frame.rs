@@ -62,6 +62,24 @@ impl Default for Lighting {
     }
 }
 
+/// The largest image any back end renders, in pixels (8192²): the exact reference keeps 24
+/// bytes per pixel (colour, id, normal and depth) and the GPU read-back as much, so 1.6 GB.
+/// The GPU's own texture limit may be lower and is checked where the targets are made.
+pub const MAX_PIXELS: u64 = 1 << 26;
+
+/// Refuse sizes no back end should allocate (zero sides, more than [`MAX_PIXELS`]).
+pub fn check_size(width: u32, height: u32) -> Result<(), crate::error::RenderError> {
+    let pixels = u64::from(width) * u64::from(height);
+    if width == 0 || height == 0 || pixels > MAX_PIXELS {
+        return Err(crate::error::RenderError::BadSize {
+            width,
+            height,
+            reason: format!("an image has 1 to {MAX_PIXELS} pixels (8192×8192)"),
+        });
+    }
+    Ok(())
+}
+
 /// `WxH` (e.g. `1024x768`, both sides ≥ 1) → (width, height): image and window sizes.
 pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
     let (w, h) = s

@@ -375,3 +375,35 @@ fn usage_errors_are_one_line() {
     assert!(help.status.success());
     assert!(String::from_utf8_lossy(&help.stdout).contains("--preset"));
 }
+
+/// Sizes no back end should allocate are refused before any work, the CPU reference included
+/// (it is also the no-adapter fallback), and the demo field is bounded by memory.
+#[test]
+fn size_caps_hold_for_every_method() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let o = out.to_str().unwrap();
+    for (args, needle) in [
+        (
+            &[
+                "render",
+                "--demo",
+                "grid:2",
+                "-o",
+                o,
+                "--method",
+                "reference",
+                "--size",
+                "99999x99999",
+            ][..],
+            "99999x99999",
+        ),
+        (&["render", "--demo", "grid:1024", "-o", o][..], "N ≤ 320"),
+    ] {
+        let r = tg(args);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {}", stderr(&r));
+        assert!(stderr(&r).contains(needle), "{args:?}: {}", stderr(&r));
+        assert_eq!(stderr(&r).trim_end().lines().count(), 1);
+        assert!(!out.exists());
+    }
+}

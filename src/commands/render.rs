@@ -182,6 +182,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         }
     }
     let framing = cam.framing()?;
+    tensorglyph::frame::check_size(image.size.0, image.size.1)?;
     let depth_correction = !cam.no_depth_correction;
     let options = draw.options(cam.method, cam.glyph, depth_correction)?;
     let recipe = scene_args.recipe(select.selection()?, cam.glyph)?;
