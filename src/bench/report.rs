@@ -116,25 +116,9 @@ fn yes(b: bool) -> &'static str {
     if b { "yes" } else { "no" }
 }
 
-/// Write `text` to `path` whole or not at all.
+/// Write `text` to `path` whole or not at all ([`crate::image_out::write_atomic`]).
 pub fn write_atomic(path: &Path, text: &[u8]) -> std::io::Result<()> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| std::io::Error::other("no file name"))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = std::fs::write(&tmp, text).and_then(|_| std::fs::rename(&tmp, path));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    crate::image_out::write_atomic(path, &[], |w| std::io::Write::write_all(w, text))
 }
 
 fn fastest(v: Vec<&Row>) -> Option<&Row> {

@@ -12,7 +12,7 @@ use super::progress::Terminal;
 use tensorglyph::backend::Backend;
 use tensorglyph::camera::Camera;
 use tensorglyph::frame::Frame;
-use tensorglyph::image_out::write_png_atomic;
+use tensorglyph::image_out::write_png;
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
 use tensorglyph::request::{FrameRequest, GlyphKind, Method};
@@ -140,8 +140,9 @@ pub fn demo(args: DemoArgs) -> Result<()> {
     render(&Source::Demo(demo), &args.output, &args.frame)
 }
 
-/// Fail before any work if the output cannot be written there.
-fn check_output(path: &Path) -> Result<()> {
+/// Fail before any work if the output cannot be written there (also: a FIFO, device or the
+/// input file itself, see `image_out::check_output`).
+fn check_output(path: &Path, inputs: &[&Path]) -> Result<()> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -156,6 +157,8 @@ fn check_output(path: &Path) -> Result<()> {
     if path.is_dir() {
         bail!("{}: is a folder, not a file", path.display());
     }
+    tensorglyph::image_out::check_output(path, inputs)
+        .with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
 }
 
@@ -167,9 +170,13 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         scene: scene_args,
         select,
     } = args;
-    check_output(output)?;
+    let inputs: Vec<&Path> = match src {
+        Source::File(p) => vec![p.as_path()],
+        Source::Demo(_) => Vec::new(),
+    };
+    check_output(output, &inputs)?;
     if let Some(d) = &image.diff {
-        check_output(d)?;
+        check_output(d, &inputs)?;
         if !image.reference_check {
             bail!("--diff needs --reference-check");
         }
@@ -215,14 +222,14 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let accuracy = if image.reference_check {
         let reference = ReferenceScene::new(&scene, &camera, req.glyph()).render(&req);
         if let Some(d) = &image.diff {
-            write_png_atomic(d, w, h, &diff_image(&frame, &reference))
+            write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
                 .with_context(|| format!("{}: cannot write", d.display()))?;
         }
         Some(compare(&frame, &reference, &scene))
     } else {
         None
     };
-    write_png_atomic(output, w, h, &frame.color)
+    write_png(output, &inputs, w, h, &frame.color)
         .with_context(|| format!("{}: cannot write", output.display()))?;
 
     let Visibility {

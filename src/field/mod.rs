@@ -1,6 +1,7 @@
 //! Reading and holding tensor data: a [`TensorField`] is positions plus raw 3x3 tensors in file
 //! order, with what is known about where they came from.
 
+pub mod input;
 pub mod order;
 pub mod synthetic;
 pub mod vtk;
@@ -135,7 +136,20 @@ impl TensorField {
 }
 
 /// `R D Rᵀ` for row-major 3x3 matrices.
+///
+/// Entries beyond 1e100 (whose sums of products can overflow near f64::MAX) or below 1e-100
+/// (whose products underflow) are rotated as an exactly rescaled copy.
 pub fn rotate_tensor(r: &[[f64; 3]; 3], d: &[f64; 9]) -> [f64; 9] {
+    use crate::tensor::eigen::mul_pow2;
+    let m = d.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if m > 0.0 && m.is_finite() && !(1e-100..=1e100).contains(&m) {
+        let k = m.log2().floor() as i32;
+        return rotate_unscaled(r, &d.map(|x| mul_pow2(x, -k))).map(|x| mul_pow2(x, k));
+    }
+    rotate_unscaled(r, d)
+}
+
+fn rotate_unscaled(r: &[[f64; 3]; 3], d: &[f64; 9]) -> [f64; 9] {
     let mut rd = [[0.0; 3]; 3];
     for i in 0..3 {
         for j in 0..3 {

@@ -26,8 +26,7 @@
 //! `grid(256)` (16.7 M tensors) needs 96 bytes per point, about 1.6 GB.
 
 use std::f64::consts::PI;
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
 use rayon::prelude::*;
@@ -127,9 +126,9 @@ fn mul(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
 /// `TENSORS <name> double` array (big-endian, as the legacy format requires).
 ///
 /// ORIGIN is the first position; SPACING per axis is the distance to the next point along that
-/// axis (or `field.spacing`, else 1, for axes with a single point). The file is written to a
-/// temporary file in the same directory and renamed into place, so readers never see a partial
-/// file. Fields without `dims`, with cell data or with a direction matrix are rejected with
+/// axis (or `field.spacing`, else 1, for axes with a single point). The file is written with
+/// [`crate::image_out::write_atomic`]: whole or not at all, through symlinks, never over a FIFO
+/// or device. Fields without `dims`, with cell data or with a direction matrix are rejected with
 /// `InvalidInput`.
 pub fn write_legacy_vtk(field: &TensorField, path: &Path) -> std::io::Result<()> {
     use std::io::{Error, ErrorKind};
@@ -170,18 +169,7 @@ pub fn write_legacy_vtk(field: &TensorField, path: &Path) -> std::io::Result<()>
         name
     };
 
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let file_name = path
-        .file_name()
-        .ok_or_else(|| invalid("output path has no file name"))?
-        .to_string_lossy()
-        .into_owned();
-    let tmp = dir.join(format!(".{file_name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        let mut w = BufWriter::with_capacity(1 << 20, File::create(&tmp)?);
+    crate::image_out::write_atomic(path, &[], |w| {
         write!(
             w,
             "# vtk DataFile Version 4.2\ntensorglyph {} field\nBINARY\nDATASET STRUCTURED_POINTS\n\
@@ -210,20 +198,8 @@ pub fn write_legacy_vtk(field: &TensorField, path: &Path) -> std::io::Result<()>
             }
             w.write_all(&buf)?;
         }
-        w.write_all(b"\n")?;
-        let f = w.into_inner().map_err(|e| e.into_error())?;
-        f.sync_all()?;
-        Ok(())
-    })();
-    match result {
-        Ok(()) => std::fs::rename(&tmp, path).inspect_err(|_| {
-            let _ = std::fs::remove_file(&tmp);
-        }),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(e)
-        }
-    }
+        w.write_all(b"\n")
+    })
 }
 
 #[cfg(test)]

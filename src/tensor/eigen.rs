@@ -41,7 +41,8 @@ pub fn symmetrise(t: &[f64; 9]) -> ([f64; 9], bool) {
     let mut out = *t;
     let mut asym = 0.0f64;
     for &(a, b) in &pairs {
-        let m = 0.5 * (t[a] + t[b]);
+        let m = mean(t[a], t[b]);
+        // May be +inf for entries of opposite sign near f64::MAX: then it is flagged, rightly.
         asym = asym.max((t[a] - t[b]).abs());
         out[a] = m;
         out[b] = m;
@@ -51,6 +52,35 @@ pub fn symmetrise(t: &[f64; 9]) -> ([f64; 9], bool) {
     }
     let scale = t.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     (out, asym > SYMMETRY_TOL * scale)
+}
+
+/// `(a + b) / 2` without overflow near f64::MAX (halving first would round subnormals, so that
+/// is done only when the sum overflows).
+#[inline]
+fn mean(a: f64, b: f64) -> f64 {
+    let s = a + b;
+    if s.is_finite() {
+        0.5 * s
+    } else {
+        0.5 * a + 0.5 * b
+    }
+}
+
+/// `x · 2^e`, exact unless the result overflows or is subnormal. `2f64.powi(e)` alone is not:
+/// it overflows for `e > 1023` (rescaling a subnormal tensor needs up to 2^1074) and is itself
+/// subnormal below 2^-1022.
+#[inline]
+pub(crate) fn mul_pow2(mut x: f64, mut e: i32) -> f64 {
+    const STEP: i32 = 1000;
+    while e > STEP {
+        x *= 2f64.powi(STEP);
+        e -= STEP;
+    }
+    while e < -STEP {
+        x *= 2f64.powi(-STEP);
+        e += STEP;
+    }
+    x * 2f64.powi(e)
 }
 
 /// Eigendecomposition of a symmetric tensor (only the upper triangle need be meaningful:
@@ -70,8 +100,9 @@ pub fn symmetric_eigen(t: &[f64; 9]) -> Eigen {
 /// Cyclic Jacobi for a symmetric 3x3 matrix (upper triangle read), the general path of
 /// [`symmetric_eigen`].
 ///
-/// Tensors whose largest entry is outside [1e-100, 1e100] are first rescaled by an exact power of
-/// two. The start frame comes from [`jacobi_eigen_hybrid`]. A rotation in plane (p, q) is skipped
+/// Tensors whose largest entry is outside [1e-100, 1e100] (up to f64::MAX, down to subnormals)
+/// are first rescaled by an exact power of two; the eigenvalues are then exact up to rounding
+/// unless one exceeds f64::MAX (entries within a factor 3 of it), which gives ±inf. The start frame comes from [`jacobi_eigen_hybrid`]. A rotation in plane (p, q) is skipped
 /// once `a_pq² ≤ ε² |a_pp a_qq|` (Demmel–Veselić) or `|a_pq| ≤ 2.2e-19 ‖A‖_F`; sweeps stop when a
 /// sweep makes no rotation (capped at 20). The frame is a product of proper rotations,
 /// re-completed as `e3 = e1 × e2` after sorting.
@@ -79,11 +110,11 @@ pub fn symmetric_eigen(t: &[f64; 9]) -> Eigen {
 pub fn jacobi_eigen(t: &[f64; 9]) -> Eigen {
     // Keep squares of entries in range: rescale extreme tensors by an exact power of two.
     let m = t.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    if m > 0.0 && !(1e-100..=1e100).contains(&m) {
+    if m > 0.0 && m.is_finite() && !(1e-100..=1e100).contains(&m) {
         let k = m.log2().floor() as i32;
-        let scaled = t.map(|x| x * 2f64.powi(-k));
+        let scaled = t.map(|x| mul_pow2(x, -k));
         let mut e = jacobi_eigen_hybrid(&scaled);
-        e.values = e.values.map(|x| x * 2f64.powi(k));
+        e.values = e.values.map(|x| mul_pow2(x, k));
         return e;
     }
     jacobi_eigen_hybrid(t)
@@ -591,6 +622,84 @@ mod tests {
                 assert!((dot(e.vectors[k], ref_e.vectors[k]).abs() - 1.0).abs() < 1e-14);
             }
         }
+    }
+
+    /// Eigenvalues of `t` computed by nalgebra on the same problem scaled by 2^-k into a
+    /// comfortable range (an exact scaling), scaled back.
+    fn scaled_reference(t: &[f64; 9], k: i32) -> [f64; 3] {
+        let s = symmetrise(&t.map(|x| mul_pow2(x, -k))).0;
+        nalgebra_eigen(&s).values.map(|v| mul_pow2(v, k))
+    }
+
+    /// Entries near f64::MAX and subnormal ones: `symmetrise` used to overflow (`a + b`), the
+    /// rescale used to overflow (`2^1060`), `fa` divided by a subnormal; all gave NaN/inf.
+    #[test]
+    fn extreme_but_finite_entries() {
+        let base = [2.0, 0.3, -0.1, 0.3, 1.0, 0.2, -0.1, 0.2, 0.5];
+        let m = f64::MAX;
+        let tiny = f64::from_bits(1); // 2^-1074, the smallest subnormal
+        let cases: Vec<([f64; 9], i32)> = vec![
+            (base.map(|x| mul_pow2(x, 1021)), 1021),
+            // A non-symmetric off-diagonal pair whose sum overflows.
+            ([0.0, 0.9 * m, 0.0, 0.8 * m, 0.0, 0.0, 0.0, 0.0, 0.1 * m], 1023),
+            // Eigenvalues 0.9m and (−0.5 ± √0.5)/2 · m.
+            ([0.9 * m, 0.0, 0.0, 0.0, -0.5 * m, 0.25 * m, 0.0, 0.25 * m, 0.0], 1023),
+            (base.map(|x| mul_pow2(x, -1030)), -1030),
+            (base.map(|x| mul_pow2(x, -1060)), -1060),
+            ([0.0, tiny, 0.0, tiny, 0.0, 0.0, 0.0, 0.0, 3.0 * tiny], -1074),
+        ];
+        for (t, k) in cases {
+            let (sym, _) = symmetrise(&t);
+            assert!(sym.iter().all(|x| x.is_finite()), "{t:?}");
+            let e = symmetric_eigen(&sym);
+            let want = scaled_reference(&t, k);
+            let big = want.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            // Results below 2^-1022 are rounded to the subnormal grid.
+            let slack = 4.0 * tiny;
+            for i in 0..3 {
+                assert!(e.values[i].is_finite(), "{t:?}: {:?}", e.values);
+                assert!(
+                    (e.values[i] - want[i]).abs() <= 1e-12 * big + slack,
+                    "{t:?}: {:?} vs {want:?}",
+                    e.values
+                );
+                for j in 0..3 {
+                    let d = dot(e.vectors[i], e.vectors[j]);
+                    assert!((d - f64::from(u8::from(i == j))).abs() < 1e-12);
+                }
+            }
+            let fa = crate::tensor::shape::fa(e.values);
+            let fa_want = crate::tensor::shape::fa(want.map(|v| mul_pow2(v, -k)));
+            let rel = 1e-12 + 8.0 * slack / big;
+            assert!(fa.is_finite() && (fa - fa_want).abs() <= rel, "{fa} vs {fa_want}");
+            assert!(crate::tensor::shape::md(e.values).is_finite());
+        }
+    }
+
+    #[test]
+    fn symmetrise_near_max() {
+        let m = f64::MAX;
+        let (s, flag) = symmetrise(&[0.0, 0.9 * m, 0.0, 0.8 * m, 0.0, 0.0, 0.0, 0.0, 0.0]);
+        assert!(flag);
+        assert_eq!(s[1], s[3]);
+        assert!((s[1] / m - 0.85).abs() < 1e-15);
+        let (s, flag) = symmetrise(&[m, m, -m, m, m, 0.0, -m, 0.0, m]);
+        assert!(!flag);
+        assert_eq!(s, [m, m, -m, m, m, 0.0, -m, 0.0, m]);
+        // Opposite signs: the difference overflows, which is (rightly) non-symmetric.
+        let (s, flag) = symmetrise(&[0.0, m, 0.0, -m, 0.0, 0.0, 0.0, 0.0, 1.0]);
+        assert!(flag);
+        assert_eq!((s[1], s[3]), (0.0, 0.0));
+    }
+
+    #[test]
+    fn mul_pow2_is_exact_across_the_range() {
+        assert_eq!(mul_pow2(1.0, 1023), 2f64.powi(1023));
+        assert_eq!(mul_pow2(f64::from_bits(1), 1074), 1.0);
+        assert_eq!(mul_pow2(1.0, -1074), f64::from_bits(1));
+        assert_eq!(mul_pow2(3.0, -2000), 0.0);
+        assert_eq!(mul_pow2(1.5, 2000), f64::INFINITY);
+        assert_eq!(mul_pow2(f64::MAX, -1023), f64::MAX / 2f64.powi(1023));
     }
 
     #[test]

@@ -60,6 +60,12 @@ pub fn westin(ev: [f64; 3]) -> Option<Westin> {
 #[inline]
 pub fn westin_trace(ev: [f64; 3]) -> Option<Westin> {
     let [m1, m2, m3] = magnitudes_desc(ev);
+    // Near f64::MAX the sum overflows; a quarter of each is exact there and keeps the ratios.
+    let [m1, m2, m3] = if (m1 + m2 + m3).is_infinite() && m1.is_finite() {
+        [m1, m2, m3].map(|m| 0.25 * m)
+    } else {
+        [m1, m2, m3]
+    };
     let s = m1 + m2 + m3;
     if s <= 0.0 || !s.is_finite() {
         return None;
@@ -74,7 +80,14 @@ pub fn westin_trace(ev: [f64; 3]) -> Option<Westin> {
 /// Mean diffusivity `tr(T)/3` (signed).
 #[inline]
 pub fn md(ev: [f64; 3]) -> f64 {
-    (ev[0] + ev[1] + ev[2]) / 3.0
+    let s = ev[0] + ev[1] + ev[2];
+    if s.is_finite() || !ev.iter().all(|x| x.is_finite()) {
+        return s / 3.0;
+    }
+    // The sum overflows near f64::MAX while the mean cannot: |mean| ≤ max |λ|, which also
+    // absorbs the rounding of the quartered sum.
+    let big = ev.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    ((0.25 * ev[0] + 0.25 * ev[1] + 0.25 * ev[2]) / 3.0 * 4.0).clamp(-big, big)
 }
 
 /// Fractional anisotropy `sqrt(3/2) · sqrt(Σ (λi − MD)²) / sqrt(Σ λi²)`; 0 for the zero tensor.
@@ -87,8 +100,8 @@ pub fn fa(ev: [f64; 3]) -> f64 {
     if !(big > 0.0 && big.is_finite()) {
         return 0.0;
     }
-    let inv = 1.0 / big;
-    let ev = ev.map(|l| l * inv);
+    // Divide, not multiply by 1/big: that reciprocal overflows when big is subnormal.
+    let ev = ev.map(|l| l / big);
     let m = md(ev);
     let num: f64 = ev.iter().map(|l| (l - m) * (l - m)).sum();
     let den: f64 = ev.iter().map(|l| l * l).sum();
@@ -100,6 +113,12 @@ pub fn fa(ev: [f64; 3]) -> f64 {
 
 /// FA directly from a (symmetric) tensor, `sqrt(3/2) ‖T − MD I‖_F / ‖T‖_F`, no eigendecomposition.
 pub fn fa_of_tensor(t: &[f64; 9]) -> f64 {
+    // Scale-free, as in [`fa`]: squares of raw entries overflow or underflow at the extremes.
+    let big = t.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !(big > 0.0 && big.is_finite()) {
+        return 0.0;
+    }
+    let t = t.map(|x| x / big);
     let m = (t[0] + t[4] + t[8]) / 3.0;
     let mut num = 0.0;
     let mut den = 0.0;
@@ -263,6 +282,26 @@ mod tests {
         // exactly at tau counts
         assert_eq!(classify([1.0, 0.5, 0.25], 0.5), ShapeClass::Linear);
         assert_eq!(classify([1.0, 0.5, 0.25], 0.51), ShapeClass::Unclassified);
+    }
+
+    /// Sums near f64::MAX and reciprocals of subnormals used to give inf/NaN.
+    #[test]
+    fn extreme_but_finite_eigenvalues() {
+        let m = f64::MAX;
+        let d = f64::from_bits(1000); // subnormal
+        assert!(close(fa([3.0 * d, d, d]), fa([3.0, 1.0, 1.0])));
+        assert!(close(fa([m, 0.5 * m, 0.25 * m]), fa([1.0, 0.5, 0.25])));
+        assert_eq!(md([m, m, m]), m);
+        assert!(close(md([m, m, -m]) / m, 1.0 / 3.0));
+        let w = westin_trace([m, 0.5 * m, 0.25 * m]).unwrap();
+        let want = westin_trace([1.0, 0.5, 0.25]).unwrap();
+        assert!(close(w.cl, want.cl) && close(w.cp, want.cp) && close(w.cs, want.cs));
+        let w = westin([3.0 * d, d, d]).unwrap();
+        assert!(close(w.cl, 2.0 / 3.0));
+        let t = [0.0, m, 0.0, m, 0.0, 0.0, 0.0, 0.0, 0.5 * m];
+        let small = [0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.5];
+        assert!(close(fa_of_tensor(&t), fa_of_tensor(&small)));
+        assert!(close(fa_of_tensor(&small.map(|x| x * d)), fa_of_tensor(&small)));
     }
 
     #[test]

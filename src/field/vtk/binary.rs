@@ -1,6 +1,7 @@
 //! Scalar types and byte decoding shared by the legacy and XML readers.
 
 use super::{Res, malformed};
+use crate::error::escape_for_error as esc;
 
 /// A numeric element type.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -135,9 +136,6 @@ pub(crate) fn parse_number(tok: &[u8], what: &str) -> Res<f64> {
         .ok()
         .and_then(|s| s.parse::<f64>().ok())
         .ok_or_else(|| {
-            malformed(format!(
-                "{what}: '{}' is not a number",
-                String::from_utf8_lossy(&tok[..tok.len().min(40)])
-            ))
+            malformed(format!("{what}: '{}' is not a number", esc(tok)))
         })
 }

@@ -7,7 +7,7 @@
 
 use super::binary::{Scalar, decode_into, parse_number, to_indices, try_vec};
 use super::{ArrayDesc, Cells, Geometry, Parsed, Res, malformed};
-use crate::error::LoadErrorKind;
+use crate::error::{LoadErrorKind, escape_for_error as esc};
 use crate::field::{DatasetKind, Location};
 
 /// Element type of a legacy array; `Bit` is packed in binary files.
@@ -36,11 +36,15 @@ fn ltype(s: &str) -> Res<LType> {
         "double" | "vtktypefloat64" => Scalar::F64,
         other => {
             return Err(LoadErrorKind::UnsupportedDataset(format!(
-                "legacy data type '{other}' is not supported"
+                "legacy data type '{}' is not supported",
+                esc(other)
             )));
         }
     }))
 }
+
+/// Tokens kept from a keyword line (more than any keyword line has).
+const MAX_LINE_TOKENS: usize = 16;
 
 struct Cursor<'a> {
     b: &'a [u8],
@@ -68,15 +72,25 @@ impl<'a> Cursor<'a> {
         Some(line)
     }
 
-    /// Tokens of the next non-blank line, or None at end of file.
+    /// Tokens of the next non-blank line, or None at end of file. A last line without its
+    /// newline is an error: VTK ends every line, so the file was cut inside it.
     fn line(&mut self) -> Res<Option<Vec<&'a str>>> {
         while let Some(l) = self.raw_line() {
+            // Keyword lines have at most 10 tokens (DIRECTION); a data line read here by
+            // mistake (a corrupted file) must not cost a vector as long as itself.
             let toks: Vec<&[u8]> = l
                 .split(|c| c.is_ascii_whitespace())
                 .filter(|t| !t.is_empty())
+                .take(MAX_LINE_TOKENS)
                 .collect();
             if toks.is_empty() {
                 continue;
+            }
+            if self.pos == self.b.len() && self.b.last() != Some(&b'\n') {
+                return Err(malformed(format!(
+                    "the file ends inside the line '{}' (truncated?)",
+                    esc(l)
+                )));
             }
             let mut out = Vec::with_capacity(toks.len());
             for t in toks {
@@ -149,6 +163,14 @@ impl<'a> Cursor<'a> {
                 let tok = self.token().ok_or_else(|| {
                     malformed(format!("{what}: file ends before {n} values were read"))
                 })?;
+                // A number running into the end of the file may have lost digits
+                // (1.5927 cut to 1.592): VTK ends every file with a newline.
+                if self.pos == self.b.len() {
+                    return Err(malformed(format!(
+                        "{what}: the file ends inside the number '{}' (truncated?)",
+                        esc(tok)
+                    )));
+                }
                 let v = parse_number(tok, what)?;
                 if let Some(o) = out.as_mut() {
                     o.push(match ty {
@@ -237,7 +259,7 @@ fn read_cells(cur: &mut Cursor, toks: &[&str], v5: bool, npoints_limit: usize) -
         if t[0] != "OFFSETS" {
             return Err(malformed(format!(
                 "{what}: expected OFFSETS, found '{}'",
-                t[0]
+                esc(t[0])
             )));
         }
         let off = cur
@@ -249,7 +271,7 @@ fn read_cells(cur: &mut Cursor, toks: &[&str], v5: bool, npoints_limit: usize) -
         if t[0] != "CONNECTIVITY" {
             return Err(malformed(format!(
                 "{what}: expected CONNECTIVITY, found '{}'",
-                t[0]
+                esc(t[0])
             )));
         }
         let conn = cur
@@ -292,9 +314,19 @@ fn read_cells(cur: &mut Cursor, toks: &[&str], v5: bool, npoints_limit: usize) -
 }
 
 impl Cursor<'_> {
+    /// Whether the next non-blank line starts with `kw` (only its first token is looked at).
     fn peek_keyword(&mut self, kw: &str) -> bool {
         let save = self.pos;
-        let r = matches!(self.line(), Ok(Some(t)) if t[0] == kw);
+        let mut r = false;
+        while let Some(l) = self.raw_line() {
+            if let Some(first) = l
+                .split(|c| c.is_ascii_whitespace())
+                .find(|t| !t.is_empty())
+            {
+                r = first == kw.as_bytes();
+                break;
+            }
+        }
         self.pos = save;
         r
     }
@@ -314,7 +346,7 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
         .rsplit(' ')
         .next()
         .and_then(|v| v.parse().ok())
-        .ok_or_else(|| LoadErrorKind::NotVtk(format!("bad legacy header '{}'", header.trim())))?;
+        .ok_or_else(|| LoadErrorKind::NotVtk(format!("bad legacy header '{}'", esc(header.trim()))))?;
     let v5 = version >= 5.0;
     cur.raw_line()
         .ok_or_else(|| malformed("file ends after the header line"))?; // title
@@ -326,7 +358,8 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
         "BINARY" => true,
         other => {
             return Err(malformed(format!(
-                "expected ASCII or BINARY, found '{other}'"
+                "expected ASCII or BINARY, found '{}'",
+                esc(other)
             )));
         }
     };
@@ -369,7 +402,8 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
                     "POLYDATA" => DatasetKind::PolyData,
                     other => {
                         return Err(LoadErrorKind::UnsupportedDataset(format!(
-                            "legacy DATASET {other}"
+                            "legacy DATASET {}",
+                            esc(other)
                         )));
                     }
                 })
@@ -450,6 +484,7 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
                 let loc = location
                     .ok_or_else(|| malformed(format!("{kw} before POINT_DATA or CELL_DATA")))?;
                 let name = decode_name(arg(&t, 1, &kw)?);
+                let ename = esc(&name);
                 let (ncomp, ty) = match kw.as_str() {
                     "SCALARS" => {
                         let ty = ltype(arg(&t, 2, &kw)?)?;
@@ -481,13 +516,13 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
                     _ => (1, ltype(arg(&t, 2, &kw)?)?),
                 };
                 if ncomp == 0 {
-                    return Err(malformed(format!("{kw} '{name}' has 0 components")));
+                    return Err(malformed(format!("{kw} '{ename}' has 0 components")));
                 }
                 let n = declared
                     .checked_mul(ncomp)
-                    .ok_or_else(|| malformed(format!("{kw} '{name}': count overflows")))?;
+                    .ok_or_else(|| malformed(format!("{kw} '{ename}': count overflows")))?;
                 let k = keep(&name, ncomp);
-                let v = cur.values(n, ty, k, &format!("{kw} {name}"))?;
+                let v = cur.values(n, ty, k, &format!("{kw} {ename}"))?;
                 let active = kw.starts_with("TENSORS")
                     && !arrays.iter().any(|a| a.active && a.location == Some(loc));
                 arrays.push(ArrayDesc {
@@ -525,14 +560,15 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
                         continue;
                     }
                     let name = decode_name(h[0]);
-                    let ncomp = count(h.get(1), &format!("FIELD array {name}"))?;
-                    let ntup = count(h.get(2), &format!("FIELD array {name}"))?;
-                    let ty = ltype(arg(&h, 3, &name)?)?;
+                    let what = format!("FIELD array {}", esc(&name));
+                    let ncomp = count(h.get(1), &what)?;
+                    let ntup = count(h.get(2), &what)?;
+                    let ty = ltype(arg(&h, 3, &what)?)?;
                     let n = ncomp
                         .checked_mul(ntup)
-                        .ok_or_else(|| malformed(format!("FIELD array {name}: count overflows")))?;
+                        .ok_or_else(|| malformed(format!("{what}: count overflows")))?;
                     let k = location.is_some() && keep(&name, ncomp);
-                    let v = cur.values(n, ty, k, &format!("FIELD array {name}"))?;
+                    let v = cur.values(n, ty, k, &what)?;
                     if cur.peek_keyword("METADATA") {
                         cur.line()?;
                         cur.skip_metadata();
@@ -550,7 +586,7 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
             other => {
                 return Err(malformed(format!(
                     "unknown keyword '{}' near byte {}",
-                    &other[..other.len().min(40)],
+                    esc(other),
                     cur.pos
                 )));
             }

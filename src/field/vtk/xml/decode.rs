@@ -1,0 +1,335 @@
+//! Decoding one DataArray: ascii, inline or appended base64, appended raw; uncompressed or
+//! compressed blocks; into f64 values.
+
+use std::io::Read;
+
+use base64::Engine as _;
+use base64::engine::general_purpose::STANDARD as B64;
+
+use super::tokenize::Tag;
+use super::{Res, malformed};
+use crate::error::{LoadErrorKind, escape_for_error as esc};
+use crate::field::vtk::binary::{Scalar, decode_into, parse_ascii, try_vec};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Compressor {
+    None,
+    Zlib,
+    Lz4,
+    Lzma,
+}
+
+/// File-wide decoding settings.
+pub(super) struct Ctx<'a> {
+    pub b: &'a [u8],
+    pub header: usize,
+    pub big_endian: bool,
+    pub compressor: Compressor,
+    pub appended: Option<(usize, bool)>,
+}
+
+/// Where encoded bytes come from.
+#[derive(Clone, Copy)]
+pub(super) enum Src<'a> {
+    Raw(&'a [u8]),
+    /// Base64 text with the header and the payload encoded as separate chunks (VTK does this
+    /// for compressed data).
+    B64(&'a [u8]),
+    /// Base64 text with header and payload encoded as one stream (VTK does this for
+    /// uncompressed data).
+    Joint(&'a [u8]),
+}
+
+fn b64_len(nbytes: usize) -> usize {
+    nbytes.div_ceil(3).saturating_mul(4)
+}
+
+fn b64_decode(chars: &[u8], what: &str) -> Res<Vec<u8>> {
+    B64.decode(chars)
+        .map_err(|e| malformed(format!("{what}: bad base64 data ({e})")))
+}
+
+impl Ctx<'_> {
+    fn uint(&self, b: &[u8]) -> u64 {
+        let mut v = 0u64;
+        for k in 0..self.header {
+            let byte = if self.big_endian {
+                b[k]
+            } else {
+                b[self.header - 1 - k]
+            };
+            v = (v << 8) | byte as u64;
+        }
+        v
+    }
+
+    fn to_usize(&self, v: u64, what: &str) -> Res<usize> {
+        usize::try_from(v).map_err(|_| malformed(format!("{what}: size {v} too large")))
+    }
+
+    /// The decoded (uncompressed) bytes of a binary or appended array that must hold exactly
+    /// `need` bytes. A header claiming more is refused before anything is inflated or
+    /// allocated for it, and no block inflates past its own claim: memory is bounded by what
+    /// the dataset's geometry needs, not by what the data claims.
+    fn bytes(&self, src: Src<'_>, what: &str, need: usize) -> Res<Vec<u8>> {
+        let hs = self.header;
+        let too_much = |claim: &dyn std::fmt::Display| {
+            malformed(format!(
+                "{what}: the data claims {claim} bytes but the array needs {need}"
+            ))
+        };
+        // Header and payload, each either raw bytes or a separately encoded base64 chunk.
+        let take = |src: &Src<'_>, pos: usize, n: usize, label: &str| -> Res<(Vec<u8>, usize)> {
+            match src {
+                Src::Raw(b) => {
+                    let end = pos
+                        .checked_add(n)
+                        .filter(|&e| e <= b.len())
+                        .ok_or_else(|| {
+                            malformed(format!(
+                                "{what}: {label} of {n} bytes runs past the end of the file (truncated?)"
+                            ))
+                        })?;
+                    Ok((b[pos..end].to_vec(), end))
+                }
+                Src::B64(c) => {
+                    let len = b64_len(n);
+                    let end = pos.checked_add(len).filter(|&e| e <= c.len()).ok_or_else(|| {
+                        malformed(format!(
+                            "{what}: {label} of {n} bytes runs past the end of the data (truncated?)"
+                        ))
+                    })?;
+                    let mut d = b64_decode(&c[pos..end], what)?;
+                    if d.len() < n {
+                        return Err(malformed(format!("{what}: short {label}")));
+                    }
+                    d.truncate(n);
+                    Ok((d, end))
+                }
+                Src::Joint(c) => {
+                    let end = pos
+                        .checked_add(n)
+                        .ok_or_else(|| malformed(format!("{what}: size overflow")))?;
+                    let len = b64_len(end);
+                    if len > c.len() {
+                        return Err(malformed(format!(
+                            "{what}: {label} of {n} bytes runs past the end of the data (truncated?)"
+                        )));
+                    }
+                    let d = b64_decode(&c[..len], what)?;
+                    if d.len() < end {
+                        return Err(malformed(format!("{what}: short {label}")));
+                    }
+                    Ok((d[pos..end].to_vec(), end))
+                }
+            }
+        };
+        if self.compressor == Compressor::None {
+            let (h, pos) = take(&src, 0, hs, "header")?;
+            let n = self.uint(&h);
+            if n > need as u64 {
+                return Err(too_much(&n));
+            }
+            let (d, _) = take(&src, pos, n as usize, "data")?;
+            return Ok(d);
+        }
+        let (h3, _) = take(&src, 0, 3 * hs, "compression header")?;
+        let (nb64, bs64, lbs64) = (
+            self.uint(&h3[..hs]),
+            self.uint(&h3[hs..2 * hs]),
+            self.uint(&h3[2 * hs..]),
+        );
+        // Blocks of `bs` bytes, the last one `lbs` (0: a full block).
+        let claimed = match nb64 {
+            0 => Some(0),
+            n => (n - 1)
+                .checked_mul(bs64)
+                .and_then(|v| v.checked_add(if lbs64 == 0 { bs64 } else { lbs64 })),
+        };
+        match claimed {
+            Some(c) if c <= need as u64 => {}
+            Some(c) => return Err(too_much(&c)),
+            None => return Err(too_much(&format!("{nb64} × {bs64}"))),
+        }
+        let nb = self.to_usize(nb64, what)?;
+        let bs = self.to_usize(bs64, what)?;
+        let lbs = self.to_usize(lbs64, what)?;
+        let hlen = nb
+            .checked_add(3)
+            .and_then(|v| v.checked_mul(hs))
+            .ok_or_else(|| malformed(format!("{what}: block count {nb} overflows")))?;
+        let avail = match &src {
+            Src::Raw(b) => b.len(),
+            Src::B64(c) | Src::Joint(c) => c.len() / 4 * 3,
+        };
+        if hlen > avail {
+            return Err(malformed(format!(
+                "{what}: {nb} compressed blocks declared but the data is only {avail} bytes (truncated?)"
+            )));
+        }
+        let (h, pos) = take(&src, 0, hlen, "compression header")?;
+        let mut csizes = try_vec::<usize>(nb)?;
+        for k in 0..nb {
+            let at = (3 + k) * hs;
+            csizes.push(self.to_usize(self.uint(&h[at..at + hs]), what)?);
+        }
+        let ctotal = csizes
+            .iter()
+            .try_fold(0usize, |a, &c| a.checked_add(c))
+            .ok_or_else(|| malformed(format!("{what}: compressed sizes overflow")))?;
+        let (comp, _) = take(&src, pos, ctotal, "compressed data")?;
+        let mut out = Vec::new();
+        let mut at = 0;
+        for (k, &cs) in csizes.iter().enumerate() {
+            let usize_k = if k + 1 == nb && lbs != 0 { lbs } else { bs };
+            // A real block cannot expand more than ~1000x (zlib's limit is 1032).
+            if usize_k > cs.saturating_mul(1100).saturating_add(1 << 16) {
+                return Err(malformed(format!(
+                    "{what}: block {k} claims {usize_k} bytes from {cs} compressed bytes"
+                )));
+            }
+            let block = &comp[at..at + cs];
+            at += cs;
+            let before = out.len();
+            out.try_reserve(usize_k)
+                .map_err(|_| malformed(format!("{what}: cannot allocate {usize_k} bytes")))?;
+            let res = match self.compressor {
+                Compressor::Zlib => flate2::read::ZlibDecoder::new(block)
+                    .take(usize_k as u64 + 1)
+                    .read_to_end(&mut out)
+                    .map(|_| ())
+                    .map_err(|e| e.to_string()),
+                Compressor::Lzma => xz2::read::XzDecoder::new(block)
+                    .take(usize_k as u64 + 1)
+                    .read_to_end(&mut out)
+                    .map(|_| ())
+                    .map_err(|e| e.to_string()),
+                Compressor::Lz4 => {
+                    out.resize(before + usize_k, 0);
+                    lz4_flex::block::decompress_into(block, &mut out[before..])
+                        .map(|n| out.truncate(before + n))
+                        .map_err(|e| e.to_string())
+                }
+                Compressor::None => unreachable!("handled above"),
+            };
+            res.map_err(|e| malformed(format!("{what}: block {k} does not decompress ({e})")))?;
+            if out.len() - before != usize_k {
+                return Err(malformed(format!(
+                    "{what}: block {k} decompresses to {} bytes, expected {usize_k}",
+                    out.len() - before
+                )));
+            }
+        }
+        Ok(out)
+    }
+
+    /// Decode a DataArray into f64 values; the dataset needs `need` of them. Binary data that
+    /// claims more is refused before it is decoded (see [`Ctx::bytes`]); fewer, or ascii data
+    /// of another length, are returned for the caller to report with the counts it knows.
+    pub fn values(&self, a: &Tag, what: &str, need: usize) -> Res<Vec<f64>> {
+        let ty_name = a.get("type").unwrap_or("");
+        let ty = Scalar::from_xml(ty_name).ok_or_else(|| {
+            LoadErrorKind::UnsupportedDataset(format!("{what}: data type '{}'", esc(ty_name)))
+        })?;
+        let need = need
+            .checked_mul(ty.size())
+            .ok_or_else(|| malformed(format!("{what}: {need} values overflow")))?;
+        let format = a.get("format").unwrap_or("ascii");
+        let bytes = match format {
+            "ascii" => {
+                let text = &self.b[a.text.0..a.text.1];
+                let n = text
+                    .split(|c| c.is_ascii_whitespace())
+                    .filter(|t| !t.is_empty())
+                    .count();
+                return parse_ascii(text, n, ty, what);
+            }
+            "binary" => {
+                let text: Vec<u8> = self.b[a.text.0..a.text.1]
+                    .iter()
+                    .copied()
+                    .filter(|c| !c.is_ascii_whitespace())
+                    .collect();
+                self.b64_bytes(&text, what, need)?
+            }
+            "appended" => {
+                let (start, raw) = self.appended.ok_or_else(|| {
+                    malformed(format!("{what}: appended array but no AppendedData"))
+                })?;
+                let off: usize = a
+                    .get("offset")
+                    .and_then(|o| o.trim().parse().ok())
+                    .ok_or_else(|| malformed(format!("{what}: missing or bad offset")))?;
+                let from = start
+                    .checked_add(off)
+                    .filter(|&f| f <= self.b.len())
+                    .ok_or_else(|| {
+                        malformed(format!("{what}: offset {off} is past the end of the file"))
+                    })?;
+                let data = &self.b[from..];
+                if raw {
+                    self.bytes(Src::Raw(data), what, need)?
+                } else {
+                    let end = data
+                        .iter()
+                        .position(|&c| {
+                            !(c.is_ascii_alphanumeric() || c == b'+' || c == b'/' || c == b'=')
+                        })
+                        .unwrap_or(data.len());
+                    self.b64_bytes(&data[..end], what, need)?
+                }
+            }
+            other => {
+                return Err(LoadErrorKind::UnsupportedDataset(format!(
+                    "{what}: data format '{}'",
+                    esc(other)
+                )));
+            }
+        };
+        if bytes.len() % ty.size() != 0 {
+            return Err(malformed(format!(
+                "{what}: {} bytes is not a whole number of {ty_name} values",
+                bytes.len()
+            )));
+        }
+        let mut out = try_vec(bytes.len() / ty.size())?;
+        decode_into(&bytes, ty, self.big_endian, &mut out);
+        Ok(out)
+    }
+
+    /// Decode base64 data, telling separately encoded header chunks (padded, as VTK writes
+    /// compressed data) from one joint stream (as VTK writes uncompressed data).
+    fn b64_bytes(&self, text: &[u8], what: &str, need: usize) -> Res<Vec<u8>> {
+        let hs = self.header;
+        let padded_at = |nbytes: usize| text.get(b64_len(nbytes).wrapping_sub(1)) == Some(&b'=');
+        match self.compressor {
+            Compressor::None => {
+                if padded_at(hs) {
+                    self.bytes(Src::B64(text), what, need)
+                } else {
+                    self.bytes(Src::Joint(text), what, need)
+                }
+            }
+            _ => {
+                // The first 3 header values (a multiple of 3 bytes) decode alike either way.
+                let first = b64_decode(text.get(..4 * hs).unwrap_or(text), what)?;
+                if first.len() < 3 * hs {
+                    return Err(malformed(format!("{what}: truncated compression header")));
+                }
+                let nb = self.uint(&first[..hs]);
+                let hlen = nb.saturating_add(3).saturating_mul(hs as u64);
+                if !hlen.is_multiple_of(3) {
+                    let hlen = usize::try_from(hlen).unwrap_or(usize::MAX);
+                    if padded_at(hlen) {
+                        self.bytes(Src::B64(text), what, need)
+                    } else {
+                        self.bytes(Src::Joint(text), what, need)
+                    }
+                } else {
+                    self.bytes(Src::B64(text), what, need)
+                        .or_else(|e| self.bytes(Src::Joint(text), what, need).map_err(|_| e))
+                }
+            }
+        }
+    }
+}
