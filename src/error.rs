@@ -171,6 +171,10 @@ pub enum LoadErrorKind {
         expected: usize,
         location: &'static str,
     },
+    /// A header field (NIfTI, NRRD) that cannot be used; `field` is the field's name as the
+    /// format spells it, `message` already escaped.
+    #[error("field '{}': {message}", escape_for_error(.field))]
+    Field { field: String, message: String },
     #[error("unsupported dataset: {0}")]
     UnsupportedDataset(String),
     #[error("{0}")]
@@ -222,7 +226,10 @@ mod tests {
         // An escape is never cut in half.
         let e = escape_for_error(vec![0u8; 100]);
         assert!(e.ends_with("\\x00…"), "{e}");
-        assert_eq!(escape_for_error("x".repeat(ERROR_TEXT_MAX)), "x".repeat(ERROR_TEXT_MAX));
+        assert_eq!(
+            escape_for_error("x".repeat(ERROR_TEXT_MAX)),
+            "x".repeat(ERROR_TEXT_MAX)
+        );
     }
 
     #[test]

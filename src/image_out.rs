@@ -256,7 +256,10 @@ mod tests {
         // Dangling: the link's target is created, the link stays a link.
         symlink("sub/made.txt", dir.path().join("dangling")).unwrap();
         write_atomic(&dir.path().join("dangling"), &[], |w| w.write_all(b"x")).unwrap();
-        assert_eq!(std::fs::read(dir.path().join("sub/made.txt")).unwrap(), b"x");
+        assert_eq!(
+            std::fs::read(dir.path().join("sub/made.txt")).unwrap(),
+            b"x"
+        );
         assert_eq!(names(&dir.path().join("sub")), ["made.txt", "real.txt"]);
         // A loop is an error, not a hang.
         symlink("loop_b", dir.path().join("loop_a")).unwrap();

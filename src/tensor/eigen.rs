@@ -641,12 +641,31 @@ mod tests {
         let cases: Vec<([f64; 9], i32)> = vec![
             (base.map(|x| mul_pow2(x, 1021)), 1021),
             // A non-symmetric off-diagonal pair whose sum overflows.
-            ([0.0, 0.9 * m, 0.0, 0.8 * m, 0.0, 0.0, 0.0, 0.0, 0.1 * m], 1023),
+            (
+                [0.0, 0.9 * m, 0.0, 0.8 * m, 0.0, 0.0, 0.0, 0.0, 0.1 * m],
+                1023,
+            ),
             // Eigenvalues 0.9m and (−0.5 ± √0.5)/2 · m.
-            ([0.9 * m, 0.0, 0.0, 0.0, -0.5 * m, 0.25 * m, 0.0, 0.25 * m, 0.0], 1023),
+            (
+                [
+                    0.9 * m,
+                    0.0,
+                    0.0,
+                    0.0,
+                    -0.5 * m,
+                    0.25 * m,
+                    0.0,
+                    0.25 * m,
+                    0.0,
+                ],
+                1023,
+            ),
             (base.map(|x| mul_pow2(x, -1030)), -1030),
             (base.map(|x| mul_pow2(x, -1060)), -1060),
-            ([0.0, tiny, 0.0, tiny, 0.0, 0.0, 0.0, 0.0, 3.0 * tiny], -1074),
+            (
+                [0.0, tiny, 0.0, tiny, 0.0, 0.0, 0.0, 0.0, 3.0 * tiny],
+                -1074,
+            ),
         ];
         for (t, k) in cases {
             let (sym, _) = symmetrise(&t);
@@ -671,7 +690,10 @@ mod tests {
             let fa = crate::tensor::shape::fa(e.values);
             let fa_want = crate::tensor::shape::fa(want.map(|v| mul_pow2(v, -k)));
             let rel = 1e-12 + 8.0 * slack / big;
-            assert!(fa.is_finite() && (fa - fa_want).abs() <= rel, "{fa} vs {fa_want}");
+            assert!(
+                fa.is_finite() && (fa - fa_want).abs() <= rel,
+                "{fa} vs {fa_want}"
+            );
             assert!(crate::tensor::shape::md(e.values).is_finite());
         }
     }

@@ -301,7 +301,10 @@ mod tests {
         let t = [0.0, m, 0.0, m, 0.0, 0.0, 0.0, 0.0, 0.5 * m];
         let small = [0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.5];
         assert!(close(fa_of_tensor(&t), fa_of_tensor(&small)));
-        assert!(close(fa_of_tensor(&small.map(|x| x * d)), fa_of_tensor(&small)));
+        assert!(close(
+            fa_of_tensor(&small.map(|x| x * d)),
+            fa_of_tensor(&small)
+        ));
     }
 
     #[test]

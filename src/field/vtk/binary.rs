@@ -135,7 +135,5 @@ pub(crate) fn parse_number(tok: &[u8], what: &str) -> Res<f64> {
     std::str::from_utf8(tok)
         .ok()
         .and_then(|s| s.parse::<f64>().ok())
-        .ok_or_else(|| {
-            malformed(format!("{what}: '{}' is not a number", esc(tok)))
-        })
+        .ok_or_else(|| malformed(format!("{what}: '{}' is not a number", esc(tok))))
 }

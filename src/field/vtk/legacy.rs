@@ -319,10 +319,7 @@ impl Cursor<'_> {
         let save = self.pos;
         let mut r = false;
         while let Some(l) = self.raw_line() {
-            if let Some(first) = l
-                .split(|c| c.is_ascii_whitespace())
-                .find(|t| !t.is_empty())
-            {
+            if let Some(first) = l.split(|c| c.is_ascii_whitespace()).find(|t| !t.is_empty()) {
                 r = first == kw.as_bytes();
                 break;
             }
@@ -346,7 +343,9 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
         .rsplit(' ')
         .next()
         .and_then(|v| v.parse().ok())
-        .ok_or_else(|| LoadErrorKind::NotVtk(format!("bad legacy header '{}'", esc(header.trim()))))?;
+        .ok_or_else(|| {
+            LoadErrorKind::NotVtk(format!("bad legacy header '{}'", esc(header.trim())))
+        })?;
     let v5 = version >= 5.0;
     cur.raw_line()
         .ok_or_else(|| malformed("file ends after the header line"))?; // title

@@ -42,15 +42,12 @@ pub(super) fn direction(s: Option<&str>) -> Res<Option<[[f64; 3]; 3]>> {
 pub(super) fn count_attr(t: &Tag, k: &str) -> Res<usize> {
     match t.get(k) {
         None => Ok(0),
-        Some(v) => v
-            .trim()
-            .parse()
-            .map_err(|_| {
-                malformed(format!(
-                    "<{}> {k}='{}' is not a count",
-                    esc(&t.name),
-                    esc(v)
-                ))
-            }),
+        Some(v) => v.trim().parse().map_err(|_| {
+            malformed(format!(
+                "<{}> {k}='{}' is not a count",
+                esc(&t.name),
+                esc(v)
+            ))
+        }),
     }
 }

@@ -209,15 +209,13 @@ fn parse_attrs(inner: &str) -> Res<(&str, Vec<(String, String)>)> {
                     esc(key)
                 ))
             })?;
-        let close = after[1..]
-            .find(q)
-            .ok_or_else(|| {
-                malformed(format!(
-                    "XML <{}>: unterminated attribute '{}'",
-                    esc(name),
-                    esc(key)
-                ))
-            })?;
+        let close = after[1..].find(q).ok_or_else(|| {
+            malformed(format!(
+                "XML <{}>: unterminated attribute '{}'",
+                esc(name),
+                esc(key)
+            ))
+        })?;
         attrs.push((key.to_string(), unescape(&after[1..1 + close])));
         s = after[close + 2..].trim_start();
     }
