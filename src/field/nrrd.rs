@@ -29,6 +29,7 @@ use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField}
 use crate::error::{LoadErrorKind, escape_for_error, escape_path};
 
 type Res<T> = Result<T, LoadErrorKind>;
+type Expand = fn(&[f64]) -> [f64; 9];
 
 fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Field {
@@ -318,7 +319,7 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
     let (data, from_end) = skip(&h, data, encoding)?;
     let values = decode(data, encoding, width, big, count, from_end)?;
 
-    let (order, tensor_of): (&str, fn(&[f64]) -> [f64; 9]) = match kind {
+    let (order, tensor_of): (&str, Expand) = match kind {
         Kind::Full => ("full", |c| std::array::from_fn(|i| c[i])),
         Kind::Symmetric => ("fsl", |c| ComponentOrder::Fsl.expand(c)),
         Kind::Masked => ("fsl", |c| ComponentOrder::Fsl.expand(&c[1..])),
@@ -328,7 +329,7 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
     for c in values.chunks_exact(kind.values()) {
         // A confidence below 0.5 (or none at all: NaN) drops the voxel, as Teem's tenGlyph
         // does; it is kept as a zero tensor so that the lattice stays whole.
-        if kind == Kind::Masked && !(c[0] >= 0.5) {
+        if kind == Kind::Masked && (c[0] < 0.5 || c[0].is_nan()) {
             masked += 1;
             tensors.push([0.0; 9]);
         } else {
