@@ -172,6 +172,10 @@ pub enum LoadErrorKind {
         expected: usize,
         location: &'static str,
     },
+    /// A header field (NIfTI, NRRD) that cannot be used; `field` is the field's name as the
+    /// format spells it, `message` already escaped.
+    #[error("field '{}': {message}", escape_for_error(.field))]
+    Field { field: String, message: String },
     #[error("unsupported dataset: {0}")]
     UnsupportedDataset(String),
     #[error("{0}")]

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use crate::field::frame::{FrameInfo, Layout, Why};
 use crate::field::{TensorArrayInfo, TensorField};
 use crate::glyph::GlyphSet;
 use crate::tensor::eigen::{symmetric_eigen, symmetrise};
@@ -17,6 +18,10 @@ pub struct InfoReport {
     pub points: usize,
     pub cells: usize,
     pub tensor_array: TensorArrayInfo,
+    /// How 6 components were ordered and why (the file, `--order` or the default).
+    pub layout: Option<Layout>,
+    /// The frames positions and tensors were read in.
+    pub frame: Option<FrameInfo>,
     pub tensors: usize,
     pub valid: usize,
     pub skipped: Skipped,
@@ -33,6 +38,8 @@ pub struct Skipped {
     pub nan: usize,
     pub inf: usize,
     pub zero: usize,
+    /// Confidence below 0.5 (NRRD masked tensors); not counted in `zero`.
+    pub masked: usize,
 }
 
 /// Component-wise range of (λ1, λ2, λ3) over valid tensors.
@@ -91,12 +98,16 @@ pub fn info_report(
         points: field.points,
         cells: field.cells,
         tensor_array: field.array.clone(),
+        layout: field.meta.layout.clone(),
+        frame: field.meta.frame.clone(),
         tensors: s.tensors,
         valid: s.valid,
         skipped: Skipped {
             nan: s.skipped_nan,
             inf: s.skipped_inf,
-            zero: s.skipped_zero,
+            // Masked voxels are held as zero tensors so that the lattice stays whole.
+            zero: s.skipped_zero.saturating_sub(field.meta.masked),
+            masked: field.meta.masked,
         },
         symmetrised: s.symmetrised,
         indefinite: s.indefinite,
@@ -185,9 +196,43 @@ pub fn human_summary(r: &InfoReport) -> String {
         r.tensor_array.components,
         r.tensor_array.location.as_str()
     );
+    if let Some(l) = &r.layout {
+        let why = match l.why {
+            Why::File => "from the file",
+            Why::Flag => "from --order",
+            Why::Default => "the default",
+        };
+        let _ = writeln!(o, "layout: {} ({why})", l.order);
+    }
+    if let Some(f) = &r.frame {
+        let _ = writeln!(
+            o,
+            "frame: tensors in {} axes, world {} from {}",
+            f.tensor_frame.name(),
+            f.world,
+            f.source
+        );
+        if let Some(m) = &f.voxel_to_world {
+            for row in m {
+                let _ = writeln!(
+                    o,
+                    "  voxel to world [{}, {}, {}, {}]",
+                    g(row[0]),
+                    g(row[1]),
+                    g(row[2]),
+                    g(row[3])
+                );
+            }
+        }
+    }
+    let masked = if r.skipped.masked > 0 {
+        format!(", {} masked (confidence < 0.5)", r.skipped.masked)
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         o,
-        "tensors: {} total, {} valid; skipped {} NaN, {} Inf, {} zero",
+        "tensors: {} total, {} valid; skipped {} NaN, {} Inf, {} zero{masked}",
         r.tensors, r.valid, r.skipped.nan, r.skipped.inf, r.skipped.zero
     );
     let _ = writeln!(
@@ -292,6 +337,8 @@ mod tests {
             "points",
             "cells",
             "tensor_array",
+            "layout",
+            "frame",
             "tensors",
             "valid",
             "skipped",
@@ -304,7 +351,7 @@ mod tests {
         ] {
             assert!(keys.contains(&k), "missing {k}");
         }
-        assert_eq!(keys.len(), 15);
+        assert_eq!(keys.len(), 17);
         assert_eq!(v["dataset"], "ImageData");
         assert_eq!(v["format"], "synthetic");
         assert_eq!(v["dims"], serde_json::json!([6, 6, 6]));

@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use crate::error::LoadError;
 use crate::field::TensorField;
-use crate::field::vtk::{ReadOptions, read_field};
+use crate::field::{ReadOptions, read_field};
 use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
 use crate::request::GlyphKind;

@@ -41,7 +41,8 @@ fn close(got: f64, want: f64, rel: f64) -> bool {
 fn opts(array: Option<&str>) -> ReadOptions {
     ReadOptions {
         array: array.map(str::to_string),
-        order: ComponentOrder::Vtk,
+        order: Some(ComponentOrder::Vtk),
+        ..ReadOptions::default()
     }
 }
 
@@ -198,7 +199,10 @@ fn component_orders_expand_six_component_arrays() {
     assert_eq!(vtk.array.name, "dti");
     assert_eq!(vtk.array.components, 6);
     for order in [ComponentOrder::Fsl, ComponentOrder::Nifti] {
-        let o = ReadOptions { array: None, order };
+        let o = ReadOptions {
+            order: Some(order),
+            ..ReadOptions::default()
+        };
         let f = read_field(&path, &o).unwrap();
         for (a, b) in vtk.tensors.iter().zip(&f.tensors) {
             // The stored components, recovered from the VTK-order expansion.

@@ -66,6 +66,7 @@ fn single_field(t: [f64; 9]) -> TensorField {
         tensors: vec![t],
         direction: None,
         spacing: None,
+        meta: Default::default(),
     }
 }
 

@@ -10,8 +10,7 @@ use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 
 use tensorglyph::camera::{Framing, ViewPreset};
-use tensorglyph::field::ComponentOrder;
-use tensorglyph::field::vtk::ReadOptions;
+use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
 pub use tensorglyph::frame::parse_size;
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape};
@@ -31,9 +30,15 @@ pub struct SceneArgs {
     /// Tensor array to use (default: the active tensors, else the first 9- or 6-component array).
     #[arg(long)]
     pub array: Option<String>,
-    /// Component order of 6-component arrays.
-    #[arg(long, default_value = "vtk", value_parser = one_of::<ComponentOrder>(ComponentOrder::NAMES))]
-    pub order: ComponentOrder,
+    /// Component order of 6-component arrays where the file does not say (default: vtk for VTK
+    /// files; fsl for 4-D NIfTI, nifti for 5-D NIfTI).
+    #[arg(long, value_parser = one_of::<ComponentOrder>(ComponentOrder::NAMES))]
+    pub order: Option<ComponentOrder>,
+    /// The axes the file's tensors are in (default: voxel for NIfTI; VTK image tensors are
+    /// rotated by the image's Direction): voxel (rotated into world by the voxel-to-world
+    /// matrix), fsl (voxel, with FSL's x-flip for positive-determinant matrices) or world.
+    #[arg(long, value_parser = one_of::<TensorFrame>(TensorFrame::NAMES))]
+    pub tensor_frame: Option<TensorFrame>,
     /// Colour scheme.
     #[arg(long, default_value = "shape", value_parser = one_of::<ColorScheme>(ColorScheme::NAMES))]
     pub color: ColorScheme,
@@ -61,6 +66,7 @@ impl SceneArgs {
         ReadOptions {
             array: self.array.clone(),
             order: self.order,
+            tensor_frame: self.tensor_frame,
         }
     }
 

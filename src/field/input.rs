@@ -91,6 +91,33 @@ pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, LoadErrorKind> {
     Ok(bytes)
 }
 
+/// Deflate cannot expand data more than about 1032 times, so a gzip stream of `n` bytes
+/// never holds more than this many: a header asking for more is refused before inflating.
+const DEFLATE_MAX_RATIO: u64 = 1032;
+
+/// The first `want` bytes that the gzip data `gz` holds (all its members, as `gzip -d` reads
+/// them), fewer if it holds fewer.
+///
+/// Memory grows only with the bytes actually inflated, and `want` beyond what `gz` could
+/// possibly expand to is an error before anything is inflated; `what` names the data in it.
+pub fn gunzip_prefix(gz: &[u8], want: u64, what: &str) -> Result<Vec<u8>, LoadErrorKind> {
+    let most = (gz.len() as u64).saturating_mul(DEFLATE_MAX_RATIO);
+    if want > most {
+        return Err(LoadErrorKind::Malformed(format!(
+            "{what} needs {want} bytes, more than {} gzip-compressed bytes can hold",
+            gz.len()
+        )));
+    }
+    let mut out = Vec::new();
+    flate2::read::MultiGzDecoder::new(gz)
+        .take(want)
+        .read_to_end(&mut out)
+        .map_err(|e| {
+            LoadErrorKind::Malformed(format!("{what}: gzip data is corrupt or truncated ({e})"))
+        })?;
+    Ok(out)
+}
+
 /// Device and inode of the file `path` names (symlinks followed), to tell when two names are
 /// one file; `None` where the platform does not say or the file cannot be inspected.
 pub(crate) fn file_identity(path: &Path) -> Option<(u64, u64)> {

@@ -1,12 +1,40 @@
 //! Reading and holding tensor data: a [`TensorField`] is positions plus raw 3x3 tensors in file
 //! order, with what is known about where they came from.
 
+pub mod frame;
 pub mod input;
+pub mod nifti;
+pub mod nrrd;
 pub mod order;
 pub mod synthetic;
 pub mod vtk;
 
+pub use frame::{ReadMeta, TensorFrame};
 pub use order::ComponentOrder;
+pub use vtk::ReadOptions;
+
+use std::path::Path;
+
+use crate::error::LoadError;
+
+/// Read a tensor field from a file, the reader picked by the extension: `.nii` and `.nii.gz`
+/// NIfTI-1, `.nrrd` and `.nhdr` NRRD, anything else VTK (whose format is then told by the
+/// content).
+pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
+    if nifti::is_nifti_path(path) {
+        vtk::guarded(path, || {
+            let bytes = input::read_regular_file(path)?;
+            nifti::parse(&bytes, opts)
+        })
+    } else if nrrd::is_nrrd_path(path) {
+        vtk::guarded(path, || {
+            let bytes = input::read_regular_file(path)?;
+            nrrd::parse(path, &bytes, opts)
+        })
+    } else {
+        vtk::read_field(path, opts)
+    }
+}
 
 use serde::Serialize;
 
@@ -81,6 +109,8 @@ pub struct TensorField {
     /// The smallest grid spacing for structured data, used by `--scale auto`; `None` when the
     /// data has no lattice (then the median nearest-neighbour distance is used).
     pub spacing: Option<f64>,
+    /// Layout, frames and masked voxels, as the reader found them.
+    pub meta: ReadMeta,
 }
 
 impl TensorField {
@@ -112,6 +142,7 @@ impl TensorField {
             tensors,
             direction: None,
             spacing: None,
+            meta: ReadMeta::default(),
         }
     }
 

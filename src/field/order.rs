@@ -10,12 +10,15 @@ pub enum ComponentOrder {
     Fsl,
     /// xx, xy, yy, xz, yz, zz (NIfTI lower triangle).
     Nifti,
+    /// D11, D22, D33, D12, D13, D23 (MRtrix `dwi2tensor`).
+    Mrtrix,
 }
 
 crate::names::named_values!(ComponentOrder {
     Vtk => "vtk",
     Fsl => "fsl",
     Nifti => "nifti",
+    Mrtrix => "mrtrix",
 });
 
 impl ComponentOrder {
@@ -25,6 +28,7 @@ impl ComponentOrder {
             ComponentOrder::Vtk => [(0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2)],
             ComponentOrder::Fsl => [(0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2)],
             ComponentOrder::Nifti => [(0, 0), (0, 1), (1, 1), (0, 2), (1, 2), (2, 2)],
+            ComponentOrder::Mrtrix => [(0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2)],
         }
     }
 
@@ -60,6 +64,11 @@ mod tests {
         assert_eq!(
             ComponentOrder::Nifti.expand(&c),
             [1.0, 2.0, 4.0, 2.0, 3.0, 5.0, 4.0, 5.0, 6.0]
+        );
+        // MRtrix: D11 D22 D33 D12 D13 D23
+        assert_eq!(
+            ComponentOrder::Mrtrix.expand(&c),
+            [1.0, 4.0, 5.0, 4.0, 2.0, 6.0, 5.0, 6.0, 3.0]
         );
     }
 }

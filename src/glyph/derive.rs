@@ -263,6 +263,7 @@ mod tests {
             tensors,
             direction: None,
             spacing: None,
+            meta: Default::default(),
         }
     }
 

@@ -7,8 +7,8 @@ use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
+use crate::field::ReadOptions;
 use crate::field::TensorField;
-use crate::field::vtk::ReadOptions;
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
 use crate::staging::{Source, decompose, field_spacing, read};

@@ -76,7 +76,7 @@ pub fn read_id(ctx: &GpuContext, targets: &Targets, x: u32, y: u32) -> Result<u3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::vtk::ReadOptions;
+    use crate::field::ReadOptions;
     use crate::staging::{Demo, Source};
     use crate::viewer::loader::load_now;
 

@@ -4,6 +4,7 @@
 use super::dataset::{cell_dims, product};
 use super::{Geometry, Parsed, ReadOptions, Res, malformed, pick, point_dims};
 use crate::error::LoadErrorKind;
+use crate::field::frame::{FrameInfo, Layout, ReadMeta, TensorFrame, Why};
 use crate::field::{Location, TensorArrayInfo, TensorField};
 
 /// Pick the array, load and check it, compute positions.
@@ -44,7 +45,7 @@ pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField
     } else {
         values
             .chunks_exact(6)
-            .map(|c| opts.order.expand(c))
+            .map(|c| opts.order.unwrap_or_default().expand(c))
             .collect()
     };
     let positions = match location {
@@ -87,6 +88,32 @@ pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField
         }
         Geometry::Points { .. } => (None, None),
     };
+    let layout = if desc.ncomp == 9 {
+        Layout::full()
+    } else {
+        let why = if opts.order.is_some() {
+            Why::Flag
+        } else {
+            Why::Default
+        };
+        Layout::six(opts.order.unwrap_or_default(), why)
+    };
+    let meta = ReadMeta {
+        layout: Some(layout),
+        frame: Some(FrameInfo {
+            // An image's Direction rotates its tensors, as VTK's filters do; other datasets
+            // have no voxel axes.
+            tensor_frame: if direction.is_some() {
+                TensorFrame::Voxel
+            } else {
+                TensorFrame::World
+            },
+            world: "VTK".into(),
+            voxel_to_world: None,
+            source: "VTK".into(),
+        }),
+        masked: 0,
+    };
     Ok(TensorField {
         format: p.format.to_string(),
         dataset: p.kind,
@@ -102,6 +129,7 @@ pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField
         tensors,
         direction,
         spacing,
+        meta,
     })
 }
 

@@ -36,19 +36,23 @@ mod xml;
 use std::path::Path;
 
 use super::input::read_regular_file;
-use super::{ComponentOrder, TensorField};
+use super::{ComponentOrder, TensorField, TensorFrame};
 use crate::error::{LoadError, LoadErrorKind, escape_for_error};
 pub(crate) use assemble::assemble;
 pub(crate) use dataset::{ArrayDesc, Cells, Geometry, Parsed, pick, point_dims};
 
-/// How to read a VTK file.
+/// How to read a tensor file (VTK, NIfTI).
 #[derive(Debug, Clone, Default)]
 pub struct ReadOptions {
-    /// Tensor array to read, by name. `None`: the active tensors, else the first 9- or
+    /// Tensor array to read, by name (VTK). `None`: the active tensors, else the first 9- or
     /// 6-component point array, else the first such cell array.
     pub array: Option<String>,
-    /// Component order of 6-component arrays.
-    pub order: ComponentOrder,
+    /// Component order of 6-component arrays where the file does not say; `None`: the
+    /// format's default (VTK: `vtk`; NIfTI 4-D: `fsl`, 5-D: `nifti`).
+    pub order: Option<ComponentOrder>,
+    /// The axes the stored tensors are in; `None`: the format's default (NIfTI: `voxel`).
+    /// VTK files are read as before: image data tensors rotated by the image's `Direction`.
+    pub tensor_frame: Option<TensorFrame>,
 }
 
 /// Read a tensor field from a VTK file (format detected from the content).
@@ -75,7 +79,10 @@ pub fn read_field_bytes(
     guarded(path, || parse_bytes(path, bytes, opts))
 }
 
-fn guarded(path: &Path, f: impl FnOnce() -> Res<TensorField>) -> Result<TensorField, LoadError> {
+pub(crate) fn guarded(
+    path: &Path,
+    f: impl FnOnce() -> Res<TensorField>,
+) -> Result<TensorField, LoadError> {
     let result =
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
             let msg = payload

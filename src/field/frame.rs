@@ -1,0 +1,194 @@
+//! Voxel-to-world geometry shared by the NIfTI and NRRD readers, and what a field says about
+//! its layout and frames (reported by `info`).
+//!
+//! No tensor file says whether its tensors are in the voxel axes or in world axes, so the
+//! reader is told ([`TensorFrame`], with a default per format) and records what it used.
+
+use nalgebra::{Matrix3, Matrix4, Vector3};
+use serde::Serialize;
+
+use super::ComponentOrder;
+
+/// The axes the stored tensors are expressed in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TensorFrame {
+    /// The voxel (index) axes: rotated into world by the rotation-or-reflection part of the
+    /// voxel-to-world matrix (FSL `dtifit` with a negative-determinant matrix, DIPY).
+    Voxel,
+    /// As `voxel`, with FSL's x-flip where the matrix has a positive determinant (FSL's bvec
+    /// convention, which `dtifit`'s tensors inherit).
+    Fsl,
+    /// World axes already (MRtrix, NRRD after its measurement frame).
+    World,
+}
+
+crate::names::named_values!(TensorFrame {
+    Voxel => "voxel",
+    Fsl => "fsl",
+    World => "world",
+});
+
+/// Where the component order came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Why {
+    /// The file says (NIfTI intent code or 5-D shape, NRRD `kinds`, VTK's 9 components).
+    File,
+    /// `--order`.
+    Flag,
+    /// The documented default for the format.
+    Default,
+}
+
+/// How the components were laid out.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Layout {
+    /// `fsl`, `mrtrix`, `nifti`, `vtk` or `full` (nine components, row-major).
+    pub order: String,
+    pub why: Why,
+}
+
+impl Layout {
+    pub fn six(order: ComponentOrder, why: Why) -> Self {
+        Layout {
+            order: order.name().to_string(),
+            why,
+        }
+    }
+
+    pub fn full() -> Self {
+        Layout {
+            order: "full".into(),
+            why: Why::File,
+        }
+    }
+}
+
+/// The frames a field was read in.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FrameInfo {
+    pub tensor_frame: TensorFrame,
+    /// The world convention positions and tensors are given in (`RAS` for NIfTI and for NRRD
+    /// after conversion; `VTK` for VTK files, whose world is whatever the writer used).
+    pub world: String,
+    /// Rows of the 4x4 voxel-to-world matrix, when the data sits on a lattice.
+    pub voxel_to_world: Option<[[f64; 4]; 4]>,
+    /// `sform`, `qform`, `pixdim`, `space directions` or `VTK`.
+    pub source: String,
+}
+
+/// What a reader knows about the data beyond the tensors.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ReadMeta {
+    pub layout: Option<Layout>,
+    pub frame: Option<FrameInfo>,
+    /// Voxels whose confidence (NRRD masked tensors) was below 0.5: stored as zero tensors, so
+    /// that the lattice stays whole, and counted here.
+    pub masked: usize,
+}
+
+/// The rotation-or-reflection part of `m` (polar decomposition `m = R S`): `R = U Vᵀ` from the
+/// SVD, so scaling and shear are removed and the handedness of `m` is kept.
+pub fn polar_rotation(m: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    if !m.iter().all(|x| x.is_finite()) || m.determinant() == 0.0 {
+        return None;
+    }
+    let svd = m.svd(true, true);
+    Some(svd.u? * svd.v_t?)
+}
+
+/// The matrix that takes tensors stored in `frame` to world axes for a lattice whose
+/// voxel-to-world linear part is `m`: `D_world = Q D Qᵀ`. `None` means the identity.
+pub fn tensor_rotation(frame: TensorFrame, m: &Matrix3<f64>) -> Option<Matrix3<f64>> {
+    match frame {
+        TensorFrame::World => None,
+        TensorFrame::Voxel => polar_rotation(m),
+        TensorFrame::Fsl => {
+            let r = polar_rotation(m)?;
+            // FSL stores its voxel axes radiologically: when the matrix keeps handedness it
+            // flips x before rotating (as it does for bvecs).
+            if m.determinant() > 0.0 {
+                Some(r * Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, 1.0)))
+            } else {
+                Some(r)
+            }
+        }
+    }
+}
+
+/// Row-major array form of a 3x3 matrix.
+pub fn rows3(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+}
+
+/// Row-major array form of a 4x4 matrix.
+pub fn rows4(m: &Matrix4<f64>) -> [[f64; 4]; 4] {
+    std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
+}
+
+/// World positions of every voxel of a `dims` lattice, x fastest, through the affine `a`.
+pub fn lattice_positions(a: &Matrix4<f64>, dims: [usize; 3]) -> Vec<[f64; 3]> {
+    let n = dims[0] * dims[1] * dims[2];
+    let mut out = Vec::with_capacity(n);
+    for k in 0..dims[2] {
+        for j in 0..dims[1] {
+            for i in 0..dims[0] {
+                let v = [i as f64, j as f64, k as f64];
+                out.push(std::array::from_fn(|r| {
+                    a[(r, 0)] * v[0] + a[(r, 1)] * v[1] + a[(r, 2)] * v[2] + a[(r, 3)]
+                }));
+            }
+        }
+    }
+    out
+}
+
+/// The smallest voxel size of the lattice (length of each column of `m`) along axes with more
+/// than one voxel, else along any axis; `None` if none is positive and finite.
+pub fn smallest_spacing(m: &Matrix3<f64>, dims: [usize; 3]) -> Option<f64> {
+    let size = |a: usize| m.column(a).norm();
+    let ok = |s: &f64| *s > 0.0 && s.is_finite();
+    let on_axes = (0..3)
+        .filter(|&a| dims[a] > 1)
+        .map(size)
+        .filter(ok)
+        .fold(f64::INFINITY, f64::min);
+    let any = (0..3).map(size).filter(ok).fold(f64::INFINITY, f64::min);
+    let s = if on_axes.is_finite() { on_axes } else { any };
+    s.is_finite().then_some(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn polar_rotation_removes_scale_and_shear_and_keeps_reflection() {
+        let r = Matrix3::new(0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+        let s = Matrix3::new(2.0, 0.3, 0.0, 0.3, 1.5, 0.0, 0.0, 0.0, 3.0);
+        let got = polar_rotation(&(r * s)).unwrap();
+        assert!((got - r).abs().max() < 1e-12, "{got}");
+        let flip = Matrix3::from_diagonal(&Vector3::new(-2.0, 2.0, 2.0));
+        let got = polar_rotation(&flip).unwrap();
+        assert!((got.determinant() + 1.0).abs() < 1e-12);
+        assert!(polar_rotation(&Matrix3::zeros()).is_none());
+    }
+
+    #[test]
+    fn fsl_frame_flips_x_only_for_positive_determinants() {
+        let pos = Matrix3::from_diagonal(&Vector3::new(2.0, 2.0, 2.0));
+        let q = tensor_rotation(TensorFrame::Fsl, &pos).unwrap();
+        assert!(
+            (q - Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, 1.0)))
+                .abs()
+                .max()
+                < 1e-12
+        );
+        let neg = Matrix3::from_diagonal(&Vector3::new(-2.0, 2.0, 2.0));
+        let q = tensor_rotation(TensorFrame::Fsl, &neg).unwrap();
+        let v = tensor_rotation(TensorFrame::Voxel, &neg).unwrap();
+        assert_eq!(q, v);
+        assert!(tensor_rotation(TensorFrame::World, &neg).is_none());
+    }
+}

@@ -1,0 +1,378 @@
+//! NIfTI-1 tensor volumes (`.nii`, `.nii.gz`): FSL `dtifit --save_tensor`, MRtrix
+//! `dwi2tensor`, DIPY/nibabel.
+//!
+//! The `nifti` crate parses the 348-byte header and builds the sform/qform affines; the bytes
+//! are ours: read whole through the bounded regular-file reader, inflated no further than the
+//! header's dimensions need (and never further than the compressed size could hold), and the
+//! voxel data is checked against the bytes present before anything is allocated for it.
+//!
+//! Layouts (the file's own word wins, then `--order`, then the default):
+//! - 5-D `X×Y×Z×1×6`: NIfTI's lower triangle by rows `xx xy yy xz yz zz` (intent SYMMATRIX, as
+//!   DIPY and nibabel write it: "file"; without the intent, `--order` or `nifti`);
+//! - 4-D `X×Y×Z×6`: `--order`, default `fsl` (`xx xy xz yy yz zz`); MRtrix needs `--order mrtrix`;
+//! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major.
+
+use std::borrow::Cow;
+use std::io::Cursor;
+use std::path::Path;
+
+use nalgebra::{Matrix3, Matrix4};
+use nifti::NiftiHeader;
+
+use super::frame::{
+    FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
+    smallest_spacing, tensor_rotation,
+};
+use super::vtk::ReadOptions;
+use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
+use crate::error::LoadErrorKind;
+
+type Res<T> = Result<T, LoadErrorKind>;
+
+const HEADER_LEN: usize = 348;
+/// The header plus the 4-byte extension flag of a single `.nii` file.
+const MIN_OFFSET: u64 = 352;
+const INTENT_SYMMATRIX: i16 = 1005;
+const DT_FLOAT32: i16 = 16;
+const DT_FLOAT64: i16 = 64;
+
+fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
+    LoadErrorKind::Field {
+        field: name.to_string(),
+        message: message.into(),
+    }
+}
+
+/// Read a NIfTI-1 tensor volume from the file's bytes (gzip-compressed or not).
+pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+    let gz = bytes.starts_with(&[0x1f, 0x8b]);
+    let head: Cow<[u8]> = if gz {
+        Cow::Owned(gunzip(bytes, MIN_OFFSET, "the header")?)
+    } else {
+        Cow::Borrowed(bytes)
+    };
+    let h = header(&head)?;
+    let shape = Shape::of(&h)?;
+    let offset = (h.vox_offset.is_finite() && h.vox_offset >= 0.0)
+        .then_some(h.vox_offset as u64)
+        .ok_or_else(|| {
+            field(
+                "vox_offset",
+                format!("{} is not a byte offset", h.vox_offset),
+            )
+        })?
+        .max(MIN_OFFSET);
+    let width = shape.width as u64;
+    let data_len = (shape.voxels as u64)
+        .checked_mul(shape.components as u64)
+        .and_then(|n| n.checked_mul(width))
+        .ok_or_else(|| field("dim", "the dimensions overflow"))?;
+    let needed = offset
+        .checked_add(data_len)
+        .ok_or_else(|| field("vox_offset", "the data end overflows"))?;
+    let data: Cow<[u8]> = if gz {
+        Cow::Owned(gunzip(bytes, needed, "the voxel data")?)
+    } else {
+        Cow::Borrowed(bytes)
+    };
+    if (data.len() as u64) < needed {
+        return Err(field(
+            "dim",
+            format!(
+                "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {}",
+                if gz { " uncompressed" } else { "" },
+                data.len()
+            ),
+        ));
+    }
+    let data = &data[offset as usize..needed as usize];
+    let (layout, expand) = layout(&h, &shape, opts)?;
+    let affine_source = affine(&h)?;
+    let (a, source) = affine_source;
+    let linear: Matrix3<f64> = a.fixed_view::<3, 3>(0, 0).into_owned();
+    let tensor_frame = opts.tensor_frame.unwrap_or(TensorFrame::Voxel);
+    let rotation = tensor_rotation(tensor_frame, &linear);
+    if rotation.is_none() && tensor_frame != TensorFrame::World {
+        return Err(field(
+            source,
+            "the voxel-to-world matrix is singular: no rotation to take voxel-frame tensors to world",
+        ));
+    }
+
+    let value = number_reader(&h, shape.width)?;
+    let (slope, inter) = scaling(&h);
+    let n = shape.voxels;
+    let mut comps = vec![0.0f64; shape.components];
+    let mut tensors = Vec::with_capacity(n);
+    for v in 0..n {
+        for (c, out) in comps.iter_mut().enumerate() {
+            let at = (c * n + v) * shape.width;
+            *out = value(&data[at..at + shape.width]) * slope + inter;
+        }
+        tensors.push(expand(&comps));
+    }
+    let dims = shape.dims;
+    Ok(TensorField {
+        format: "nifti".into(),
+        dataset: DatasetKind::ImageData,
+        dims: Some(dims),
+        points: n,
+        cells: dims.iter().map(|d| d.saturating_sub(1)).product(),
+        array: TensorArrayInfo {
+            name: "tensor".into(),
+            components: shape.components,
+            location: Location::Point,
+        },
+        positions: lattice_positions(&a, dims),
+        tensors,
+        direction: rotation.as_ref().map(rows3),
+        spacing: smallest_spacing(&linear, dims),
+        meta: ReadMeta {
+            layout: Some(layout),
+            frame: Some(FrameInfo {
+                tensor_frame,
+                world: "RAS".into(),
+                voxel_to_world: Some(rows4(&a)),
+                source: source.into(),
+            }),
+            masked: 0,
+        },
+    })
+}
+
+fn gunzip(bytes: &[u8], want: u64, what: &str) -> Res<Vec<u8>> {
+    super::input::gunzip_prefix(bytes, want, what)
+}
+
+fn header(bytes: &[u8]) -> Res<NiftiHeader> {
+    if bytes.len() < HEADER_LEN {
+        return Err(LoadErrorKind::Malformed(format!(
+            "a NIfTI header has {HEADER_LEN} bytes, the file holds {}",
+            bytes.len()
+        )));
+    }
+    let size = [
+        i32::from_le_bytes(bytes[..4].try_into().unwrap_or_default()),
+        i32::from_be_bytes(bytes[..4].try_into().unwrap_or_default()),
+    ];
+    if size.contains(&540) {
+        return Err(field(
+            "sizeof_hdr",
+            "540: a NIfTI-2 file; only NIfTI-1 is read (convert with nibabel or mrconvert)",
+        ));
+    }
+    let mut h = NiftiHeader::from_reader(Cursor::new(bytes)).map_err(|e| {
+        LoadErrorKind::Malformed(format!(
+            "not a NIfTI-1 header: {}",
+            crate::error::escape_for_error(e.to_string())
+        ))
+    })?;
+    if &h.magic != b"n+1\0" {
+        return Err(field(
+            "magic",
+            format!(
+                "'{}': only single-file NIfTI-1 ('n+1') is read",
+                crate::error::escape_for_error(
+                    h.magic
+                        .iter()
+                        .take_while(|b| **b != 0)
+                        .copied()
+                        .collect::<Vec<u8>>()
+                )
+            ),
+        ));
+    }
+    // NIfTI readers treat any pixdim[0] other than -1 as 1 (the qform's handedness).
+    h.fix();
+    Ok(h)
+}
+
+/// The voxel lattice and how many numbers each voxel holds.
+struct Shape {
+    dims: [usize; 3],
+    voxels: usize,
+    components: usize,
+    /// 5-D (`X×Y×Z×1×C`), the NIfTI way of storing vectors and matrices.
+    five_d: bool,
+    width: usize,
+}
+
+impl Shape {
+    fn of(h: &NiftiHeader) -> Res<Self> {
+        let nd = h.dim[0];
+        if !(1..=7).contains(&nd) {
+            return Err(field("dim", format!("dim[0] = {nd} is not 1 to 7")));
+        }
+        let d: Vec<usize> = (1..=nd as usize).map(|i| h.dim[i] as usize).collect();
+        if d.contains(&0) {
+            return Err(field("dim", "a dimension is 0"));
+        }
+        let at = |i: usize| d.get(i).copied().unwrap_or(1);
+        let dims = [at(0), at(1), at(2)];
+        let (components, five_d) = match nd {
+            1..=3 => (1, false),
+            4 => (at(3), false),
+            5 if at(3) == 1 => (at(4), true),
+            5 => {
+                return Err(field(
+                    "dim",
+                    format!(
+                        "5-D with {} time points: one tensor volume (X×Y×Z×1×6) is read",
+                        at(3)
+                    ),
+                ));
+            }
+            _ if d[3..].iter().all(|&x| x == 1) => (1, false),
+            _ => return Err(field("dim", format!("{nd}-D data is not a tensor volume"))),
+        };
+        if components == 1 {
+            return Err(field(
+                "dim",
+                "a scalar volume (one value per voxel), not tensors: a tensor volume has 6 or 9 volumes",
+            ));
+        }
+        if components != 6 && components != 9 {
+            return Err(field(
+                "dim",
+                format!("{components} volumes per voxel; a tensor volume has 6 or 9"),
+            ));
+        }
+        let width = match h.datatype {
+            DT_FLOAT32 => 4,
+            DT_FLOAT64 => 8,
+            t => {
+                return Err(field(
+                    "datatype",
+                    format!(
+                        "{t} ({}); tensors are read as float32 (16) or float64 (64)",
+                        type_name(t)
+                    ),
+                ));
+            }
+        };
+        if h.bitpix as usize != 8 * width {
+            return Err(field(
+                "bitpix",
+                format!("{} does not match datatype {}", h.bitpix, h.datatype),
+            ));
+        }
+        Ok(Shape {
+            dims,
+            voxels: dims[0] * dims[1] * dims[2],
+            components,
+            five_d,
+            width,
+        })
+    }
+}
+
+fn type_name(t: i16) -> &'static str {
+    match t {
+        2 => "uint8",
+        4 => "int16",
+        8 => "int32",
+        256 => "int8",
+        512 => "uint16",
+        768 => "uint32",
+        1024 => "int64",
+        1280 => "uint64",
+        32 | 1792 | 2048 => "complex",
+        128 | 2304 => "RGB",
+        1536 => "float128",
+        _ => "unknown",
+    }
+}
+
+type Expand = fn(&[f64]) -> [f64; 9];
+
+/// The component order and the function expanding one voxel's numbers to a row-major matrix.
+fn layout(h: &NiftiHeader, s: &Shape, opts: &ReadOptions) -> Res<(Layout, Expand)> {
+    if s.components == 9 {
+        return Ok((Layout::full(), |c| std::array::from_fn(|i| c[i])));
+    }
+    let (order, why) = if s.five_d && h.intent_code == INTENT_SYMMATRIX {
+        (ComponentOrder::Nifti, Why::File)
+    } else if let Some(o) = opts.order {
+        (o, Why::Flag)
+    } else if s.five_d {
+        (ComponentOrder::Nifti, Why::Default)
+    } else {
+        (ComponentOrder::Fsl, Why::Default)
+    };
+    let expand: Expand = match order {
+        ComponentOrder::Vtk => |c| ComponentOrder::Vtk.expand(c),
+        ComponentOrder::Fsl => |c| ComponentOrder::Fsl.expand(c),
+        ComponentOrder::Nifti => |c| ComponentOrder::Nifti.expand(c),
+        ComponentOrder::Mrtrix => |c| ComponentOrder::Mrtrix.expand(c),
+    };
+    Ok((Layout::six(order, why), expand))
+}
+
+/// The voxel-to-world matrix and the field it came from: sform when its code is set, else
+/// qform, else the voxel sizes alone (NIfTI's "method 1").
+fn affine(h: &NiftiHeader) -> Res<(Matrix4<f64>, &'static str)> {
+    let finite = |m: &Matrix4<f64>| m.iter().all(|x| x.is_finite());
+    if h.sform_code > 0 {
+        let a = h.sform_affine::<f64>();
+        if !finite(&a) {
+            return Err(field("srow_x", "the sform holds a non-finite number"));
+        }
+        return Ok((a, "sform"));
+    }
+    if h.qform_code > 0 {
+        let p = &h.pixdim[1..4];
+        let q = [h.quatern_b, h.quatern_c, h.quatern_d];
+        if p.iter().any(|x| !x.is_finite() || *x < 0.0) || q.iter().any(|x| !x.is_finite()) {
+            return Err(field(
+                "pixdim",
+                "the qform needs finite, non-negative voxel sizes and quaternion",
+            ));
+        }
+        let a = h.qform_affine::<f64>();
+        if !finite(&a) {
+            return Err(field("quatern_b", "the qform is not a rotation"));
+        }
+        return Ok((a, "qform"));
+    }
+    let size = |i: usize| {
+        let s = h.pixdim[i].abs() as f64;
+        if s > 0.0 && s.is_finite() { s } else { 1.0 }
+    };
+    let mut a = Matrix4::identity();
+    for i in 0..3 {
+        a[(i, i)] = size(i + 1);
+    }
+    Ok((a, "pixdim"))
+}
+
+fn number_reader(h: &NiftiHeader, width: usize) -> Res<fn(&[u8]) -> f64> {
+    let big = h.endianness == nifti::Endianness::Big;
+    Ok(match (width, big) {
+        (4, false) => |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
+        (4, true) => |b| f32::from_be_bytes([b[0], b[1], b[2], b[3]]) as f64,
+        (8, false) => |b| f64::from_le_bytes(b.try_into().unwrap_or_default()),
+        (8, true) => |b| f64::from_be_bytes(b.try_into().unwrap_or_default()),
+        _ => return Err(field("datatype", "unsupported width")),
+    })
+}
+
+/// `scl_slope` and `scl_inter`; a slope of 0 (or not finite) means "no scaling", per the
+/// standard.
+fn scaling(h: &NiftiHeader) -> (f64, f64) {
+    let s = h.scl_slope as f64;
+    if s != 0.0 && s.is_finite() {
+        let i = h.scl_inter as f64;
+        (s, if i.is_finite() { i } else { 0.0 })
+    } else {
+        (1.0, 0.0)
+    }
+}
+
+/// Whether `path` names a NIfTI file by its extension.
+pub fn is_nifti_path(path: &Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    name.ends_with(".nii") || name.ends_with(".nii.gz")
+}

@@ -1,0 +1,537 @@
+//! NRRD tensor volumes (`.nrrd`, `.nhdr` with a detached data file), as 3D Slicer and Teem
+//! write them.
+//!
+//! No maintained Rust crate reads NRRD, so this is a strict reader of our own, held to the VTK
+//! reader's standard: every count is checked against the bytes present before anything is
+//! allocated, gzip data is inflated no further than the sizes need, a detached data file is
+//! read only if it is a regular file (named relative to the header's folder).
+//!
+//! Read: `type` float or double; `dimension` 4 with the tensor axis first; `kinds`
+//! `3D-symmetric-matrix` (6 values `xx xy xz yy yz zz`), `3D-masked-symmetric-matrix` (7, the
+//! confidence first: below 0.5 the voxel is skipped and counted, as Teem does) or `3D-matrix`
+//! (9, row-major); `encoding` raw, gzip or ascii; `endian`; `byte skip`, `line skip`; `space`,
+//! `space directions`, `space origin`, `measurement frame`; `data file`. Positions and
+//! tensors are turned into RAS+ (LPS: x and y negated). Tensors are taken to be in the
+//! measurement frame (world when there is none) unless `--tensor-frame` says otherwise.
+
+use std::borrow::Cow;
+use std::path::Path;
+
+use nalgebra::{Matrix3, Matrix4, Vector3};
+
+use super::frame::{
+    FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
+    smallest_spacing, tensor_rotation,
+};
+use super::input::{gunzip_prefix, read_regular_file};
+use super::vtk::ReadOptions;
+use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
+use crate::error::{LoadErrorKind, escape_for_error, escape_path};
+
+type Res<T> = Result<T, LoadErrorKind>;
+type Expand = fn(&[f64]) -> [f64; 9];
+
+fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
+    LoadErrorKind::Field {
+        field: name.to_string(),
+        message: message.into(),
+    }
+}
+
+/// Whether `path` names a NRRD file by its extension.
+pub fn is_nrrd_path(path: &Path) -> bool {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    matches!(ext.as_deref(), Some("nrrd" | "nhdr"))
+}
+
+/// What the tensor axis holds.
+#[derive(Clone, Copy, PartialEq)]
+enum Kind {
+    Symmetric,
+    Masked,
+    Full,
+}
+
+impl Kind {
+    fn values(self) -> usize {
+        match self {
+            Kind::Symmetric => 6,
+            Kind::Masked => 7,
+            Kind::Full => 9,
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Encoding {
+    Raw,
+    Gzip,
+    Ascii,
+}
+
+/// The header's fields, as text (the value after `: `).
+struct Header<'a> {
+    fields: Vec<(String, &'a str)>,
+    /// Where the data begins when it is attached.
+    data_start: usize,
+}
+
+impl<'a> Header<'a> {
+    fn get(&self, key: &str) -> Option<&'a str> {
+        self.fields.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+    }
+
+    fn need(&self, key: &str) -> Res<&'a str> {
+        self.get(key)
+            .ok_or_else(|| field(key, "missing; a tensor NRRD needs it"))
+    }
+}
+
+fn parse_header(bytes: &[u8]) -> Res<Header<'_>> {
+    if !bytes.starts_with(b"NRRD000") {
+        return Err(LoadErrorKind::Malformed(
+            "not a NRRD file (no 'NRRD000' magic)".into(),
+        ));
+    }
+    let mut fields = Vec::new();
+    let mut pos = 0;
+    let mut first = true;
+    loop {
+        if pos >= bytes.len() {
+            break;
+        }
+        let end = bytes[pos..]
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(bytes.len(), |e| pos + e);
+        let raw = &bytes[pos..end];
+        pos = (end + 1).min(bytes.len());
+        let line = std::str::from_utf8(raw)
+            .map_err(|_| LoadErrorKind::Malformed("a header line is not UTF-8".into()))?
+            .trim_end_matches('\r');
+        if first {
+            first = false;
+            continue;
+        }
+        if line.is_empty() {
+            break;
+        }
+        if line.starts_with('#') || line.contains(":=") {
+            continue;
+        }
+        let Some((k, v)) = line.split_once(": ") else {
+            return Err(LoadErrorKind::Malformed(format!(
+                "header line '{}' is not 'field: value'",
+                escape_for_error(line)
+            )));
+        };
+        let key = k
+            .trim()
+            .to_ascii_lowercase()
+            .replace("datafile", "data file");
+        if fields.iter().any(|(f, _)| *f == key) {
+            return Err(field(&key, "given twice"));
+        }
+        fields.push((key, v.trim()));
+    }
+    Ok(Header {
+        fields,
+        data_start: pos,
+    })
+}
+
+fn number<T: std::str::FromStr>(key: &str, s: &str) -> Res<T> {
+    s.parse()
+        .map_err(|_| field(key, format!("'{}' is not a number", escape_for_error(s))))
+}
+
+/// `(a,b,c)` as a vector; `None` for `none`.
+fn vector(key: &str, s: &str) -> Res<Option<Vector3<f64>>> {
+    if s == "none" {
+        return Ok(None);
+    }
+    let inner = s
+        .strip_prefix('(')
+        .and_then(|s| s.strip_suffix(')'))
+        .ok_or_else(|| {
+            field(
+                key,
+                format!("'{}' is not a vector (x,y,z)", escape_for_error(s)),
+            )
+        })?;
+    let v: Vec<f64> = inner
+        .split(',')
+        .map(|x| number::<f64>(key, x.trim()))
+        .collect::<Res<_>>()?;
+    if v.len() != 3 || !v.iter().all(|x| x.is_finite()) {
+        return Err(field(
+            key,
+            format!("'{}' is not a finite 3-vector", escape_for_error(s)),
+        ));
+    }
+    Ok(Some(Vector3::new(v[0], v[1], v[2])))
+}
+
+fn vectors(key: &str, s: &str) -> Res<Vec<Option<Vector3<f64>>>> {
+    s.split_whitespace().map(|w| vector(key, w)).collect()
+}
+
+/// Signs that take the file's space to RAS+, and the name of that space.
+fn space_to_ras(h: &Header) -> Res<(Vector3<f64>, &'static str)> {
+    let Some(s) = h.get("space") else {
+        return Ok((Vector3::new(1.0, 1.0, 1.0), "unknown (as stored)"));
+    };
+    let code = match s.to_ascii_lowercase().as_str() {
+        "right-anterior-superior" | "ras" => "RAS",
+        "left-anterior-superior" | "las" => "LAS",
+        "left-posterior-superior" | "lps" => "LPS",
+        "scanner-xyz" | "3d-right-handed" | "3d-left-handed" => "scanner",
+        _ => {
+            return Err(field(
+                "space",
+                format!(
+                    "'{}' is not a 3-D space this reader knows (RAS, LAS, LPS, scanner-xyz)",
+                    escape_for_error(s)
+                ),
+            ));
+        }
+    };
+    let sign = match code {
+        "LAS" => Vector3::new(-1.0, 1.0, 1.0),
+        "LPS" => Vector3::new(-1.0, -1.0, 1.0),
+        _ => Vector3::new(1.0, 1.0, 1.0),
+    };
+    Ok((sign, if code == "scanner" { "scanner" } else { "RAS" }))
+}
+
+/// Read a NRRD tensor volume from the bytes of `path` (the header, with or without data).
+pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+    let h = parse_header(bytes)?;
+    let width = match h.need("type")? {
+        "float" | "float32" => 4,
+        "double" | "float64" => 8,
+        t => {
+            return Err(field(
+                "type",
+                format!(
+                    "'{}'; tensors are read as float or double",
+                    escape_for_error(t)
+                ),
+            ));
+        }
+    };
+    let dimension: usize = number("dimension", h.need("dimension")?)?;
+    if dimension != 4 {
+        return Err(field(
+            "dimension",
+            format!("{dimension}; a tensor volume has 4 axes (tensor, x, y, z)"),
+        ));
+    }
+    let sizes: Vec<usize> = h
+        .need("sizes")?
+        .split_whitespace()
+        .map(|s| number("sizes", s))
+        .collect::<Res<_>>()?;
+    if sizes.len() != 4 || sizes.contains(&0) {
+        return Err(field("sizes", "needs 4 positive sizes"));
+    }
+    let kinds: Vec<&str> = h.need("kinds")?.split_whitespace().collect();
+    if kinds.len() != 4 {
+        return Err(field("kinds", "needs 4 kinds"));
+    }
+    let kind = match kinds[0] {
+        "3D-symmetric-matrix" => Kind::Symmetric,
+        "3D-masked-symmetric-matrix" => Kind::Masked,
+        "3D-matrix" => Kind::Full,
+        k => {
+            return Err(field(
+                "kinds",
+                format!(
+                    "'{}' on the first axis; tensors are 3D-symmetric-matrix, \
+                     3D-masked-symmetric-matrix or 3D-matrix",
+                    escape_for_error(k)
+                ),
+            ));
+        }
+    };
+    if sizes[0] != kind.values() {
+        return Err(field(
+            "sizes",
+            format!(
+                "{} values per voxel; {} needs {}",
+                sizes[0],
+                kinds[0],
+                kind.values()
+            ),
+        ));
+    }
+    let dims = [sizes[1], sizes[2], sizes[3]];
+    let voxels = dims
+        .iter()
+        .try_fold(1usize, |a, &d| a.checked_mul(d))
+        .ok_or_else(|| field("sizes", "the sizes overflow"))?;
+    let count = voxels
+        .checked_mul(kind.values())
+        .ok_or_else(|| field("sizes", "the sizes overflow"))?;
+    let encoding = match h.need("encoding")? {
+        "raw" => Encoding::Raw,
+        "gzip" | "gz" => Encoding::Gzip,
+        "ascii" | "text" | "txt" => Encoding::Ascii,
+        e => {
+            return Err(field(
+                "encoding",
+                format!("'{}'; read are raw, gzip and ascii", escape_for_error(e)),
+            ));
+        }
+    };
+    let big = match h.get("endian") {
+        Some("little") => false,
+        Some("big") => true,
+        Some(e) => {
+            return Err(field(
+                "endian",
+                format!("'{}' is neither little nor big", escape_for_error(e)),
+            ));
+        }
+        None if encoding == Encoding::Ascii => false,
+        None => return Err(field("endian", "missing; binary data needs it")),
+    };
+
+    let detached;
+    let data: &[u8] = match h.get("data file") {
+        Some(name) => {
+            if name.starts_with("LIST") || name.contains(' ') {
+                return Err(field(
+                    "data file",
+                    "only a single data file is read (no LIST or file patterns)",
+                ));
+            }
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let p = dir.join(name);
+            detached = read_regular_file(&p)
+                .map_err(|e| field("data file", format!("{}: {}", escape_path(&p), e)))?;
+            &detached
+        }
+        None => &bytes[h.data_start..],
+    };
+    let (data, from_end) = skip(&h, data, encoding)?;
+    let values = decode(data, encoding, width, big, count, from_end)?;
+
+    let (order, tensor_of): (&str, Expand) = match kind {
+        Kind::Full => ("full", |c| std::array::from_fn(|i| c[i])),
+        Kind::Symmetric => ("fsl", |c| ComponentOrder::Fsl.expand(c)),
+        Kind::Masked => ("fsl", |c| ComponentOrder::Fsl.expand(&c[1..])),
+    };
+    let mut masked = 0;
+    let mut tensors = Vec::with_capacity(voxels);
+    for c in values.chunks_exact(kind.values()) {
+        // A confidence below 0.5 (or none at all: NaN) drops the voxel, as Teem's tenGlyph
+        // does; it is kept as a zero tensor so that the lattice stays whole.
+        if kind == Kind::Masked && (c[0] < 0.5 || c[0].is_nan()) {
+            masked += 1;
+            tensors.push([0.0; 9]);
+        } else {
+            tensors.push(tensor_of(c));
+        }
+    }
+
+    // Geometry: space directions (or spacings), origin, then the space's signs to RAS+.
+    let (sign, world) = space_to_ras(&h)?;
+    let s = Matrix3::from_diagonal(&sign);
+    let (dirs, source) = match h.get("space directions") {
+        Some(v) => {
+            let v = vectors("space directions", v)?;
+            if v.len() != 4 || v[0].is_some() || v[1..].iter().any(Option::is_none) {
+                return Err(field(
+                    "space directions",
+                    "needs 'none' for the tensor axis and three vectors",
+                ));
+            }
+            let cols: Vec<Vector3<f64>> = v[1..].iter().flatten().copied().collect();
+            (Matrix3::from_columns(&cols), "space directions")
+        }
+        None => match h.get("spacings") {
+            Some(sp) => {
+                let sp: Vec<f64> = sp
+                    .split_whitespace()
+                    .skip(1)
+                    .map(|x| number("spacings", x))
+                    .collect::<Res<_>>()?;
+                if sp.len() != 3 || !sp.iter().all(|x| x.is_finite() && *x != 0.0) {
+                    return Err(field("spacings", "needs three finite non-zero spacings"));
+                }
+                (
+                    Matrix3::from_diagonal(&Vector3::new(sp[0], sp[1], sp[2])),
+                    "spacings",
+                )
+            }
+            None => (Matrix3::identity(), "none (unit voxels)"),
+        },
+    };
+    let origin = match h.get("space origin") {
+        Some(o) => vector("space origin", o)?
+            .ok_or_else(|| field("space origin", "'none' is not an origin"))?,
+        None => Vector3::zeros(),
+    };
+    let linear = s * dirs;
+    let mut a = Matrix4::identity();
+    a.fixed_view_mut::<3, 3>(0, 0).copy_from(&linear);
+    a.fixed_view_mut::<3, 1>(0, 3).copy_from(&(s * origin));
+
+    let tensor_frame = opts.tensor_frame.unwrap_or(TensorFrame::World);
+    let q = match tensor_frame {
+        TensorFrame::World => {
+            let m = match h.get("measurement frame") {
+                Some(v) => {
+                    let v = vectors("measurement frame", v)?;
+                    let cols: Vec<Vector3<f64>> = v.iter().flatten().copied().collect();
+                    if v.len() != 3 || cols.len() != 3 {
+                        return Err(field("measurement frame", "needs three vectors"));
+                    }
+                    Matrix3::from_columns(&cols)
+                }
+                None => Matrix3::identity(),
+            };
+            s * m
+        }
+        f => tensor_rotation(f, &linear).ok_or_else(|| {
+            field(
+                "space directions",
+                "singular: no rotation to take voxel-frame tensors to world",
+            )
+        })?,
+    };
+    let identity = q == Matrix3::identity();
+    Ok(TensorField {
+        format: "nrrd".into(),
+        dataset: DatasetKind::ImageData,
+        dims: Some(dims),
+        points: voxels,
+        cells: dims.iter().map(|d| d.saturating_sub(1)).product(),
+        array: TensorArrayInfo {
+            name: kinds[0].to_string(),
+            components: kind.values(),
+            location: Location::Point,
+        },
+        positions: lattice_positions(&a, dims),
+        tensors,
+        direction: (!identity).then(|| rows3(&q)),
+        spacing: smallest_spacing(&linear, dims),
+        meta: ReadMeta {
+            layout: Some(Layout {
+                order: order.into(),
+                why: Why::File,
+            }),
+            frame: Some(FrameInfo {
+                tensor_frame,
+                world: world.into(),
+                voxel_to_world: Some(rows4(&a)),
+                source: source.into(),
+            }),
+            masked,
+        },
+    })
+}
+
+/// The data after `line skip` lines and `byte skip` bytes, and whether the values are the last
+/// bytes of it (`byte skip: -1`, raw encoding only).
+fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], bool)> {
+    if let Some(n) = h.get("line skip") {
+        let n: usize = number("line skip", n)?;
+        for _ in 0..n {
+            let e = data
+                .iter()
+                .position(|&b| b == b'\n')
+                .ok_or_else(|| field("line skip", "more lines than the data holds"))?;
+            data = &data[e + 1..];
+        }
+    }
+    if let Some(n) = h.get("byte skip") {
+        let n: i64 = number("byte skip", n)?;
+        if n == -1 {
+            if enc != Encoding::Raw {
+                return Err(field("byte skip", "-1 is for raw data only"));
+            }
+            return Ok((data, true));
+        }
+        let n = usize::try_from(n).map_err(|_| field("byte skip", "must be -1 or ≥ 0"))?;
+        data = data
+            .get(n..)
+            .ok_or_else(|| field("byte skip", "beyond the end of the data"))?;
+    }
+    Ok((data, false))
+}
+
+fn decode(
+    data: &[u8],
+    enc: Encoding,
+    width: usize,
+    big: bool,
+    count: usize,
+    from_end: bool,
+) -> Res<Vec<f64>> {
+    let short = |have: usize, what: &str| {
+        field(
+            "sizes",
+            format!(
+                "need {count} values ({} bytes), the {what} holds {have} bytes",
+                count.saturating_mul(width)
+            ),
+        )
+    };
+    let bytes: Cow<[u8]> = match enc {
+        Encoding::Ascii => {
+            // Every value takes at least one byte and a separator.
+            if data.len() < count.saturating_mul(2).saturating_sub(1) {
+                return Err(short(data.len(), "ascii data"));
+            }
+            let mut out = Vec::with_capacity(count);
+            for w in data
+                .split(|b| b.is_ascii_whitespace() || *b == b',')
+                .filter(|w| !w.is_empty())
+            {
+                if out.len() == count {
+                    return Err(field(
+                        "sizes",
+                        format!("the ascii data holds more than {count} values"),
+                    ));
+                }
+                let s = std::str::from_utf8(w).unwrap_or("?");
+                out.push(number::<f64>("data", s)?);
+            }
+            if out.len() < count {
+                return Err(field(
+                    "sizes",
+                    format!("need {count} values, the ascii data holds {}", out.len()),
+                ));
+            }
+            return Ok(out);
+        }
+        Encoding::Raw => Cow::Borrowed(data),
+        Encoding::Gzip => {
+            let want = (count as u64).saturating_mul(width as u64);
+            Cow::Owned(gunzip_prefix(data, want, "the NRRD data")?)
+        }
+    };
+    let need = count
+        .checked_mul(width)
+        .ok_or_else(|| field("sizes", "the sizes overflow"))?;
+    if bytes.len() < need {
+        return Err(short(bytes.len(), "data"));
+    }
+    let b = if from_end {
+        &bytes[bytes.len() - need..]
+    } else {
+        &bytes[..need]
+    };
+    Ok(b.chunks_exact(width)
+        .map(|c| match (width, big) {
+            (4, false) => f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64,
+            (4, true) => f32::from_be_bytes([c[0], c[1], c[2], c[3]]) as f64,
+            (_, false) => f64::from_le_bytes(c.try_into().unwrap_or_default()),
+            (_, true) => f64::from_be_bytes(c.try_into().unwrap_or_default()),
+        })
+        .collect())
+}

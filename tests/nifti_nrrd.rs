@@ -1,0 +1,301 @@
+//! DTI files (NIfTI, NRRD) made by `tests/dti/make_dti_files.py`: the same world tensors in
+//! every layout and frame read back to numpy's eigenvalues with e1 on the world axis the script
+//! put it on; frames and layouts are reported; bad files fail with one line.
+
+use std::path::PathBuf;
+
+use serde_json::Value;
+use tensorglyph::field::{ComponentOrder, ReadOptions, TensorField, TensorFrame, read_field};
+use tensorglyph::tensor::eigen::{symmetric_eigen, symmetrise};
+
+mod common;
+use common::cli::{json, stderr, tg};
+
+fn dti(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/dti")
+        .join(name)
+}
+
+fn expected() -> Value {
+    let text = std::fs::read_to_string(dti("expected.json")).expect("tests/dti/expected.json");
+    serde_json::from_str(&text).unwrap()
+}
+
+fn args_of(entry: &Value) -> Vec<String> {
+    entry["args"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| a.as_str().unwrap().to_string())
+        .collect()
+}
+
+/// The read options the command line makes of `args` (only the two flags the script uses).
+fn options(args: &[String]) -> ReadOptions {
+    let mut o = ReadOptions::default();
+    for w in args.chunks(2) {
+        match w[0].as_str() {
+            "--order" => o.order = Some(w[1].parse::<ComponentOrder>().unwrap()),
+            "--tensor-frame" => o.tensor_frame = Some(w[1].parse::<TensorFrame>().unwrap()),
+            f => panic!("unexpected flag {f}"),
+        }
+    }
+    o
+}
+
+/// Eigenvalues (descending) and e1 of tensor `i` in world axes.
+fn world_eigen(f: &TensorField, i: usize) -> ([f64; 3], [f64; 3]) {
+    let e = symmetric_eigen(&symmetrise(&f.world_tensor(i)).0);
+    (e.values, e.vectors[0])
+}
+
+/// Every file of one family agrees with numpy and puts e1 on its world axis.
+fn check_family(ext: &[&str]) -> usize {
+    let exp = expected();
+    let mut checked = 0;
+    for (name, entry) in exp["files"].as_object().unwrap() {
+        if !ext.iter().any(|e| name.ends_with(e)) {
+            continue;
+        }
+        let f = read_field(&dti(name), &options(&args_of(entry)))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let masked: Vec<u64> = entry["masked_voxels"]
+            .as_array()
+            .map(|a| a.iter().map(|v| v.as_u64().unwrap()).collect())
+            .unwrap_or_default();
+        let want = entry["eigenvalues"].as_array().unwrap();
+        assert_eq!(f.len(), want.len(), "{name}");
+        assert_eq!(f.dims, Some([5, 4, 3]), "{name}");
+        for (i, w) in want.iter().enumerate() {
+            if masked.contains(&(i as u64)) {
+                assert!(f.tensors[i].iter().all(|x| *x == 0.0), "{name} #{i} masked");
+                continue;
+            }
+            let (values, e1) = world_eigen(&f, i);
+            let w: Vec<f64> = w
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
+            let scale = w.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for k in 0..3 {
+                assert!(
+                    (values[k] - w[k]).abs() <= 1e-12 * scale,
+                    "{name} #{i} λ{}: {} vs numpy {}",
+                    k + 1,
+                    values[k],
+                    w[k]
+                );
+            }
+            let axis = entry["e1_axis"][i].as_u64().unwrap() as usize;
+            assert!(
+                e1[axis].abs() > 1.0 - 1e-6,
+                "{name} #{i}: e1 {e1:?} is not along world axis {axis}"
+            );
+        }
+        checked += 1;
+    }
+    checked
+}
+
+#[test]
+fn nifti_layouts_read_numpy_eigenvalues_with_e1_on_the_world_axis() {
+    assert_eq!(check_family(&[".nii", ".nii.gz"]), 9);
+}
+
+#[test]
+fn nifti_layouts_of_the_same_stored_tensors_give_identical_glyphs() {
+    let read = |n: &str| read_field(&dti(n), &ReadOptions::default()).unwrap();
+    let fsl = read("fsl4d_oblique.nii.gz");
+    for other in ["dipy5d_oblique.nii.gz", "full9_oblique.nii.gz"] {
+        let f = read(other);
+        assert_eq!(f.positions, fsl.positions, "{other}");
+        for i in 0..f.len() {
+            assert_eq!(world_eigen(&f, i), world_eigen(&fsl, i), "{other} #{i}");
+        }
+    }
+}
+
+#[test]
+fn layout_and_frame_are_reported_by_info() {
+    let cases = [
+        (
+            "fsl4d_oblique.nii.gz",
+            &[][..],
+            "fsl",
+            "default",
+            "voxel",
+            "sform",
+        ),
+        (
+            "dipy5d_oblique.nii.gz",
+            &[][..],
+            "nifti",
+            "file",
+            "voxel",
+            "sform",
+        ),
+        (
+            "full9_oblique.nii.gz",
+            &[][..],
+            "full",
+            "file",
+            "voxel",
+            "sform",
+        ),
+        (
+            "qform_oblique.nii.gz",
+            &[][..],
+            "fsl",
+            "default",
+            "voxel",
+            "qform",
+        ),
+        (
+            "mrtrix_oblique.nii.gz",
+            &["--order", "mrtrix", "--tensor-frame", "world"][..],
+            "mrtrix",
+            "flag",
+            "world",
+            "sform",
+        ),
+    ];
+    let exp = expected();
+    for (name, flags, order, why, frame, source) in cases {
+        let path = dti(name);
+        let mut args = vec!["info", "--json", "--quiet", path.to_str().unwrap()];
+        args.extend_from_slice(flags);
+        for s in ["--sample", "0", "--sample", "1", "--sample", "2"] {
+            args.push(s);
+        }
+        let o = tg(&args);
+        assert!(o.status.success(), "{name}: {}", stderr(&o));
+        let j = json(&o);
+        assert_eq!(j["format"], "nifti", "{name}");
+        assert_eq!(j["layout"]["order"], order, "{name}");
+        assert_eq!(j["layout"]["why"], why, "{name}");
+        assert_eq!(j["frame"]["tensor_frame"], frame, "{name}");
+        assert_eq!(j["frame"]["source"], source, "{name}");
+        assert_eq!(j["frame"]["world"], "RAS", "{name}");
+        let m = &j["frame"]["voxel_to_world"];
+        assert_eq!(m[3], serde_json::json!([0.0, 0.0, 0.0, 1.0]), "{name}");
+        // Translation of the oblique lattice, as the script wrote it.
+        assert!(
+            (m[0][3].as_f64().unwrap() + 10.0).abs() < 1e-5,
+            "{name}: {m}"
+        );
+        for s in 0..3 {
+            let e1 = &j["samples"][s]["eigenvectors"][0];
+            let axis = exp["files"][name]["e1_axis"][s].as_u64().unwrap() as usize;
+            assert!(
+                e1[axis].as_f64().unwrap() > 1.0 - 1e-6,
+                "{name} sample {s}: e1 {e1} not along world axis {axis}"
+            );
+        }
+    }
+    // The text form says the same.
+    let o = tg(&[
+        "info",
+        "--quiet",
+        dti("dipy5d_oblique.nii.gz").to_str().unwrap(),
+    ]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("layout: nifti (from the file)"), "{text}");
+    assert!(
+        text.contains("frame: tensors in voxel axes, world RAS from sform"),
+        "{text}"
+    );
+}
+
+#[test]
+fn fsl_frame_flips_x_for_a_positive_determinant_only() {
+    let exp = expected();
+    let axes = |n: &str| -> Vec<usize> {
+        exp["files"][n]["e1_axis"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|a| a.as_u64().unwrap() as usize)
+            .collect()
+    };
+    let frame = |f| ReadOptions {
+        tensor_frame: Some(f),
+        ..ReadOptions::default()
+    };
+    // Written in FSL's frame on a positive-determinant lattice: right only with the x-flip.
+    let name = "fslframe_oblique.nii.gz";
+    let a = axes(name);
+    let fsl = read_field(&dti(name), &frame(TensorFrame::Fsl)).unwrap();
+    let voxel = read_field(&dti(name), &frame(TensorFrame::Voxel)).unwrap();
+    let mut off = 0;
+    for (i, &axis) in a.iter().enumerate() {
+        assert!(world_eigen(&fsl, i).1[axis].abs() > 1.0 - 1e-6);
+        off += usize::from(world_eigen(&voxel, i).1[axis].abs() < 0.95);
+    }
+    assert!(
+        off > a.len() / 2,
+        "without the flip e1 leaves its axis ({off})"
+    );
+    // A negative determinant: FSL's frame is the voxel frame.
+    let name = "fsl4d_flipped.nii.gz";
+    let fsl = read_field(&dti(name), &frame(TensorFrame::Fsl)).unwrap();
+    let voxel = read_field(&dti(name), &frame(TensorFrame::Voxel)).unwrap();
+    for i in 0..fsl.len() {
+        assert_eq!(fsl.world_tensor(i), voxel.world_tensor(i));
+    }
+}
+
+/// `tensorglyph info FILE` fails with status 2 and one line naming the file and `what`.
+fn fails_naming(name: &str, what: &str) {
+    let path = dti(name);
+    let o = tg(&["info", "--quiet", path.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{name}: {err}");
+    assert!(err.contains(name), "{name}: {err}");
+    assert!(err.contains(what), "{name}: expected '{what}' in: {err}");
+}
+
+#[test]
+fn bad_nifti_files_fail_with_one_line_naming_file_and_field() {
+    fails_naming("bad_scalar3d.nii.gz", "field 'dim': a scalar volume");
+    fails_naming(
+        "bad_five_volumes.nii.gz",
+        "field 'dim': 5 volumes per voxel",
+    );
+    fails_naming("bad_int16.nii.gz", "field 'datatype': 4 (int16)");
+    fails_naming("bad_truncated.nii.gz", "gzip data is corrupt or truncated");
+    fails_naming("bad_short_data.nii", "field 'dim'");
+}
+
+#[test]
+fn nrrd_layouts_frames_and_lps_read_numpy_eigenvalues_with_e1_on_the_world_axis() {
+    assert_eq!(check_family(&[".nrrd", ".nhdr"]), 6);
+}
+
+#[test]
+fn nrrd_confidence_below_half_is_skipped_and_counted() {
+    let want = expected()["files"]["nrrd_masked.nrrd"]["masked"]
+        .as_u64()
+        .unwrap();
+    assert!(want > 0);
+    let path = dti("nrrd_masked.nrrd");
+    let o = tg(&["info", "--json", "--quiet", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j = json(&o);
+    assert_eq!(j["skipped"]["masked"], want);
+    assert_eq!(j["skipped"]["zero"], 0);
+    assert_eq!(j["valid"].as_u64().unwrap(), 60 - want);
+    assert_eq!(j["frame"]["source"], "space directions");
+    assert_eq!(j["frame"]["tensor_frame"], "world");
+}
+
+#[test]
+fn bad_nrrd_files_fail_with_one_line_naming_file_and_field() {
+    fails_naming("bad_kinds.nrrd", "field 'kinds': '3D-tensor'");
+    fails_naming("bad_missing_detached.nhdr", "field 'data file'");
+    fails_naming("bad_short_detached.nhdr", "field 'sizes': need 360 values");
+    fails_naming("bad_short_data.nrrd", "field 'sizes': need 360 values");
+}
