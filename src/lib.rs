@@ -51,6 +51,7 @@ pub mod render;
 pub mod twin;
 
 // What the front ends share.
+pub mod files;
 pub mod image_out;
 pub mod info;
 pub mod mem;

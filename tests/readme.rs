@@ -49,9 +49,11 @@
 //! matches no README line fails the test, so the table cannot go stale. Every other line runs
 //! exactly as printed.
 
+mod common;
+
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// The README shows 37 command lines (33 in ```` ```sh ```` blocks, 4 inline) as of this test.
@@ -361,62 +363,20 @@ fn check_json(subcommand: &str, stdout: &Path) -> Option<String> {
     )
 }
 
-struct Xvfb(Child);
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// Start Xvfb on a free display (as tests/viewer_xvfb.rs does); `None` when it cannot be started.
-fn start_xvfb() -> Option<(Xvfb, String)> {
-    for n in 0..20 {
-        let display = 150 + (std::process::id() % 50) + n;
-        let socket = format!("/tmp/.X11-unix/X{display}");
-        if Path::new(&socket).exists() {
-            continue;
-        }
-        let child = Command::new("Xvfb")
-            .args([
-                &format!(":{display}"),
-                "-screen",
-                "0",
-                "1400x900x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .ok()?;
-        let mut x = Xvfb(child);
-        let start = Instant::now();
-        while start.elapsed() < Duration::from_secs(10) {
-            if Path::new(&socket).exists() {
-                return Some((x, format!(":{display}")));
-            }
-            if let Ok(Some(_)) = x.0.try_wait() {
-                break; // display taken meanwhile: try the next one
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-    None
-}
-
 /// The X server for the `view` lines: started at the first one, kept for the others.
 enum Display {
     NotTried,
-    Running { _server: Xvfb, display: String },
+    Running {
+        _server: common::xvfb::Xvfb,
+        display: String,
+    },
     Unavailable,
 }
 
 impl Display {
     fn get(&mut self) -> Option<&str> {
         if let Display::NotTried = self {
-            *self = match start_xvfb() {
+            *self = match common::xvfb::start_xvfb(150) {
                 Some((server, display)) => Display::Running {
                     _server: server,
                     display,

@@ -3,54 +3,10 @@
 //!
 //! Without Xvfb (and without `CI` set) the test is skipped with a message; under `CI` it must run.
 
-use std::path::Path;
-use std::process::{Child, Command, Stdio};
+mod common;
+
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
-
-struct Xvfb(Child);
-
-impl Drop for Xvfb {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// Start Xvfb on a free display; `None` when it cannot be started.
-fn start_xvfb() -> Option<(Xvfb, String)> {
-    for n in 0..20 {
-        let display = 90 + (std::process::id() % 50) + n;
-        let socket = format!("/tmp/.X11-unix/X{display}");
-        if Path::new(&socket).exists() {
-            continue;
-        }
-        let child = Command::new("Xvfb")
-            .args([
-                &format!(":{display}"),
-                "-screen",
-                "0",
-                "1400x900x24",
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .ok()?;
-        let mut x = Xvfb(child);
-        let start = Instant::now();
-        while start.elapsed() < Duration::from_secs(10) {
-            if Path::new(&socket).exists() {
-                return Some((x, format!(":{display}")));
-            }
-            if let Ok(Some(_)) = x.0.try_wait() {
-                break; // display taken meanwhile: try the next one
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-    None
-}
 
 fn pixel(img: &image::RgbaImage, x: u32, y: u32) -> [u8; 4] {
     img.get_pixel(x, y).0
@@ -58,7 +14,7 @@ fn pixel(img: &image::RgbaImage, x: u32, y: u32) -> [u8; 4] {
 
 #[test]
 fn scripted_screenshot_shows_glyphs_and_panel() {
-    let Some((_xvfb, display)) = start_xvfb() else {
+    let Some((_xvfb, display)) = common::xvfb::start_xvfb(90) else {
         if std::env::var_os("CI").is_some() {
             panic!("CI is set but Xvfb could not be started (is the xvfb package installed?)");
         }

@@ -72,7 +72,9 @@ pub struct FrameInfo {
     /// The world convention positions and tensors are given in (`RAS` for NIfTI and for NRRD
     /// after conversion; `VTK` for VTK files, whose world is whatever the writer used).
     pub world: String,
-    /// Rows of the 4x4 voxel-to-world matrix, when the data sits on a lattice.
+    /// Rows of the 4x4 voxel-to-world matrix, for NIfTI and NRRD (left out of the JSON for VTK
+    /// files, whose lattice is given by origin, spacing and direction instead).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub voxel_to_world: Option<[[f64; 4]; 4]>,
     /// `sform`, `qform`, `pixdim`, `space directions` or `VTK`.
     pub source: String,

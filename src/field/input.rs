@@ -6,39 +6,12 @@
 //! opened without blocking, checked again through the open handle (the path may have been
 //! replaced in between), and read no further than the size that handle reports.
 
-use std::fs::{File, Metadata};
+use std::fs::File;
 use std::io::{ErrorKind, Read};
 use std::path::Path;
 
 use crate::error::LoadErrorKind;
-
-/// What a non-regular file is, for the error message; `None` for a regular file.
-fn special_kind(m: &Metadata) -> Option<&'static str> {
-    let t = m.file_type();
-    if t.is_file() {
-        return None;
-    }
-    if t.is_dir() {
-        return Some("a directory");
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt as _;
-        if t.is_fifo() {
-            return Some("a FIFO");
-        }
-        if t.is_char_device() {
-            return Some("a character device");
-        }
-        if t.is_block_device() {
-            return Some("a block device");
-        }
-        if t.is_socket() {
-            return Some("a socket");
-        }
-    }
-    Some("not a file")
-}
+use crate::files::special_kind;
 
 fn io_error(e: std::io::Error) -> LoadErrorKind {
     if e.kind() == ErrorKind::NotFound {

@@ -3,6 +3,7 @@
 
 pub mod cli;
 pub mod scenes;
+pub mod xvfb;
 
 use tensorglyph::render::{GpuContext, GpuRenderer};
 
