@@ -254,7 +254,7 @@ mod tests {
         assert_eq!(e.kind(), ErrorKind::InvalidInput);
         if Path::new("/dev/null").exists() {
             let e = write_atomic(Path::new("/dev/null"), &[], |_| Ok(())).unwrap_err();
-            assert!(e.to_string().contains("a device"), "{e}");
+            assert!(e.to_string().contains("device"), "{e}");
         }
         let input = dir.path().join("in.vtk");
         std::fs::write(&input, b"data").unwrap();

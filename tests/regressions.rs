@@ -424,7 +424,7 @@ fn outputs_write_through_symlinks_and_refuse_special_files() {
         .output()
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("a device, not a regular file"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("device, not a regular file"));
     use std::os::unix::fs::FileTypeExt as _;
     assert!(
         std::fs::metadata("/dev/null")
