@@ -407,3 +407,37 @@ fn size_caps_hold_for_every_method() {
         assert!(!out.exists());
     }
 }
+
+/// A reader that stops early (`info --json | head -c 100`) ends the output quietly.
+#[test]
+fn a_closed_pipe_is_not_a_panic() {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    // 2000 samples: a report far larger than a pipe's buffer, so the writer meets the closed end.
+    let mut args: Vec<String> = ["info", "--demo", "grid:30", "--json"]
+        .map(String::from)
+        .into();
+    for i in 0..2000 {
+        args.extend(["--sample".to_string(), i.to_string()]);
+    }
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tensorglyph"))
+        .args(&args)
+        .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read a little, then close our end of the pipe before the report is written whole.
+    let mut first = [0u8; 1];
+    drop(child.stdout.take().map(|mut s| s.read(&mut first)));
+    let status = child.wait().unwrap();
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(status.success(), "{status:?}: {err}");
+}

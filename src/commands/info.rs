@@ -34,9 +34,9 @@ pub fn run(args: InfoArgs) -> Result<()> {
     let report =
         tensorglyph::info::info_report(&field, &set, &args.samples).map_err(anyhow::Error::msg)?;
     if args.json {
-        println!("{}", serde_json::to_string(&report)?);
+        super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
     } else {
-        print!("{}", tensorglyph::info::human_summary(&report));
+        super::stdout::print(&tensorglyph::info::human_summary(&report))?;
     }
     Ok(())
 }

@@ -7,4 +7,5 @@ pub mod info;
 pub mod progress;
 pub mod render;
 pub mod stability;
+pub mod stdout;
 pub mod view;

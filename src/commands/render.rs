@@ -269,7 +269,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         accuracy,
     };
     if image.json {
-        println!("{}", serde_json::to_string(&report)?);
+        super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
     } else if !scene_args.quiet {
         eprintln!(
             "wrote {} ({}x{}, {} glyphs, {:.1} ms/frame, {:?})",

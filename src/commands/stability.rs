@@ -44,7 +44,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     if args.json {
         let j = report::json_lines(&rows);
         write("stability.jsonl", &j)?;
-        print!("{j}");
+        super::stdout::print(&j)?;
     }
     let fails = rows.iter().filter(|r| r.status == Status::Fail).count();
     let degraded = rows.iter().filter(|r| r.status == Status::Degraded).count();
