@@ -6,6 +6,7 @@ pub mod input;
 pub mod nifti;
 pub mod nrrd;
 pub mod order;
+pub mod scalar;
 pub mod synthetic;
 pub mod vtk;
 
