@@ -59,7 +59,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         },
         ..Recipe::default()
     };
-    let built = build(&field, &set, field_spacing(&field), &recipe, &Silent)?;
+    let built = build(&field, &set, field_spacing(&field), &recipe, None, &Silent)?;
     let framing = Framing {
         view: ViewPreset::NegZ,
         ..Framing::default()

@@ -49,6 +49,13 @@ pub enum ViewPreset {
     NegY,
     PosZ,
     NegZ,
+    /// In an anatomical (RAS) world: from superior, anterior up (−z), the subject's right on
+    /// the right (neurological convention).
+    Axial,
+    /// From posterior, superior up (+y), the subject's right on the right.
+    Coronal,
+    /// From the subject's left, superior up (+x), anterior on the left.
+    Sagittal,
 }
 
 crate::names::named_values!(ViewPreset {
@@ -59,6 +66,9 @@ crate::names::named_values!(ViewPreset {
     NegY => "-y",
     PosZ => "+z",
     NegZ => "-z",
+    Axial => "axial",
+    Coronal => "coronal",
+    Sagittal => "sagittal",
 });
 
 impl ViewPreset {
@@ -71,7 +81,9 @@ impl ViewPreset {
             ViewPreset::PosY => (DVec3::Y, DVec3::Z),
             ViewPreset::NegY => (DVec3::NEG_Y, DVec3::Z),
             ViewPreset::PosZ => (DVec3::Z, DVec3::Y),
-            ViewPreset::NegZ => (DVec3::NEG_Z, DVec3::Y),
+            ViewPreset::NegZ | ViewPreset::Axial => (DVec3::NEG_Z, DVec3::Y),
+            ViewPreset::Coronal => ViewPreset::PosY.direction_up(),
+            ViewPreset::Sagittal => ViewPreset::PosX.direction_up(),
         }
     }
 }
@@ -89,6 +101,8 @@ pub struct Framing {
     /// Vertical field of view in degrees (perspective).
     pub fov_deg: f64,
     pub ortho: bool,
+    /// (view direction, up) replacing the preset's, both unit: a slice seen face-on.
+    pub toward: Option<(DVec3, DVec3)>,
 }
 
 impl Default for Framing {
@@ -100,6 +114,7 @@ impl Default for Framing {
             zoom: 1.0,
             fov_deg: 30.0,
             ortho: false,
+            toward: None,
         }
     }
 }
@@ -112,7 +127,9 @@ impl Camera {
         } else {
             1.0
         };
-        let (mut dir, mut up) = framing.view.direction_up();
+        let (mut dir, mut up) = framing
+            .toward
+            .unwrap_or_else(|| framing.view.direction_up());
         let az = glam::DQuat::from_axis_angle(up, framing.azimuth.to_radians());
         dir = az * dir;
         let right = dir.cross(up).normalize();

@@ -36,6 +36,7 @@ pub mod progress;
 pub mod request;
 
 // The flow: file → field → glyphs → scene.
+pub mod defaults;
 pub mod field;
 pub mod glyph;
 pub mod scene;

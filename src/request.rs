@@ -583,6 +583,27 @@ pub struct FrameRequest {
     pub cull: bool,
     /// Skip glyphs whose projected bounding sphere has a radius below this many pixels (0: none).
     pub min_pixel_radius: f32,
+    /// How the scene's underlay, if it has one, is shown.
+    pub underlay: UnderlayView,
+}
+
+/// How a scene's underlay is shown: a frame-time choice, so the viewer's toggle and window do
+/// not rebuild the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnderlayView {
+    pub shown: bool,
+    /// Values at or below the first are black, at or above the second white (`None`: the
+    /// scene's default window).
+    pub window: Option<[f32; 2]>,
+}
+
+impl Default for UnderlayView {
+    fn default() -> Self {
+        Self {
+            shown: true,
+            window: None,
+        }
+    }
 }
 
 impl FrameRequest {
@@ -658,6 +679,7 @@ impl Default for FrameRequest {
             lighting: Lighting::default(),
             cull: false,
             min_pixel_radius: 0.0,
+            underlay: UnderlayView::default(),
         }
     }
 }

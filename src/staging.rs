@@ -15,12 +15,14 @@ use serde::Serialize;
 
 use crate::error::LoadError;
 use crate::field::TensorField;
+use crate::field::scalar::ScalarVolume;
 use crate::field::{ReadOptions, read_field};
 use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
 use crate::request::GlyphKind;
 use crate::scene::Scene;
-use crate::select::{Selection, SelectionError};
+use crate::scene::underlay::{self, UnderlayError, UnderlaySource, Values};
+use crate::select::{Plane, Selection, SelectionError, Slicing};
 
 /// A built-in analytic field: `grid40` (the canonical 64,000-glyph demo) or `grid:N`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -109,6 +111,8 @@ pub enum StageError {
     EmptySelection { asked: String, valid: usize },
     #[error("no glyph to draw: the field has no valid tensor")]
     NoValidTensor,
+    #[error(transparent)]
+    Underlay(#[from] UnderlayError),
 }
 
 /// What a scene is made of, besides its source.
@@ -118,6 +122,87 @@ pub struct Recipe {
     pub style: GlyphStyle,
     pub selection: Selection,
     pub glyph: GlyphKind,
+    /// A scalar image under the glyphs of each plane the selection shows (with no plane, the
+    /// middle axial one).
+    pub underlay: Option<UnderlaySource>,
+}
+
+impl Recipe {
+    /// The selection drawn: with an underlay and no plane asked for, the middle z plane of the
+    /// lattice (the middle axial slice of a volume in RAS order).
+    pub fn selection_for(&self, field: &TensorField) -> Selection {
+        let mut sel = self.selection.clone();
+        if self.underlay.is_some() && sel.slicing == Slicing::Whole {
+            if let Some(d) = field.lattice_dims() {
+                sel.slicing = Slicing::Planes(vec![Plane {
+                    axis: 2,
+                    index: d[2] / 2,
+                }]);
+            }
+        }
+        sel
+    }
+}
+
+/// The scalar volume an underlay file names (FA and MD come from the glyphs: `None`).
+pub fn read_underlay(source: &Option<UnderlaySource>) -> Result<Option<ScalarVolume>, LoadError> {
+    match source {
+        Some(UnderlaySource::File(path)) => {
+            crate::field::scalar::read_scalar_volume(path).map(Some)
+        }
+        _ => Ok(None),
+    }
+}
+
+/// The underlay of `built`'s planes, added to its scene, with the frame grown to hold it.
+fn add_underlay(
+    built: &mut Built,
+    field: &TensorField,
+    set: &GlyphSet,
+    recipe: &Recipe,
+    selection: &Selection,
+    volume: Option<&ScalarVolume>,
+) -> Result<(), StageError> {
+    let Some(source) = &recipe.underlay else {
+        return Ok(());
+    };
+    let values = match (source, volume) {
+        (UnderlaySource::Fa, _) => Values::Fa,
+        (UnderlaySource::Md, _) => Values::Md,
+        (UnderlaySource::File(_), Some(v)) => Values::Volume(v),
+        (UnderlaySource::File(_), None) => unreachable!("the volume is read first"),
+    };
+    let planes = selection.slicing.planes().ok_or(UnderlayError::NoLattice)?;
+    let u = underlay::build(
+        field,
+        set,
+        &values,
+        source.to_string(),
+        &planes,
+        &built.scene,
+    )?;
+    built.scene.underlay = Some(u);
+    // The scene's sphere holds what it draws (near and far planes are fitted to it).
+    built.scene.radius = holding_underlay(&built.scene, built.scene.centre, built.scene.radius);
+    built.frame_radius = holding_underlay(&built.scene, built.frame_centre, built.frame_radius);
+    Ok(())
+}
+
+/// `radius` grown so that the sphere at `centre` holds the scene's underlay images wherever
+/// they are placed (up to `behind` off their plane).
+fn holding_underlay(scene: &Scene, centre: DVec3, radius: f64) -> f64 {
+    let planes = scene.underlay.iter().flat_map(|u| &u.planes);
+    planes.fold(radius, |r, p| {
+        let g = p.geometry;
+        [
+            g.corner,
+            g.corner + g.u,
+            g.corner + g.v,
+            g.corner + g.u + g.v,
+        ]
+        .iter()
+        .fold(r, |r, c| r.max((*c - centre).length() + g.behind))
+    })
 }
 
 /// Wall-clock milliseconds of each stage.
@@ -183,7 +268,18 @@ pub struct Staged {
     pub glyphs_selected: usize,
     /// Of those, glyphs `--scale auto` scaled down to the size of the robust largest one.
     pub glyphs_clamped: usize,
+    /// With one slice shown: how to see it face-on.
+    pub face: Option<FaceOn>,
     pub timings: Timings,
+}
+
+/// One lattice slice seen face-on: the view's (direction, up) and the bounding sphere of the
+/// slice's glyphs and underlay, to frame it closely.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceOn {
+    pub toward: (DVec3, DVec3),
+    pub centre: DVec3,
+    pub radius: f64,
 }
 
 /// Read the file (or make the demo field).
@@ -228,31 +324,40 @@ pub fn stage(
     timings.peak_rss_after[1] = crate::mem::peak_rss_bytes();
 
     let t = Instant::now();
+    let volume = read_underlay(&recipe.underlay)?;
+    let selection = recipe.selection_for(&field);
     let resolved = recipe.style.resolve(&set, field_spacing(&field));
-    let indices = select(&field, &set, &recipe.selection)?;
-    drop(field);
-    let built = match indices {
+    let indices = select(&field, &set, &selection)?;
+    let mut built = match indices {
         None => {
             let scene = build_scene(&set, &resolved, recipe.glyph, progress);
-            let valid = set.glyphs.len();
-            drop(set);
-            Built::whole(scene, valid)
+            Built::whole(scene, set.glyphs.len())
         }
         Some(indices) => {
             let (c, r) = whole_field_bounds(&set, &resolved, recipe.glyph, progress);
             let subset = Selection::subset(&set, &indices);
-            let valid = set.glyphs.len();
-            drop(set);
             let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
-            Built::selected(scene, (c, r), valid, indices)
+            Built::selected(scene, (c, r), set.glyphs.len(), indices)
         }
     };
+    add_underlay(
+        &mut built,
+        &field,
+        &set,
+        recipe,
+        &selection,
+        volume.as_ref(),
+    )?;
+    built.face = face_on(&built, &field, &selection);
+    drop(field);
+    drop(set);
     timings.scene = ms(t);
     timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
     Ok(Staged {
         glyphs_selected: built.scene.instances.len(),
         glyphs_clamped: built.glyphs_clamped,
         glyphs_valid: built.glyphs_valid,
+        face: built.face,
         frame_centre: built.frame_centre,
         frame_radius: built.frame_radius,
         scene: built.scene,
@@ -271,6 +376,8 @@ pub struct Built {
     pub frame_centre: DVec3,
     pub frame_radius: f64,
     pub glyphs_valid: usize,
+    /// With one slice shown: how to see it face-on.
+    pub face: Option<FaceOn>,
 }
 
 impl Built {
@@ -281,6 +388,7 @@ impl Built {
             frame_radius: scene.radius,
             selected: (0..valid).collect(),
             glyphs_valid: valid,
+            face: None,
             scene,
         }
     }
@@ -298,20 +406,24 @@ impl Built {
             frame_centre: c,
             frame_radius: r,
             glyphs_valid: valid,
+            face: None,
         }
     }
 }
 
-/// Select, style and build from a field and its glyphs, keeping both.
+/// Select, style and build from a field and its glyphs, keeping both; `volume` is the
+/// underlay file's, read by [`read_underlay`].
 pub fn build(
     field: &TensorField,
     set: &GlyphSet,
     spacing: f64,
     recipe: &Recipe,
+    volume: Option<&ScalarVolume>,
     progress: &dyn Progress,
 ) -> Result<Built, StageError> {
     let resolved = recipe.style.resolve(set, spacing);
-    Ok(match select(field, set, &recipe.selection)? {
+    let selection = recipe.selection_for(field);
+    let mut built = match select(field, set, &selection)? {
         None => Built::whole(
             build_scene(set, &resolved, recipe.glyph, progress),
             set.glyphs.len(),
@@ -322,6 +434,24 @@ pub fn build(
             let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
             Built::selected(scene, bounds, set.glyphs.len(), indices)
         }
+    };
+    add_underlay(&mut built, field, set, recipe, &selection, volume)?;
+    built.face = face_on(&built, field, &selection);
+    Ok(built)
+}
+
+/// How to see the one slice `selection` shows face-on, framing its glyphs and underlay.
+fn face_on(built: &Built, field: &TensorField, selection: &Selection) -> Option<FaceOn> {
+    let planes = selection.slicing.planes()?;
+    let [plane] = planes.as_slice() else {
+        return None;
+    };
+    let toward = underlay::face_on(field, *plane)?;
+    let scene = &built.scene;
+    Some(FaceOn {
+        toward,
+        centre: scene.centre,
+        radius: scene.radius,
     })
 }
 

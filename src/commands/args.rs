@@ -10,10 +10,12 @@ use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 
 use tensorglyph::camera::{Framing, ViewPreset};
+use tensorglyph::defaults::Defaults;
 use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
 pub use tensorglyph::frame::parse_size;
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
-use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape};
+use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
+use tensorglyph::scene::UnderlaySource;
 use tensorglyph::select::{Plane, Selection, Slicing, parse_roi};
 use tensorglyph::staging::{Demo, Recipe, Source};
 
@@ -39,17 +41,18 @@ pub struct SceneArgs {
     /// matrix), fsl (voxel, with FSL's x-flip for positive-determinant matrices) or world.
     #[arg(long, value_parser = one_of::<TensorFrame>(TensorFrame::NAMES))]
     pub tensor_frame: Option<TensorFrame>,
-    /// Colour scheme.
-    #[arg(long, default_value = "shape", value_parser = one_of::<ColorScheme>(ColorScheme::NAMES))]
-    pub color: ColorScheme,
+    /// Colour scheme (default: shape; dec for DTI files, NIfTI and NRRD).
+    #[arg(long, value_parser = one_of::<ColorScheme>(ColorScheme::NAMES))]
+    pub color: Option<ColorScheme>,
     /// Glyph scale: `auto` (largest radius = half the grid spacing) or a factor on |λ|.
     #[arg(long, default_value = "auto")]
     pub scale: Scale,
     /// How radii follow |λ|: auto (with --scale auto, log for stress-like fields, whose tensors
-    /// are mostly indefinite, else linear), linear, sqrt, log (for fields spanning orders of magnitude), fa
-    /// (shape at a size ∝ FA) or none (shape only).
-    #[arg(long, default_value = "auto", value_parser = one_of::<SizeBy>(SizeBy::NAMES))]
-    pub size_by: SizeBy,
+    /// are mostly indefinite, else linear), linear, sqrt, log (for fields spanning orders of
+    /// magnitude), fa (shape at a size ∝ FA) or none (shape only). Default: auto; none for DTI
+    /// files (NIfTI, NRRD).
+    #[arg(long, value_parser = one_of::<SizeBy>(SizeBy::NAMES))]
+    pub size_by: Option<SizeBy>,
     /// Normalise eigenvalues before scaling.
     #[arg(long, default_value = "none", value_parser = one_of::<Normalize>(Normalize::NAMES))]
     pub normalize: Normalize,
@@ -70,29 +73,36 @@ impl SceneArgs {
         }
     }
 
-    pub fn style(&self) -> Result<GlyphStyle> {
+    /// The style asked for, with `defaults` (of the data's kind) for what was not.
+    pub fn style(&self, defaults: &Defaults) -> Result<GlyphStyle> {
         ensure!(
             self.min_radius.is_finite() && (0.0..=1.0).contains(&self.min_radius),
             "--min-radius must be between 0 and 1, got {}",
             self.min_radius
         );
         Ok(GlyphStyle {
-            color: self.color,
+            color: self.color.unwrap_or(defaults.color),
             scale: self.scale,
             normalize: self.normalize,
-            size_by: self.size_by,
+            size_by: self.size_by.unwrap_or(defaults.size_by),
             min_radius: self.min_radius,
             ..GlyphStyle::default()
         })
     }
 
     /// The recipe of a scene of `glyph`s with these options and `selection`.
-    pub fn recipe(&self, selection: Selection, glyph: GlyphKind) -> Result<Recipe> {
+    pub fn recipe(
+        &self,
+        selection: Selection,
+        glyph: GlyphKind,
+        defaults: &Defaults,
+    ) -> Result<Recipe> {
         Ok(Recipe {
             read: self.read_options(),
-            style: self.style()?,
+            style: self.style(defaults)?,
             selection,
             glyph,
+            underlay: None,
         })
     }
 }
@@ -119,9 +129,39 @@ pub struct SelectArgs {
     /// x0,y0,z0,x1,y1,z1 (bounds included).
     #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1", value_parser = parse_roi, allow_hyphen_values = true)]
     pub roi: Option<[f64; 6]>,
+    /// A greyscale image under the glyphs of every --slice plane (the middle z plane when no
+    /// --slice is given): fa or md of the tensors, or a scalar volume's file (NIfTI, NRRD),
+    /// sampled through its own voxel-to-world matrix.
+    #[arg(long, value_name = "fa|md|FILE")]
+    pub underlay: Option<UnderlaySource>,
+    /// The underlay's window: LO and below black, HI and above white (default: the 2nd and
+    /// 98th percentiles of its values).
+    #[arg(long, value_name = "LO,HI", requires = "underlay", value_parser = parse_window,
+          allow_hyphen_values = true)]
+    pub underlay_range: Option<[f32; 2]>,
+}
+
+/// `LO,HI` with LO < HI, both finite.
+fn parse_window(s: &str) -> Result<[f32; 2], String> {
+    let bad = || format!("'{s}' is not LO,HI (two numbers, LO below HI)");
+    let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
+    let lo: f32 = lo.trim().parse().map_err(|_| bad())?;
+    let hi: f32 = hi.trim().parse().map_err(|_| bad())?;
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return Err(bad());
+    }
+    Ok([lo, hi])
 }
 
 impl SelectArgs {
+    /// How the underlay is shown (`--underlay-range`).
+    pub fn underlay_view(&self) -> UnderlayView {
+        UnderlayView {
+            shown: true,
+            window: self.underlay_range,
+        }
+    }
+
     /// The selection these flags ask for, checked as far as it can be without the data.
     pub fn selection(&self) -> Result<Selection> {
         let sel = Selection {
@@ -152,10 +192,13 @@ pub struct CameraArgs {
     /// Write the proxy's depth instead of the ray-cast depth.
     #[arg(long)]
     pub no_depth_correction: bool,
-    /// View direction preset (ParaView's +X … −Z buttons; iso looks from +x, −y, +z).
-    #[arg(long, default_value = "iso", allow_hyphen_values = true,
+    /// View direction preset: ParaView's +X … −Z buttons (looking along that axis), iso
+    /// (from +x, −y, +z), or in an anatomical (RAS) world axial (from superior), coronal (from
+    /// posterior) and sagittal (from the left), the subject's right on the right. Default: iso,
+    /// or for a DTI file (NIfTI, NRRD) showing one slice, that slice face-on.
+    #[arg(long, allow_hyphen_values = true,
           value_parser = one_of::<ViewPreset>(ViewPreset::NAMES))]
-    pub view: ViewPreset,
+    pub view: Option<ViewPreset>,
     /// Degrees about the up axis, after the preset.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     pub azimuth: f64,
@@ -182,12 +225,13 @@ impl CameraArgs {
             bail!("--zoom must be a positive number, got {}", self.zoom);
         }
         Ok(Framing {
-            view: self.view,
+            view: self.view.unwrap_or_default(),
             azimuth: self.azimuth,
             elevation: self.elevation,
             zoom: self.zoom,
             fov_deg: self.fov,
             ortho: self.ortho,
+            toward: None,
         })
     }
 }

@@ -12,6 +12,7 @@ use super::progress::Terminal;
 use tensorglyph::backend::render_gpu;
 use tensorglyph::bench::{self, Options, Row, chart, report};
 use tensorglyph::camera::{Camera, Framing};
+use tensorglyph::defaults::DataKind;
 use tensorglyph::progress::Progress;
 use tensorglyph::render::{GpuContext, GpuRenderer};
 use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset};
@@ -78,7 +79,7 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
     let progress = Terminal::new(args.scene.quiet);
     let staged = args
         .scene
-        .recipe(Selection::default(), glyph)
+        .recipe(Selection::default(), glyph, &DataKind::General.defaults())
         .and_then(|recipe| Ok(staging::stage(&source, &recipe, &progress)?));
     match staged {
         Err(e) => large.error = Some(format!("{e:#}")),
@@ -234,7 +235,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         },
         glyphs: glyphs.clone(),
     };
-    let style = args.scene.style()?;
+    let style = args.scene.style(&DataKind::General.defaults())?;
     let large = (args.large > 0).then(|| {
         let method = opts.methods.first().copied().unwrap_or(Method::Gumhold);
         run_large(&args, &gpu, method, glyphs[0])

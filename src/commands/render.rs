@@ -11,13 +11,15 @@ use super::args::{CameraArgs, DrawArgs, SceneArgs, SelectArgs, parse_color, pars
 use super::progress::Terminal;
 use tensorglyph::backend::Backend;
 use tensorglyph::camera::Camera;
+use tensorglyph::defaults::DataKind;
 use tensorglyph::frame::Frame;
 use tensorglyph::image_out::write_png;
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
 use tensorglyph::request::{FrameRequest, GlyphKind, Method};
+use tensorglyph::scene::UnderlaySource;
 use tensorglyph::scene::Visibility;
-use tensorglyph::staging::{Demo, Source, Timings, stage};
+use tensorglyph::staging::{Demo, Recipe, Source, Timings, stage};
 
 /// Image and output options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
@@ -25,9 +27,10 @@ pub struct ImageArgs {
     /// Image size.
     #[arg(long, default_value = "1024x768", value_parser = parse_size)]
     pub size: (u32, u32),
-    /// Background: a name (white, black, grey, paraview), #rrggbb, or r,g,b in [0, 1].
-    #[arg(long, default_value = "white", value_parser = parse_color)]
-    pub background: [f64; 4],
+    /// Background: a name (white, black, grey, paraview), #rrggbb, or r,g,b in [0, 1]
+    /// (default: white; black for DTI files, NIfTI and NRRD).
+    #[arg(long, value_parser = parse_color)]
+    pub background: Option<[f64; 4]>,
     /// Render N frames and time each (the JSON reports the median).
     #[arg(long, default_value_t = 1)]
     pub frames: u32,
@@ -170,10 +173,13 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         scene: scene_args,
         select,
     } = args;
-    let inputs: Vec<&Path> = match src {
+    let mut inputs: Vec<&Path> = match src {
         Source::File(p) => vec![p.as_path()],
         Source::Demo(_) => Vec::new(),
     };
+    if let Some(UnderlaySource::File(p)) = &select.underlay {
+        inputs.push(p.as_path());
+    }
     check_output(output, &inputs)?;
     if let Some(d) = &image.diff {
         check_output(d, &inputs)?;
@@ -181,18 +187,30 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             bail!("--diff needs --reference-check");
         }
     }
-    let framing = cam.framing()?;
+    let mut framing = cam.framing()?;
+    let defaults = DataKind::of(src).defaults();
     tensorglyph::frame::check_size(image.size.0, image.size.1)?;
     let depth_correction = !cam.no_depth_correction;
     let options = draw.options(cam.method, cam.glyph, depth_correction)?;
-    let recipe = scene_args.recipe(select.selection()?, cam.glyph)?;
+    let recipe = Recipe {
+        underlay: select.underlay.clone(),
+        ..scene_args.recipe(select.selection()?, cam.glyph, &defaults)?
+    };
     let progress = Terminal::new(scene_args.quiet);
     let staged = stage(src, &recipe, &progress)?;
     let mut timings: Timings = staged.timings;
     let mut scene = staged.scene;
     let (w, h) = image.size;
-    // The whole field, not the selection: a slice is drawn where it is in the volume.
-    let camera = Camera::frame(&framing, staged.frame_centre, staged.frame_radius, w, h);
+    // The whole field, not the selection: a slice is drawn where it is in the volume; but one
+    // slice of a DTI volume is seen face-on and close, as DTI viewers show it.
+    let (centre, radius) = match staged.face {
+        Some(face) if defaults.face_on && cam.view.is_none() => {
+            framing.toward = Some(face.toward);
+            (face.centre, face.radius)
+        }
+        _ => (staged.frame_centre, staged.frame_radius),
+    };
+    let camera = Camera::frame(&framing, centre, radius, w, h);
     if draw.sort() {
         scene.sort_front_to_back(&camera);
     }
@@ -203,8 +221,9 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let req = backend.adapt(
         FrameRequest {
             aux: image.reference_check,
-            background: image.background,
+            background: image.background.unwrap_or(defaults.background),
             frames: image.frames.max(1),
+            underlay: select.underlay_view(),
             ..FrameRequest::with_options(cam.method, cam.glyph, depth_correction, &options)
         },
         &scene,

@@ -6,6 +6,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use super::args::{CameraArgs, DrawArgs, SceneArgs, SelectArgs, parse_size};
+use tensorglyph::defaults::DataKind;
 use tensorglyph::staging::{Demo, Source};
 use tensorglyph::viewer::{self, Options, state::Settings};
 
@@ -59,13 +60,21 @@ pub fn run(args: ViewArgs) -> Result<()> {
         bail!("the viewer draws in file order: --sort (and --preset sorted) are for render");
     }
     let depth_correction = !cam.no_depth_correction;
+    let defaults = source
+        .as_ref()
+        .map_or(DataKind::General, DataKind::of)
+        .defaults();
+    let [r, g, b, _] = defaults.background;
     let settings = Settings {
         method: cam.method,
         glyph: cam.glyph,
         depth_correction,
-        style: args.scene.style()?,
+        style: args.scene.style(&defaults)?,
+        background: [r, g, b].map(|c| c as f32),
         selection: args.select.selection()?,
         draw: args.draw.options(cam.method, cam.glyph, depth_correction)?,
+        underlay: args.select.underlay.clone(),
+        underlay_view: args.select.underlay_view(),
         ..Settings::default()
     };
     viewer::run(Options {
@@ -73,6 +82,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         read: args.scene.read_options(),
         settings,
         framing: cam.framing()?,
+        face_slice: defaults.face_on && cam.view.is_none(),
         size: args.size,
         screenshot: args.screenshot,
         frames: args.frames,

@@ -16,6 +16,7 @@ use crate::camera::Camera;
 use crate::frame::Frame;
 use crate::request::{FrameRequest, GlyphKind};
 use crate::scene::rules::{EYE_INSIDE_E2, drawable_radii};
+use crate::scene::underlay::grey;
 use crate::scene::{GlyphGeometry, Scene};
 use crate::twin::common::{shade, to_unorm8};
 use bvh::{Aabb, Bvh};
@@ -75,6 +76,8 @@ pub struct ReferenceScene<'a> {
     glyphs: Vec<Prepared>,
     bvh: Bvh,
     view: DMat4,
+    /// Each underlay plane's corner as placed for this camera, relative to the scene origin.
+    underlay_corners: Vec<DVec3>,
 }
 
 impl<'a> ReferenceScene<'a> {
@@ -128,7 +131,44 @@ impl<'a> ReferenceScene<'a> {
             bvh: Bvh::build(&boxes),
             glyphs,
             view: camera.view(scene.origin),
+            underlay_corners: scene
+                .underlay
+                .iter()
+                .flat_map(|u| &u.planes)
+                .map(|p| p.geometry.placed_corner(camera) - scene.origin)
+                .collect(),
         }
+    }
+
+    /// Whether a hit at ray parameter `t` of the ray from `origin` along `dir` (relative to
+    /// the scene origin) is within the depth range the GPU keeps.
+    fn in_depth_range(&self, origin: DVec3, dir: DVec3, t: f64) -> bool {
+        let dist = if self.camera.is_ortho() {
+            t
+        } else {
+            (origin + dir * t - (self.camera.eye - self.scene.origin)).dot(self.camera.forward())
+        };
+        dist >= self.camera.near && dist <= self.camera.far
+    }
+
+    /// The nearest underlay texel the ray through NDC (x, y) meets: (t, grey level).
+    pub fn trace_underlay(&self, x: f64, y: f64, window: [f32; 2]) -> Option<(f64, f32)> {
+        let underlay = self.scene.underlay.as_ref()?;
+        let ray = self.camera.ray_ndc(x, y);
+        let origin = ray.origin - self.scene.origin;
+        let mut best: Option<(f64, f32)> = None;
+        for (p, &corner) in underlay.planes.iter().zip(&self.underlay_corners) {
+            let Some((t, s, r)) = p.geometry.intersect(corner, origin, ray.dir) else {
+                continue;
+            };
+            if !self.in_depth_range(origin, ray.dir, t) || best.is_some_and(|b| b.0 <= t) {
+                continue;
+            }
+            if let Some(g) = grey(p.texel(s, r), window) {
+                best = Some((t, g));
+            }
+        }
+        best
     }
 
     /// Glyphs not drawn because the eye is inside or on them.
@@ -141,8 +181,6 @@ impl<'a> ReferenceScene<'a> {
         let ray = self.camera.ray_ndc(x, y);
         let origin = ray.origin - self.scene.origin;
         let dir = ray.dir;
-        let forward = self.camera.forward();
-        let eye_rel = self.camera.eye - self.scene.origin;
         let mut best: Option<Hit> = None;
         self.bvh.traverse(origin, dir, |i| {
             let g = &self.glyphs[i as usize];
@@ -151,12 +189,7 @@ impl<'a> ReferenceScene<'a> {
             }
             let RayHit { t, normal } = g.shape.intersect(origin, dir)?;
             // Depth range: the GPU discards hits outside [near, far].
-            let dist = if self.camera.is_ortho() {
-                t
-            } else {
-                (origin + dir * t - eye_rel).dot(forward)
-            };
-            if dist < self.camera.near || dist > self.camera.far {
+            if !self.in_depth_range(origin, dir, t) {
                 return None;
             }
             if best.is_none_or(|b| t < b.t) {
@@ -177,6 +210,12 @@ impl<'a> ReferenceScene<'a> {
         let (w, h) = (self.camera.width as usize, self.camera.height as usize);
         let ortho = self.camera.is_ortho();
         let bg = req.background.map(to_unorm8);
+        let window = self
+            .scene
+            .underlay
+            .as_ref()
+            .filter(|_| req.underlay.shown)
+            .map(|u| req.underlay.window.unwrap_or(u.window));
         let start = std::time::Instant::now();
         let rows: Vec<Row> = (0..h)
             .into_par_iter()
@@ -186,7 +225,19 @@ impl<'a> ReferenceScene<'a> {
                 let mut aux = Vec::with_capacity(w);
                 for i in 0..w {
                     let (x, y) = self.camera.pixel_to_ndc(i as f64 + 0.5, j as f64 + 0.5);
-                    match self.trace_ndc(x, y) {
+                    let hit = self.trace_ndc(x, y);
+                    // The underlay is drawn where it is nearer than the glyph (or there is none).
+                    let under = window
+                        .and_then(|w| self.trace_underlay(x, y, w))
+                        .filter(|(t, _)| hit.is_none_or(|h| *t < h.t));
+                    if let Some((_, g)) = under {
+                        let g = to_unorm8(f64::from(g));
+                        color.extend_from_slice(&[g, g, g, 255]);
+                        ids.push(0);
+                        aux.push([0.0; 4]);
+                        continue;
+                    }
+                    match hit {
                         None => {
                             color.extend_from_slice(&bg);
                             ids.push(0);

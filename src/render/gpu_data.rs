@@ -355,6 +355,16 @@ mod tests {
             "Chunk",
             &fields!(ChunkUniform: base, min_pixel_radius, cull, _pad),
         );
+        let underlay =
+            shaders::parse(crate::render::underlay::SHADER).expect("underlay.wgsl parses");
+        {
+            use crate::render::underlay::UnderlayUniform;
+            assert_offsets(
+                &underlay,
+                "Underlay",
+                &fields!(UnderlayUniform: view_proj, corner, u, v, size, window),
+            );
+        }
         let gumhold = shaders::parse(&shaders::ShaderSource::GumholdEllipsoid.text())
             .expect("gumhold_ellipsoid.wgsl parses");
         assert_offsets(
@@ -371,6 +381,12 @@ mod tests {
         assert_eq!(wgsl_size(&module, "GpuGlyph") as usize, GPU_GLYPH_SIZE);
         assert_eq!(wgsl_size(&module, "Camera") as usize, CAMERA_UNIFORM_SIZE);
         assert_eq!(wgsl_size(&module, "Chunk") as usize, CHUNK_UNIFORM_SIZE);
+        let underlay =
+            shaders::parse(crate::render::underlay::SHADER).expect("underlay.wgsl parses");
+        assert_eq!(
+            wgsl_size(&underlay, "Underlay") as usize,
+            crate::render::underlay::UNDERLAY_UNIFORM_SIZE
+        );
         let gumhold = shaders::parse(&shaders::ShaderSource::GumholdEllipsoid.text())
             .expect("gumhold_ellipsoid.wgsl parses");
         assert_eq!(

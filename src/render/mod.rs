@@ -15,6 +15,7 @@ pub mod shaders;
 pub mod sigg;
 pub mod strip;
 pub mod targets;
+pub mod underlay;
 
 pub use context::GpuContext;
 pub use renderer::GpuRenderer;

@@ -20,6 +20,7 @@ use crate::render::query::Queries;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::sigg::SiggRenderer;
 use crate::render::targets::{Readback, TargetViews, Targets};
+use crate::render::underlay::UnderlayPipeline;
 use crate::request::{FrameRequest, GlyphKind, Method};
 use crate::scene::Scene;
 
@@ -30,12 +31,14 @@ pub struct GpuRenderer {
     pub ctx: GpuContext,
     layouts: GlyphLayouts,
     drawers: Mutex<HashMap<DrawerKey, Arc<dyn Drawer>>>,
+    underlay: UnderlayPipeline,
 }
 
 impl GpuRenderer {
     pub fn new(ctx: GpuContext) -> Result<Self, RenderError> {
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let layouts = GlyphLayouts::new(&ctx);
+        let underlay = UnderlayPipeline::new(&ctx);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Gpu(format!(
                 "creating the pipeline layout: {e}"
@@ -45,6 +48,7 @@ impl GpuRenderer {
             ctx,
             layouts,
             drawers: Mutex::new(HashMap::new()),
+            underlay,
         })
     }
 
@@ -130,7 +134,7 @@ impl GpuRenderer {
 
     /// [`Self::upload`] in buffers of at most `chunk` glyphs each.
     pub fn upload_chunked(&self, scene: &Scene, chunk: usize) -> Result<SceneBuffers, RenderError> {
-        SceneBuffers::upload(&self.ctx, &self.layouts.group, scene, chunk)
+        SceneBuffers::upload(&self.ctx, &self.layouts.group, &self.underlay, scene, chunk)
     }
 
     /// Render instances uploaded by [`Self::upload`] (timing upload and frames apart).
@@ -176,7 +180,21 @@ impl GpuRenderer {
             timestamps,
         };
         drawer.record(&frame, encoder);
+        self.record_underlay(buffers, req, views, encoder);
         Ok(())
+    }
+
+    /// The underlay's pass, after the method's, when the scene has one and it is shown.
+    fn record_underlay(
+        &self,
+        buffers: &SceneBuffers,
+        req: &FrameRequest,
+        views: &TargetViews,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        if let (Some(u), true) = (&buffers.underlay, req.underlay.shown) {
+            self.underlay.record(&self.ctx, u, views, encoder);
+        }
     }
 
     fn render_into(
@@ -220,6 +238,7 @@ impl GpuRenderer {
                 timestamps: None,
             };
             drawer.record(&recording, &mut encoder);
+            self.record_underlay(buffers, req, &views, &mut encoder);
             if let (Some(s), true) = (&stats, f == 0) {
                 s.resolve(&mut encoder);
             }

@@ -11,6 +11,7 @@ use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
 use crate::render::gpu_data::{CameraUniform, ChunkUniform, GPU_GLYPH_SIZE, GpuGlyph};
+use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
 use crate::request::FrameRequest;
 use crate::scene::{GlyphInstance, Scene};
 
@@ -20,6 +21,8 @@ pub struct SceneBuffers {
     count: u32,
     camera_buffer: wgpu::Buffer,
     pub(crate) chunks: Vec<ChunkBuffers>,
+    /// The scene's underlay images, if it has any.
+    pub(crate) underlay: Option<UnderlayBuffers>,
     /// What methods keep per scene, made on the first frame that needs it.
     method_state: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
 }
@@ -40,6 +43,7 @@ impl SceneBuffers {
     pub(crate) fn upload(
         ctx: &GpuContext,
         layout: &wgpu::BindGroupLayout,
+        underlay: &UnderlayPipeline,
         scene: &Scene,
         chunk: usize,
     ) -> Result<Self, RenderError> {
@@ -78,6 +82,10 @@ impl SceneBuffers {
             )?);
             base += piece.len() as u32;
         }
+        let underlay = match &scene.underlay {
+            Some(u) => Some(UnderlayBuffers::upload(ctx, underlay, u)?),
+            None => None,
+        };
         let oom = pollster::block_on(oom.pop());
         let invalid = pollster::block_on(scope.pop());
         if let Some(e) = oom.or(invalid) {
@@ -91,6 +99,7 @@ impl SceneBuffers {
             count: base,
             camera_buffer,
             chunks,
+            underlay,
             method_state: Mutex::new(HashMap::new()),
         })
     }
@@ -118,6 +127,9 @@ impl SceneBuffers {
                 _pad: 0,
             };
             queue.write_buffer(&c.uniform, 0, bytemuck::bytes_of(&u));
+        }
+        if let Some(u) = &self.underlay {
+            u.write_uniforms(queue, camera, self.origin, &req.underlay);
         }
     }
 

@@ -6,6 +6,9 @@ use glam::{DMat3, DQuat, DVec3};
 use crate::request::GlyphKind;
 
 pub mod rules;
+pub mod underlay;
+
+pub use underlay::{Underlay, UnderlaySource};
 
 /// One glyph instance at full f32 precision, as built on the CPU: the reference ray casts these,
 /// the GPU reads them packed ([`crate::render::gpu_data::GpuGlyph`], 32 bytes).
@@ -43,6 +46,8 @@ pub struct Scene {
     /// Bounding sphere of all glyphs (world).
     pub centre: DVec3,
     pub radius: f64,
+    /// A scalar image under the glyphs (`--underlay`), if asked for.
+    pub underlay: Option<Underlay>,
 }
 
 /// A glyph instance's geometry in f64, as both the reference and the tests need it.
@@ -177,6 +182,7 @@ impl Scene {
             instances,
             centre,
             radius,
+            underlay: None,
         }
     }
 

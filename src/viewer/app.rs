@@ -12,6 +12,7 @@ use crate::field::vtk::ReadOptions;
 use crate::progress::Silent;
 use crate::render::{GpuContext, GpuRenderer};
 use crate::scene::Scene;
+use crate::scene::UnderlaySource;
 use crate::staging::{self, Recipe, Source};
 use crate::viewer::loader::{Loaded, Loading};
 use crate::viewer::navigation::{Navigation, axis_view};
@@ -19,6 +20,7 @@ use crate::viewer::panel::{self, Action, PanelInfo, PanelState};
 use crate::viewer::picking::{PickInfo, read_id};
 use crate::viewer::screenshot::{parse_size, save_view, save_window};
 use crate::viewer::state::{BuildKey, RenderKey, Settings};
+use crate::viewer::triad;
 use crate::viewer::view3d::View3d;
 use crate::viewer::{Options, Outcome, ViewerError};
 
@@ -35,6 +37,8 @@ pub struct ViewerApp {
     gpu: Arc<GpuRenderer>,
     render_state: RenderState,
     read: ReadOptions,
+    /// `--underlay FILE`: read with every field opened, offered in the panel.
+    underlay_file: Option<UnderlaySource>,
     settings: Settings,
     panel: PanelState,
     data: Option<Loaded>,
@@ -47,6 +51,8 @@ pub struct ViewerApp {
     nav: Option<Navigation>,
     /// The camera options the first scene is framed with.
     framing: Framing,
+    /// The first scene, if it shows one slice, is seen face-on.
+    face_slice: bool,
     view: View3d,
     last_render: Option<RenderKey>,
     hover: Option<(u32, u32)>,
@@ -81,6 +87,11 @@ impl ViewerApp {
             gpu,
             render_state: rs,
             read: opts.read.clone(),
+            underlay_file: opts
+                .settings
+                .underlay
+                .clone()
+                .filter(|u| matches!(u, UnderlaySource::File(_))),
             settings: opts.settings.clone(),
             panel: PanelState {
                 scale_text: opts.settings.style.scale.to_string(),
@@ -95,6 +106,7 @@ impl ViewerApp {
             scene_generation: 0,
             nav: None,
             framing: opts.framing,
+            face_slice: opts.face_slice,
             view: View3d::default(),
             last_render: None,
             hover: None,
@@ -119,9 +131,12 @@ impl ViewerApp {
             self.panel.path = p.display().to_string();
         }
         let repaint = ctx.clone();
-        self.loading = Some(Loading::start(source, self.read.clone(), move || {
-            repaint.request_repaint()
-        }));
+        self.loading = Some(Loading::start(
+            source,
+            self.read.clone(),
+            self.underlay_file.clone(),
+            move || repaint.request_repaint(),
+        ));
     }
 
     /// Take a finished load: new data replaces the old; an error keeps the old.
@@ -170,8 +185,17 @@ impl ViewerApp {
             style: key.style.clone(),
             selection: key.selection.clone(),
             glyph: key.glyph,
+            underlay: key.underlay.clone(),
         };
-        let built = match staging::build(&data.field, &data.set, data.spacing, &recipe, &Silent) {
+        let volume = data.underlay.as_deref();
+        let built = match staging::build(
+            &data.field,
+            &data.set,
+            data.spacing,
+            &recipe,
+            volume,
+            &Silent,
+        ) {
             Ok(b) => b,
             Err(e) => {
                 // Nothing to draw (an empty selection): say why, keep the data.
@@ -183,6 +207,7 @@ impl ViewerApp {
                     frame_centre: DVec3::ZERO,
                     frame_radius: 1.0,
                     glyphs_valid: data.set.glyphs.len(),
+                    face: None,
                 }
             }
         };
@@ -191,6 +216,7 @@ impl ViewerApp {
             selected,
             frame_centre,
             frame_radius,
+            face,
             ..
         } = built;
         if let Err(e) = self.view.set_scene(&self.gpu, &scene) {
@@ -203,12 +229,20 @@ impl ViewerApp {
         match &mut self.nav {
             Some(nav) => nav.set_bounds(scene.centre, scene.radius),
             None => {
-                // Frame the whole field (not the selection) so slicing does not jump the view.
-                self.nav = Some(Navigation::from_framing(
-                    &self.framing,
-                    frame_centre,
-                    frame_radius,
-                ));
+                // Frame the whole field (not the selection) so slicing does not jump the view;
+                // one slice of DTI data is seen face-on and close instead.
+                let (framing, centre, radius) = match face.filter(|_| self.face_slice) {
+                    Some(f) => (
+                        Framing {
+                            toward: Some(f.toward),
+                            ..self.framing
+                        },
+                        f.centre,
+                        f.radius,
+                    ),
+                    None => (self.framing, frame_centre, frame_radius),
+                };
+                self.nav = Some(Navigation::from_framing(&framing, centre, radius));
             }
         }
         self.picked = None;
@@ -471,6 +505,12 @@ impl eframe::App for ViewerApp {
                     glyphs_drawn: self.drawn,
                     frame: self.view.last_frame,
                     adapter: &adapter,
+                    underlay_file: self.underlay_file.as_ref(),
+                    underlay_window: self
+                        .built
+                        .as_ref()
+                        .and_then(|b| b.scene.underlay.as_ref())
+                        .map(|u| u.window),
                 };
                 actions.extend(panel::show(
                     ui,
@@ -503,6 +543,16 @@ impl eframe::App for ViewerApp {
                         egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
                         egui::Color32::WHITE,
                     );
+                    if let Some(nav) = &self.nav {
+                        let anatomical = self.data.as_ref().is_some_and(|d| {
+                            d.field
+                                .meta
+                                .frame
+                                .as_ref()
+                                .is_some_and(|f| f.world == "RAS")
+                        });
+                        triad::paint(ui.painter(), rect, nav, anatomical);
+                    }
                 }
                 _ => {
                     ui.painter().text(

@@ -9,9 +9,11 @@ use std::thread::JoinHandle;
 
 use crate::field::ReadOptions;
 use crate::field::TensorField;
+use crate::field::scalar::ScalarVolume;
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
-use crate::staging::{Source, decompose, field_spacing, read};
+use crate::scene::UnderlaySource;
+use crate::staging::{Source, decompose, field_spacing, read, read_underlay};
 
 /// A loaded field and its glyphs.
 pub struct Loaded {
@@ -22,6 +24,8 @@ pub struct Loaded {
     pub spacing: f64,
     /// The box around the glyph centres `[x0, y0, z0, x1, y1, z1]` (the ROI control's default).
     pub bounds: [f64; 6],
+    /// The underlay file's volume, when one was given.
+    pub underlay: Option<Arc<ScalarVolume>>,
 }
 
 impl Loaded {
@@ -34,9 +38,11 @@ impl Loaded {
 pub fn load_now(
     source: &Source,
     opts: &ReadOptions,
+    underlay: &Option<UnderlaySource>,
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
     let field = read(source, opts, progress).map_err(|e| e.to_string())?;
+    let underlay = read_underlay(underlay).map_err(|e| e.to_string())?;
     if field.is_empty() {
         return Err(format!("{}: no tensors", source.name()));
     }
@@ -56,6 +62,7 @@ pub fn load_now(
         set: Arc::new(set),
         spacing,
         bounds,
+        underlay: underlay.map(Arc::new),
     })
 }
 
@@ -88,8 +95,14 @@ pub struct Loading {
 }
 
 impl Loading {
-    /// Start loading on a worker thread; `wake` is called when it is done (to repaint).
-    pub fn start(source: Source, opts: ReadOptions, wake: impl Fn() + Send + 'static) -> Self {
+    /// Start loading on a worker thread (the tensors, and the underlay's file if it names one);
+    /// `wake` is called when it is done (to repaint).
+    pub fn start(
+        source: Source,
+        opts: ReadOptions,
+        underlay: Option<UnderlaySource>,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
         let progress = Arc::new(SharedProgress::default());
         progress.begin("reading", None);
         let (tx, rx) = channel();
@@ -99,7 +112,7 @@ impl Loading {
             .name("tensorglyph-load".into())
             .spawn(move || {
                 let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    load_now(&src, &opts, pb.as_ref())
+                    load_now(&src, &opts, &underlay, pb.as_ref())
                 }))
                 .unwrap_or_else(|panic| {
                     let msg = panic
@@ -154,7 +167,12 @@ mod tests {
 
     #[test]
     fn loads_the_demo_off_thread_and_reports_bad_files() {
-        let mut l = Loading::start(Source::Demo(Demo { n: 5 }), ReadOptions::default(), || {});
+        let mut l = Loading::start(
+            Source::Demo(Demo { n: 5 }),
+            ReadOptions::default(),
+            None,
+            || {},
+        );
         let loaded = loop {
             if let Some(r) = l.poll() {
                 break r.unwrap();
@@ -167,7 +185,7 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let bad = dir.path().join("bad.vtk");
         std::fs::write(&bad, b"not a vtk file").unwrap();
-        let mut l = Loading::start(Source::File(bad), ReadOptions::default(), || {});
+        let mut l = Loading::start(Source::File(bad), ReadOptions::default(), None, || {});
         let err = loop {
             if let Some(r) = l.poll() {
                 break r.err().expect("a bad file is an error");

@@ -11,6 +11,7 @@ pub mod panel;
 pub mod picking;
 pub mod screenshot;
 pub mod state;
+pub mod triad;
 pub mod view3d;
 
 use std::path::PathBuf;
@@ -30,6 +31,8 @@ pub struct Options {
     pub settings: Settings,
     /// The camera options of the first view (`view --view`, `--zoom`, `--ortho`, …).
     pub framing: Framing,
+    /// When the first scene shows one slice, see it face-on and close (DTI data).
+    pub face_slice: bool,
     /// Window size in points.
     pub size: (u32, u32),
     /// Scripted mode: render `frames` frames, write a screenshot of the whole window, exit.

@@ -85,6 +85,7 @@ mod tests {
         let data = load_now(
             &Source::Demo(Demo { n: 3 }),
             &ReadOptions::default(),
+            &None,
             &crate::progress::Silent,
         )
         .unwrap();

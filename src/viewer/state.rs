@@ -7,7 +7,8 @@
 
 use crate::camera::Camera;
 use crate::glyph::{ColorScheme, GlyphStyle};
-use crate::request::{DrawOptions, FrameRequest, GlyphKind, Method};
+use crate::request::{DrawOptions, FrameRequest, GlyphKind, Method, UnderlayView};
+use crate::scene::UnderlaySource;
 use crate::select::{Selection, Slicing};
 
 /// Every option the side panel changes.
@@ -23,6 +24,9 @@ pub struct Settings {
     /// `render --proxy`, `--conservative-depth`, culling (`--no-cull`), `--prepass` and
     /// `--splat` (0: off), with `render`'s defaults; the panel shows those the method takes.
     pub draw: DrawOptions,
+    /// The scalar image under the slices (`--underlay`), and how it is shown.
+    pub underlay: Option<UnderlaySource>,
+    pub underlay_view: UnderlayView,
 }
 
 impl Default for Settings {
@@ -35,6 +39,8 @@ impl Default for Settings {
             selection: Selection::default(),
             background: [1.0, 1.0, 1.0],
             draw: DrawOptions::default(),
+            underlay: None,
+            underlay_view: UnderlayView::default(),
         }
     }
 }
@@ -46,6 +52,7 @@ pub struct BuildKey {
     pub style: GlyphStyle,
     pub glyph: GlyphKind,
     pub selection: Selection,
+    pub underlay: Option<UnderlaySource>,
 }
 
 /// What a drawn frame depends on.
@@ -63,6 +70,7 @@ impl Settings {
             style: self.style.clone(),
             glyph: self.glyph,
             selection: self.selection.clone(),
+            underlay: self.underlay.clone(),
         }
     }
 
@@ -73,6 +81,7 @@ impl Settings {
         // without (conservative placement alone is still correct).
         FrameRequest {
             background: [r, g, b, 1.0],
+            underlay: self.underlay_view,
             ..FrameRequest::with_options(self.method, self.glyph, self.depth_correction, &self.draw)
         }
     }

@@ -6,6 +6,7 @@ mod selection;
 mod style;
 #[cfg(test)]
 mod tests;
+mod underlay;
 
 use std::path::PathBuf;
 
@@ -20,6 +21,8 @@ use crate::viewer::view3d::FrameTime;
 use selection::selection_section;
 pub use selection::{order_roi, set_roi_enabled};
 use style::style_section;
+pub use underlay::choose_underlay;
+use underlay::underlay_section;
 
 /// What the panel asks the app to do.
 #[derive(Debug, Clone, PartialEq)]
@@ -64,6 +67,10 @@ pub struct PanelInfo<'a> {
     pub glyphs_drawn: usize,
     pub frame: Option<FrameTime>,
     pub adapter: &'a str,
+    /// `--underlay FILE`, offered when its volume was read.
+    pub underlay_file: Option<&'a crate::scene::UnderlaySource>,
+    /// The scene's underlay window (its 2nd and 98th percentiles).
+    pub underlay_window: Option<[f32; 2]>,
 }
 
 pub fn show(
@@ -82,6 +89,8 @@ pub fn show(
         style_section(ui, settings, state, info);
         ui.separator();
         selection_section(ui, settings, info);
+        ui.separator();
+        underlay_section(ui, settings, info);
         ui.separator();
         camera_section(ui, nav, &mut actions);
         ui.separator();
@@ -272,6 +281,17 @@ fn camera_section(ui: &mut Ui, nav: Option<&mut Navigation>, actions: &mut Vec<A
             if ui
                 .button(name)
                 .on_hover_text(format!("look along {name} (key {})", k + 1))
+                .clicked()
+            {
+                actions.push(Action::View(preset));
+            }
+        }
+    });
+    ui.horizontal(|ui| {
+        for preset in [ViewPreset::Axial, ViewPreset::Coronal, ViewPreset::Sagittal] {
+            if ui
+                .button(preset.name())
+                .on_hover_text("anatomical (RAS) views, the subject's right on the right")
                 .clicked()
             {
                 actions.push(Action::View(preset));

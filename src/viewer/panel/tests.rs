@@ -47,6 +47,8 @@ fn info(data: Option<&Loaded>) -> PanelInfo<'_> {
             gpu_timestamps: true,
         }),
         adapter: "llvmpipe",
+        underlay_file: None,
+        underlay_window: Some([0.1, 0.9]),
     }
 }
 
@@ -55,6 +57,7 @@ fn panel_draws_every_scheme_and_slicing_mode() {
     let data = load_now(
         &Source::Demo(Demo { n: 4 }),
         &ReadOptions::default(),
+        &None,
         &crate::progress::Silent,
     )
     .unwrap();
@@ -78,6 +81,10 @@ fn panel_draws_every_scheme_and_slicing_mode() {
             settings.style.color = scheme;
             settings.selection.slicing = slicing;
             settings.selection.roi = roi;
+            if scheme == ColorScheme::Dec {
+                settings.underlay = Some(crate::scene::UnderlaySource::Md);
+                settings.underlay_view.window = Some([0.2, 0.4]);
+            }
             let before = settings.clone();
             let (actions, out) = run_panel(
                 &ctx,
@@ -124,6 +131,7 @@ fn the_roi_checkbox_turns_the_box_on_at_the_field_bounds() {
     let data = load_now(
         &Source::Demo(Demo { n: 4 }),
         &ReadOptions::default(),
+        &None,
         &crate::progress::Silent,
     )
     .unwrap();
@@ -171,6 +179,7 @@ fn without_a_lattice_slicing_falls_back_to_the_whole_volume() {
     let data = load_now(
         &Source::File(path),
         &ReadOptions::default(),
+        &None,
         &crate::progress::Silent,
     )
     .unwrap();
@@ -263,4 +272,19 @@ fn typing_a_path_and_enter_opens_it() {
         vec![key(true), key(false)],
     );
     assert_eq!(actions, vec![Action::Open(PathBuf::from("/tmp/x.vtk"))]);
+}
+
+#[test]
+fn an_underlay_chosen_over_the_whole_field_shows_the_middle_axial_slice() {
+    let mut s = Settings::default();
+    choose_underlay(&mut s, Some(crate::scene::UnderlaySource::Fa), [4, 6, 9]);
+    assert_eq!(s.selection.slicing, Slicing::Slice { axis: 2, index: 4 });
+    assert_eq!(s.underlay, Some(crate::scene::UnderlaySource::Fa));
+    // A slice already chosen stays; turning the underlay off keeps the slice.
+    s.selection.slicing = Slicing::Slice { axis: 0, index: 1 };
+    choose_underlay(&mut s, Some(crate::scene::UnderlaySource::Md), [4, 6, 9]);
+    assert_eq!(s.selection.slicing, Slicing::Slice { axis: 0, index: 1 });
+    choose_underlay(&mut s, None, [4, 6, 9]);
+    assert_eq!(s.underlay, None);
+    assert_eq!(s.selection.slicing, Slicing::Slice { axis: 0, index: 1 });
 }

@@ -1,0 +1,64 @@
+//! The defaults a researcher expects of each kind of data: a DTI volume opens as mrview,
+//! FSLeyes or Slicer show it (direction-encoded colour on black, glyph shapes readable, one
+//! slice seen face-on); a stress field or the demo as ParaView shows it (shape classes on white,
+//! an oblique view).
+//!
+//! The kind is told by the file format, not guessed from the tensors: NIfTI and NRRD are the
+//! formats diffusion tools write; VTK files, where stress and DTI fields both occur, keep the
+//! general defaults. Every default is an option's default only: a flag given wins.
+
+use crate::glyph::{ColorScheme, SizeBy};
+use crate::staging::Source;
+
+/// What kind of data a source holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DataKind {
+    /// Diffusion tensors: NIfTI (`.nii`, `.nii.gz`) and NRRD (`.nrrd`, `.nhdr`) files.
+    Diffusion,
+    /// VTK files and the built-in demo.
+    General,
+}
+
+/// The defaults of a kind of data.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Defaults {
+    pub color: ColorScheme,
+    /// Linear RGBA in [0, 1].
+    pub background: [f64; 4],
+    pub size_by: SizeBy,
+    /// One slice shown is seen face-on (unless a view is asked for).
+    pub face_on: bool,
+}
+
+impl DataKind {
+    pub fn of(source: &Source) -> Self {
+        match source {
+            Source::File(p)
+                if crate::field::nifti::is_nifti_path(p) || crate::field::nrrd::is_nrrd_path(p) =>
+            {
+                DataKind::Diffusion
+            }
+            _ => DataKind::General,
+        }
+    }
+
+    pub fn defaults(self) -> Defaults {
+        match self {
+            // DEC on black as the DTI tools show it; every glyph the same size so its shape
+            // reads even where CSF-like tensors set the scale (MD has its own colour scheme and
+            // underlay).
+            DataKind::Diffusion => Defaults {
+                color: ColorScheme::Dec,
+                background: [0.0, 0.0, 0.0, 1.0],
+                size_by: SizeBy::None,
+                face_on: true,
+            },
+            DataKind::General => Defaults {
+                color: ColorScheme::Shape,
+                background: [1.0, 1.0, 1.0, 1.0],
+                size_by: SizeBy::Auto,
+                face_on: false,
+            },
+        }
+    }
+}
