@@ -1,7 +1,7 @@
 //! The defaults a researcher expects of each kind of data: a DTI volume opens as mrview,
-//! FSLeyes or Slicer show it (direction-encoded colour on black, glyph shapes readable, one
-//! slice seen face-on); a stress field or the demo as ParaView shows it (shape classes on white,
-//! an oblique view).
+//! FSLeyes or Slicer show it (direction-encoded colour on black, glyph shapes readable, the
+//! middle axial slice seen face-on); a stress field or the demo as ParaView shows it (shape
+//! classes on white, the whole field from an oblique view).
 //!
 //! The kind is told by the file format, not guessed from the tensors: NIfTI and NRRD are the
 //! formats diffusion tools write; VTK files, where stress and DTI fields both occur, keep the
@@ -28,6 +28,8 @@ pub struct Defaults {
     pub size_by: SizeBy,
     /// One slice shown is seen face-on (unless a view is asked for).
     pub face_on: bool,
+    /// With no slice asked for, the middle axial slice is shown (not the whole volume).
+    pub middle_slice: bool,
 }
 
 impl DataKind {
@@ -52,12 +54,14 @@ impl DataKind {
                 background: [0.0, 0.0, 0.0, 1.0],
                 size_by: SizeBy::None,
                 face_on: true,
+                middle_slice: true,
             },
             DataKind::General => Defaults {
                 color: ColorScheme::Shape,
                 background: [1.0, 1.0, 1.0, 1.0],
                 size_by: SizeBy::Auto,
                 face_on: false,
+                middle_slice: false,
             },
         }
     }

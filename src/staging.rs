@@ -125,14 +125,16 @@ pub struct Recipe {
     /// A scalar image under the glyphs of each plane the selection shows (with no plane, the
     /// middle axial one).
     pub underlay: Option<UnderlaySource>,
+    /// With no plane asked for, show the middle axial one (DTI data's default).
+    pub middle_slice: bool,
 }
 
 impl Recipe {
-    /// The selection drawn: with an underlay and no plane asked for, the middle z plane of the
-    /// lattice (the middle axial slice of a volume in RAS order).
+    /// The selection drawn: with an underlay or `middle_slice` and no plane asked for, the
+    /// middle z plane of the lattice (the middle axial slice of a volume in RAS order).
     pub fn selection_for(&self, field: &TensorField) -> Selection {
         let mut sel = self.selection.clone();
-        if self.underlay.is_some() && sel.slicing == Slicing::Whole {
+        if (self.underlay.is_some() || self.middle_slice) && sel.slicing == Slicing::Whole {
             if let Some(d) = field.lattice_dims() {
                 sel.slicing = Slicing::Planes(vec![Plane {
                     axis: 2,

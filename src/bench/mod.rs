@@ -2,6 +2,7 @@
 //! views, timed in one process with the methods interleaved across repetitions (so machine
 //! drift hits all alike), each compared once with the exact reference.
 
+pub mod brain;
 pub mod chart;
 pub mod report;
 

@@ -103,6 +103,7 @@ impl SceneArgs {
             selection,
             glyph,
             underlay: None,
+            middle_slice: false,
         })
     }
 }
@@ -122,9 +123,10 @@ pub struct SelectArgs {
     #[arg(long, value_name = "N", default_value_t = 1)]
     pub stride: usize,
     /// A lattice plane x=I, y=J or z=K (index from 0; structured data only). Repeatable: the
-    /// union of the planes is kept.
-    #[arg(long = "slice", value_name = "AXIS=INDEX")]
-    pub slices: Vec<Plane>,
+    /// union of the planes is kept. `all`: the whole lattice (DTI files, NIfTI and NRRD, show
+    /// the middle axial slice when no --slice is given).
+    #[arg(long = "slice", value_name = "AXIS=INDEX|all")]
+    pub slices: Vec<SliceArg>,
     /// Region of interest: keep glyphs whose centre (world coordinates) is in the box
     /// x0,y0,z0,x1,y1,z1 (bounds included).
     #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1", value_parser = parse_roi, allow_hyphen_values = true)]
@@ -153,7 +155,32 @@ fn parse_window(s: &str) -> Result<[f32; 2], String> {
     Ok([lo, hi])
 }
 
+/// One `--slice`: a lattice plane, or `all` of the lattice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SliceArg {
+    Plane(Plane),
+    All,
+}
+
+impl FromStr for SliceArg {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        if s.trim().eq_ignore_ascii_case("all") {
+            Ok(SliceArg::All)
+        } else {
+            s.parse::<Plane>()
+                .map(SliceArg::Plane)
+                .map_err(|e| format!("{e}, or all"))
+        }
+    }
+}
+
 impl SelectArgs {
+    /// Whether a data kind's default slice applies: no `--slice` was given.
+    pub fn no_slice(&self) -> bool {
+        self.slices.is_empty()
+    }
+
     /// How the underlay is shown (`--underlay-range`).
     pub fn underlay_view(&self) -> UnderlayView {
         UnderlayView {
@@ -164,14 +191,25 @@ impl SelectArgs {
 
     /// The selection these flags ask for, checked as far as it can be without the data.
     pub fn selection(&self) -> Result<Selection> {
+        let planes: Vec<Plane> = self
+            .slices
+            .iter()
+            .filter_map(|s| match s {
+                SliceArg::Plane(p) => Some(*p),
+                SliceArg::All => None,
+            })
+            .collect();
+        if !planes.is_empty() && planes.len() < self.slices.len() {
+            bail!("--slice all cannot be given with planes");
+        }
         let sel = Selection {
             fa_min: self.fa_min.unwrap_or(0.0),
             fa_max: self.fa_max.unwrap_or(1.0),
             stride: self.stride,
-            slicing: if self.slices.is_empty() {
+            slicing: if planes.is_empty() {
                 Slicing::Whole
             } else {
-                Slicing::Planes(self.slices.clone())
+                Slicing::Planes(planes)
             },
             roi: self.roi,
         };

@@ -48,13 +48,21 @@ pub struct BenchArgs {
     /// report.md and large_volume.csv; 0 = off. Runs first, so its peak memory is its own.
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub large: usize,
+    /// Also time a whole-brain DTI volume (128×128×70 float32 tensors, gzip NIfTI, written to
+    /// a temporary file first): reading it and its first image as `render` shows it (the middle
+    /// axial slice, DTI defaults); in report.md and brain_volume.csv.
+    #[arg(long)]
+    pub brain: bool,
     #[command(flatten)]
     pub scene: SceneArgs,
 }
 
-/// What `--large N` measured.
+/// What one run through the staged pipeline (`--large N`, `--brain`) measured.
 struct Large {
-    n: usize,
+    /// The section's title in report.md.
+    title: String,
+    /// What it is, in a sentence.
+    about: String,
     method: Method,
     timings: Timings,
     /// Stages that ran (a failed stage ends the run: later ones did not).
@@ -64,23 +72,98 @@ struct Large {
     peak_rss_bytes: Option<u64>,
 }
 
+impl Large {
+    fn new(title: String, about: String, method: Method) -> Self {
+        Self {
+            title,
+            about,
+            method,
+            timings: Timings::default(),
+            stages_run: 0,
+            error: None,
+            glyphs: 0,
+            peak_rss_bytes: None,
+        }
+    }
+}
+
 /// One run of grid:N through the staged pipeline; a failure is recorded, not fatal.
 fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKind) -> Large {
-    let mut large = Large {
-        n: args.large,
-        method,
-        timings: Timings::default(),
-        stages_run: 0,
-        error: None,
-        glyphs: 0,
-        peak_rss_bytes: None,
-    };
-    let source = Source::Demo(Demo { n: args.large });
-    let progress = Terminal::new(args.scene.quiet);
-    let staged = args
+    let n = args.large;
+    let source = Source::Demo(Demo { n });
+    let recipe = args
         .scene
-        .recipe(Selection::default(), glyph, &DataKind::General.defaults())
-        .and_then(|recipe| Ok(staging::stage(&source, &recipe, &progress)?));
+        .recipe(Selection::default(), glyph, &DataKind::General.defaults());
+    let title = format!("Large volume (grid:{n}, {} tensors)", n * n * n);
+    run_staged(
+        args,
+        gpu,
+        method,
+        glyph,
+        &source,
+        recipe,
+        title,
+        String::new(),
+    )
+}
+
+/// The whole-brain DTI volume, written to a temporary file, read and shown as `render` does.
+fn run_brain(args: &BenchArgs, gpu: &GpuRenderer, method: Method) -> Large {
+    let title = "Whole-brain DTI volume (128×128×70, float32, gzip NIfTI)".to_string();
+    // Beside the outputs, removed after the run.
+    let path = args
+        .out
+        .join(format!(".brain-{}.nii.gz", std::process::id()));
+    if let Err(e) = bench::brain::write(&path) {
+        std::fs::remove_file(&path).ok();
+        let mut l = Large::new(title, String::new(), method);
+        l.error = Some(format!("writing the volume: {e}"));
+        return l;
+    }
+    let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
+    let source = Source::File(path.clone());
+    let defaults = DataKind::of(&source).defaults();
+    let recipe = args
+        .scene
+        .recipe(Selection::default(), GlyphKind::Ellipsoid, &defaults)
+        .map(|r| staging::Recipe {
+            middle_slice: defaults.middle_slice,
+            ..r
+        });
+    let about = format!(
+        "The file is {:.1} MB. `load` is reading and inflating it; the first image is the \
+         middle axial slice with the DTI defaults, as `tensorglyph render FILE` shows it.",
+        bytes as f64 / 1e6
+    );
+    let run = run_staged(
+        args,
+        gpu,
+        method,
+        GlyphKind::Ellipsoid,
+        &source,
+        recipe,
+        title,
+        about,
+    );
+    std::fs::remove_file(&path).ok();
+    run
+}
+
+/// One run through the staged pipeline of `render`; a failure is recorded, not fatal.
+#[allow(clippy::too_many_arguments)]
+fn run_staged(
+    args: &BenchArgs,
+    gpu: &GpuRenderer,
+    method: Method,
+    glyph: GlyphKind,
+    source: &Source,
+    recipe: Result<staging::Recipe>,
+    title: String,
+    about: String,
+) -> Large {
+    let mut large = Large::new(title, about, method);
+    let progress = Terminal::new(args.scene.quiet);
+    let staged = recipe.and_then(|recipe| Ok(staging::stage(source, &recipe, &progress)?));
     match staged {
         Err(e) => large.error = Some(format!("{e:#}")),
         Ok(staged) => {
@@ -88,13 +171,15 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
             large.stages_run = 3;
             large.glyphs = staged.glyphs_selected;
             let (w, h) = args.size;
-            let camera = Camera::frame(
-                &Framing::default(),
-                staged.frame_centre,
-                staged.frame_radius,
-                w,
-                h,
-            );
+            let mut framing = Framing::default();
+            let (centre, radius) = match staged.face {
+                Some(face) => {
+                    framing.toward = Some(face.toward);
+                    (face.centre, face.radius)
+                }
+                None => (staged.frame_centre, staged.frame_radius),
+            };
+            let camera = Camera::frame(&framing, centre, radius, w, h);
             // As `render` draws it by default.
             let req = FrameRequest::preset(method, glyph, true, Preset::DEFAULT);
             let result = render_gpu(
@@ -176,13 +261,9 @@ fn large_markdown(l: &Large) -> String {
     let mut md = String::new();
     let _ = writeln!(
         md,
-        "## Large volume (grid:{}, {} tensors)\n\nOne run of the staged pipeline of `render` \
-         ({}, ellipsoids, {} glyphs in the scene). Peak RSS is the process's high-water mark \
-         (VmHWM) after each stage.\n",
-        l.n,
-        l.n * l.n * l.n,
-        l.method,
-        l.glyphs
+        "## {}\n\nOne run of the staged pipeline of `render` ({}, ellipsoids, {} glyphs in the \
+         scene). Peak RSS is the process's high-water mark (VmHWM) after each stage. {}\n",
+        l.title, l.method, l.glyphs, l.about
     );
     let _ = writeln!(md, "| stage | ms | peak RSS after (MiB) |\n|---|---:|---:|");
     for (stage, ms, peak, outcome) in large_stages(l) {
@@ -236,16 +317,23 @@ pub fn run(args: BenchArgs) -> Result<()> {
         glyphs: glyphs.clone(),
     };
     let style = args.scene.style(&DataKind::General.defaults())?;
-    let large = (args.large > 0).then(|| {
-        let method = opts.methods.first().copied().unwrap_or(Method::Gumhold);
-        run_large(&args, &gpu, method, glyphs[0])
-    });
-    if let Some(l) = &large {
-        let path = args.out.join("large_volume.csv");
+    let method = opts.methods.first().copied().unwrap_or(Method::Gumhold);
+    let mut staged_runs = Vec::new();
+    if args.large > 0 {
+        staged_runs.push((
+            "large_volume.csv",
+            run_large(&args, &gpu, method, glyphs[0]),
+        ));
+    }
+    if args.brain {
+        staged_runs.push(("brain_volume.csv", run_brain(&args, &gpu, method)));
+    }
+    for (csv, l) in &staged_runs {
+        let path = args.out.join(csv);
         report::write_atomic(&path, large_csv(l).as_bytes())
             .with_context(|| format!("{}: cannot write", path.display()))?;
         if let (Some(e), false) = (&l.error, args.scene.quiet) {
-            eprintln!("warning: large volume grid:{}: {e}", l.n);
+            eprintln!("warning: {}: {e}", l.title);
         }
     }
     let (w, h) = args.size;
@@ -273,7 +361,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
         rows.extend(bench::run(&gpu, name, &views, &opts, &report_progress));
         progress.end();
     }
-    write_outputs(&args, &rows, &adapter, large.as_ref())
+    let runs: Vec<&Large> = staged_runs.iter().map(|(_, l)| l).collect();
+    write_outputs(&args, &rows, &adapter, &runs)
 }
 
 fn chart_name(scene_index: usize, scene: &str, view: &str) -> String {
@@ -297,7 +386,7 @@ fn write_outputs(
     args: &BenchArgs,
     rows: &[Row],
     adapter: &str,
-    large: Option<&Large>,
+    staged_runs: &[&Large],
 ) -> Result<()> {
     let csv_path = args.out.join("speed_accuracy.csv");
     report::write_atomic(&csv_path, report::csv(rows).as_bytes())
@@ -337,7 +426,7 @@ fn write_outputs(
             let _ = writeln!(md, "{}", report::table(&these));
         }
     }
-    if let Some(l) = large {
+    for l in staged_runs {
         let _ = writeln!(md, "{}", large_markdown(l));
     }
     let _ = writeln!(md, "## What this shows\n\n{}", report::findings(rows));

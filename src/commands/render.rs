@@ -194,6 +194,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let options = draw.options(cam.method, cam.glyph, depth_correction)?;
     let recipe = Recipe {
         underlay: select.underlay.clone(),
+        middle_slice: defaults.middle_slice && select.no_slice(),
         ..scene_args.recipe(select.selection()?, cam.glyph, &defaults)?
     };
     let progress = Terminal::new(scene_args.quiet);

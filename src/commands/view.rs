@@ -83,6 +83,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         settings,
         framing: cam.framing()?,
         face_slice: defaults.face_on && cam.view.is_none(),
+        middle_slice: defaults.middle_slice && args.select.no_slice(),
         size: args.size,
         screenshot: args.screenshot,
         frames: args.frames,

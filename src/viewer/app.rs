@@ -13,6 +13,7 @@ use crate::progress::Silent;
 use crate::render::{GpuContext, GpuRenderer};
 use crate::scene::Scene;
 use crate::scene::UnderlaySource;
+use crate::select::Slicing;
 use crate::staging::{self, Recipe, Source};
 use crate::viewer::loader::{Loaded, Loading};
 use crate::viewer::navigation::{Navigation, axis_view};
@@ -53,6 +54,8 @@ pub struct ViewerApp {
     framing: Framing,
     /// The first scene, if it shows one slice, is seen face-on.
     face_slice: bool,
+    /// The first data opens on its middle axial slice.
+    middle_slice: bool,
     view: View3d,
     last_render: Option<RenderKey>,
     hover: Option<(u32, u32)>,
@@ -107,6 +110,7 @@ impl ViewerApp {
             nav: None,
             framing: opts.framing,
             face_slice: opts.face_slice,
+            middle_slice: opts.middle_slice,
             view: View3d::default(),
             last_render: None,
             hover: None,
@@ -157,6 +161,16 @@ impl ViewerApp {
                     .err()
                     .map(|e| format!("{e}; the selection was adjusted to fit"));
                 self.settings.clamp_to_lattice(data.field.lattice_dims());
+                if let (true, Some(d)) = (
+                    std::mem::take(&mut self.middle_slice),
+                    data.field.lattice_dims(),
+                ) && self.settings.selection.slicing == Slicing::Whole
+                {
+                    self.settings.selection.slicing = Slicing::Slice {
+                        axis: 2,
+                        index: d[2] / 2,
+                    };
+                }
                 self.data = Some(data);
                 self.data_generation += 1;
                 self.nav = None; // framed anew once the scene is built
@@ -186,6 +200,8 @@ impl ViewerApp {
             selection: key.selection.clone(),
             glyph: key.glyph,
             underlay: key.underlay.clone(),
+            // The panel shows the slicing it draws: the middle slice is set there on load.
+            middle_slice: false,
         };
         let volume = data.underlay.as_deref();
         let built = match staging::build(

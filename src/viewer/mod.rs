@@ -33,6 +33,8 @@ pub struct Options {
     pub framing: Framing,
     /// When the first scene shows one slice, see it face-on and close (DTI data).
     pub face_slice: bool,
+    /// The first data opens on its middle axial slice (DTI data with no `--slice`).
+    pub middle_slice: bool,
     /// Window size in points.
     pub size: (u32, u32),
     /// Scripted mode: render `frames` frames, write a screenshot of the whole window, exit.

@@ -1,0 +1,133 @@
+//! A whole-brain-sized DTI volume for `bench --brain`: 128×128×70 voxels of float32 tensors
+//! in FSL's 4-D order, gzip-compressed, as `dtifit --save_tensor` writes them, so reading and
+//! the first image are timed on the size and encoding researchers open.
+//!
+//! Written by hand (a 348-byte NIfTI-1 header and the voxels): the `nifti` crate's writer needs
+//! its ndarray feature, which this project leaves out. Only the fields the readers use are set.
+
+use std::io::Write;
+use std::path::Path;
+
+use flate2::Compression;
+use flate2::write::GzEncoder;
+
+/// Voxels along x, y, z (2 mm, as a typical clinical DTI acquisition).
+pub const DIMS: [usize; 3] = [128, 128, 70];
+pub const VOXEL_MM: f32 = 2.0;
+
+/// The tensor (xx, xy, xz, yy, yz, zz) of voxel (i, j, k): zero outside an ellipsoidal "brain",
+/// isotropic CSF-like tensors in central "ventricles", elsewhere a white-matter-like cigar
+/// whose axis turns around the z axis (and tilts with height), so DEC colours vary.
+pub fn tensor(i: usize, j: usize, k: usize) -> [f32; 6] {
+    let [nx, ny, nz] = DIMS.map(|n| n as f64);
+    let x = (i as f64 + 0.5) / nx * 2.0 - 1.0;
+    let y = (j as f64 + 0.5) / ny * 2.0 - 1.0;
+    let z = (k as f64 + 0.5) / nz * 2.0 - 1.0;
+    let r2 = (x / 0.85).powi(2) + (y / 0.95).powi(2) + (z / 0.9).powi(2);
+    if r2 > 1.0 {
+        return [0.0; 6];
+    }
+    if (x / 0.15).powi(2) + (y / 0.3).powi(2) + (z / 0.3).powi(2) < 1.0 {
+        return [3.0e-3, 0.0, 0.0, 3.0e-3, 0.0, 3.0e-3];
+    }
+    let r = x.hypot(y).max(1e-6);
+    let tilt = 0.6 * z;
+    let e1 = [-y / r * tilt.cos(), x / r * tilt.cos(), tilt.sin()];
+    let (l1, l2) = (1.7e-3, 0.3e-3 + 0.2e-3 * r2);
+    // T = l2 I + (l1 - l2) e1 e1ᵀ
+    let t = |a: usize, b: usize| {
+        let id = if a == b { l2 } else { 0.0 };
+        (id + (l1 - l2) * e1[a] * e1[b]) as f32
+    };
+    [t(0, 0), t(0, 1), t(0, 2), t(1, 1), t(1, 2), t(2, 2)]
+}
+
+/// The 352 bytes before the voxels: header and an empty extension flag.
+fn header() -> Vec<u8> {
+    let mut h = vec![0u8; 352];
+    let put_i16 =
+        |h: &mut Vec<u8>, at: usize, v: i16| h[at..at + 2].copy_from_slice(&v.to_le_bytes());
+    let put_f32 =
+        |h: &mut Vec<u8>, at: usize, v: f32| h[at..at + 4].copy_from_slice(&v.to_le_bytes());
+    h[0..4].copy_from_slice(&348i32.to_le_bytes());
+    let dim = [
+        4,
+        DIMS[0] as i16,
+        DIMS[1] as i16,
+        DIMS[2] as i16,
+        6,
+        1,
+        1,
+        1,
+    ];
+    for (n, d) in dim.into_iter().enumerate() {
+        put_i16(&mut h, 40 + 2 * n, d);
+    }
+    put_i16(&mut h, 70, 16); // float32
+    put_i16(&mut h, 72, 32);
+    let pixdim = [1.0, VOXEL_MM, VOXEL_MM, VOXEL_MM, 1.0, 0.0, 0.0, 0.0];
+    for (n, p) in pixdim.into_iter().enumerate() {
+        put_f32(&mut h, 76 + 4 * n, p);
+    }
+    put_f32(&mut h, 108, 352.0);
+    h[123] = 2; // millimetres
+    put_i16(&mut h, 254, 1); // sform: scanner
+    let half = DIMS.map(|n| -(n as f32) * VOXEL_MM / 2.0);
+    for (row, at) in [280, 296, 312].into_iter().enumerate() {
+        for c in 0..3 {
+            put_f32(&mut h, at + 4 * c, if c == row { VOXEL_MM } else { 0.0 });
+        }
+        put_f32(&mut h, at + 12, half[row]);
+    }
+    h[344..348].copy_from_slice(b"n+1\0");
+    h
+}
+
+/// Write the volume as a gzip-compressed NIfTI-1 file.
+pub fn write(path: &Path) -> std::io::Result<()> {
+    let file = std::fs::File::create(path)?;
+    let mut gz = GzEncoder::new(std::io::BufWriter::new(file), Compression::default());
+    gz.write_all(&header())?;
+    let [nx, ny, nz] = DIMS;
+    // Volume by volume (the 4th index slowest), x fastest within each.
+    let mut plane = Vec::with_capacity(nx * ny * 4);
+    for c in 0..6 {
+        for k in 0..nz {
+            plane.clear();
+            for j in 0..ny {
+                for i in 0..nx {
+                    plane.extend_from_slice(&tensor(i, j, k)[c].to_le_bytes());
+                }
+            }
+            gz.write_all(&plane)?;
+        }
+    }
+    gz.finish()?.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::{ReadOptions, read_field};
+
+    #[test]
+    fn the_volume_reads_back_voxel_for_voxel() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("brain.nii.gz");
+        write(&path).unwrap();
+        let f = read_field(&path, &ReadOptions::default()).unwrap();
+        assert_eq!(f.dims, Some(DIMS));
+        assert_eq!(f.len(), DIMS.iter().product::<usize>());
+        for (i, j, k) in [(64, 64, 35), (10, 64, 35), (64, 20, 50), (0, 0, 0)] {
+            let n = i + DIMS[0] * (j + DIMS[1] * k);
+            let [xx, xy, xz, yy, yz, zz] = tensor(i, j, k).map(f64::from);
+            // Axis-aligned sform with positive determinant: the voxel frame is the world's.
+            assert_eq!(f.world_tensor(n), [xx, xy, xz, xy, yy, yz, xz, yz, zz]);
+            let p = f.positions[n];
+            let expect = [i, j, k].map(|v| v as f64 * 2.0);
+            for a in 0..3 {
+                assert!((p[a] - (expect[a] - DIMS[a] as f64)).abs() < 1e-9);
+            }
+        }
+    }
+}
