@@ -300,6 +300,12 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             report.frame_ms,
             method
         );
+        if report.glyphs_clamped > 0 {
+            eprintln!(
+                "{} glyphs larger than the 98th percentile were shown at its size (--scale auto)",
+                report.glyphs_clamped
+            );
+        }
         if let Some(a) = &report.accuracy {
             eprintln!("{}", serde_json::to_string_pretty(a)?);
         }

@@ -31,6 +31,8 @@ struct Built {
     scene: Scene,
     /// Instance k is glyph `selected[k]` of the set.
     selected: Vec<usize>,
+    /// Of those, glyphs `--scale auto` scaled down to the robust largest size.
+    clamped: usize,
     generation: u64,
 }
 
@@ -233,6 +235,7 @@ impl ViewerApp {
             frame_centre,
             frame_radius,
             face,
+            glyphs_clamped,
             ..
         } = built;
         if let Err(e) = self.view.set_scene(&self.gpu, &scene) {
@@ -266,6 +269,7 @@ impl ViewerApp {
             key,
             scene,
             selected,
+            clamped: glyphs_clamped,
             generation: self.scene_generation,
         });
     }
@@ -521,6 +525,7 @@ impl eframe::App for ViewerApp {
                     glyphs_drawn: self.drawn,
                     frame: self.view.last_frame,
                     adapter: &adapter,
+                    glyphs_clamped: self.built.as_ref().map_or(0, |b| b.clamped),
                     underlay_file: self.underlay_file.as_ref(),
                     underlay_window: self
                         .built

@@ -67,6 +67,8 @@ pub struct PanelInfo<'a> {
     pub glyphs_drawn: usize,
     pub frame: Option<FrameTime>,
     pub adapter: &'a str,
+    /// Selected glyphs `--scale auto` scaled down to the robust largest size.
+    pub glyphs_clamped: usize,
     /// `--underlay FILE`, offered when its volume was read.
     pub underlay_file: Option<&'a crate::scene::UnderlaySource>,
     /// The scene's underlay window (its 2nd and 98th percentiles).

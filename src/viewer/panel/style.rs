@@ -44,6 +44,14 @@ pub(super) fn style_section(
             ui.colored_label(Color32::from_rgb(200, 30, 30), "auto or a number > 0");
         }
     });
+    if style.scale == Scale::Auto && info.glyphs_clamped > 0 {
+        ui.label(format!(
+            "{} glyphs above the {:.0}th percentile shown at its size",
+            info.glyphs_clamped,
+            crate::glyph::style::AUTO_PERCENTILE * 100.0
+        ))
+        .on_hover_text("--scale auto: outliers (a singularity, CSF) are scaled down, shape kept");
+    }
     egui::ComboBox::from_label("size by")
         .selected_text(style.size_by.name())
         .show_ui(ui, |ui| {

@@ -47,6 +47,7 @@ fn info(data: Option<&Loaded>) -> PanelInfo<'_> {
             gpu_timestamps: true,
         }),
         adapter: "llvmpipe",
+        glyphs_clamped: 3,
         underlay_file: None,
         underlay_window: Some([0.1, 0.9]),
     }
