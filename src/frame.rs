@@ -40,6 +40,72 @@ impl Frame {
         ids.dedup();
         ids.len()
     }
+
+    /// A frame rendered `n`×`n` times larger, brought to its size (`--ssaa`): each pixel's
+    /// colour is the box average of its n×n samples, weighted by alpha (so a transparent
+    /// background adds no colour to the edges) and rounded; its id and aux are its centre
+    /// sample's (the sample at (n/2, n/2): the pixel centre exactly for odd n), so picking and
+    /// the metrics see single rays. Timings and counts are kept.
+    pub fn downsample(&self, n: u32) -> Frame {
+        if n <= 1 {
+            return self.clone();
+        }
+        let (w, h) = (self.width / n, self.height / n);
+        let (n, sw) = (n as usize, self.width as usize);
+        let mut color = Vec::with_capacity(w as usize * h as usize * 4);
+        let mut ids = Vec::with_capacity(w as usize * h as usize);
+        let mut aux = self
+            .aux
+            .as_ref()
+            .map(|_| Vec::with_capacity(ids.capacity()));
+        for y in 0..h as usize {
+            for x in 0..w as usize {
+                let mut sum = [0u64; 4];
+                for sy in 0..n {
+                    let row = (y * n + sy) * sw;
+                    for sx in 0..n {
+                        let p = &self.color[4 * (row + x * n + sx)..][..4];
+                        let a = u64::from(p[3]);
+                        for c in 0..3 {
+                            sum[c] += u64::from(p[c]) * a;
+                        }
+                        sum[3] += a;
+                    }
+                }
+                let count = (n * n) as u64;
+                for c in 0..3 {
+                    color.push(if sum[3] == 0 {
+                        0
+                    } else {
+                        ((sum[c] + sum[3] / 2) / sum[3]) as u8
+                    });
+                }
+                color.push(((sum[3] + count / 2) / count) as u8);
+                let centre = (y * n + n / 2) * sw + x * n + n / 2;
+                ids.push(self.ids[centre]);
+                if let (Some(out), Some(src)) = (&mut aux, &self.aux) {
+                    out.push(src[centre]);
+                }
+            }
+        }
+        Frame {
+            width: w,
+            height: h,
+            color,
+            ids,
+            aux,
+            ..self.clone_timings()
+        }
+    }
+
+    fn clone_timings(&self) -> Frame {
+        Frame {
+            frame_ms: self.frame_ms.clone(),
+            fragments: self.fragments,
+            vertices: self.vertices,
+            ..Frame::default()
+        }
+    }
 }
 
 /// Blinn-Phong headlight parameters: one set for every method and the reference.
@@ -97,4 +163,57 @@ pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
         return Err(format!("size '{s}' has a zero side"));
     }
     Ok((w, h))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn downsampling_averages_colour_by_alpha_and_keeps_the_centre_id() {
+        // 3x3 samples of one pixel: a glyph (id 7, red, opaque) in 4 samples, the rest a
+        // transparent white background; the centre sample is the glyph's.
+        let mut f = Frame {
+            width: 3,
+            height: 3,
+            color: [255u8, 255, 255, 0].repeat(9),
+            ids: vec![0; 9],
+            aux: Some(vec![[0.0; 4]; 9]),
+            frame_ms: vec![1.5],
+            ..Frame::default()
+        };
+        for i in [1, 3, 4, 5] {
+            f.color[4 * i..4 * i + 4].copy_from_slice(&[200, 10, 20, 255]);
+            f.ids[i] = 7;
+            f.aux.as_mut().unwrap()[i] = [0.0, 0.0, 1.0, 0.5];
+        }
+        let d = f.downsample(3);
+        assert_eq!((d.width, d.height), (1, 1));
+        // No white bleeds in: the colour is the glyph's, the alpha its coverage 4/9.
+        assert_eq!(
+            d.color,
+            vec![200, 10, 20, (4.0f64 * 255.0 / 9.0).round() as u8]
+        );
+        assert_eq!(d.ids, vec![7]);
+        assert_eq!(d.aux.unwrap(), vec![[0.0, 0.0, 1.0, 0.5]]);
+        assert_eq!(d.frame_ms, vec![1.5]);
+        // Opaque samples average plainly.
+        let g = Frame {
+            width: 2,
+            height: 1,
+            color: vec![0, 0, 0, 255, 255, 255, 255, 255],
+            ids: vec![1, 2],
+            ..Frame::default()
+        };
+        let d = Frame {
+            width: 2,
+            height: 2,
+            color: [g.color.clone(), g.color.clone()].concat(),
+            ids: vec![1, 2, 3, 4],
+            ..Frame::default()
+        }
+        .downsample(2);
+        assert_eq!(d.color, vec![128, 128, 128, 255]);
+        assert_eq!(d.ids, vec![4], "even n: the sample at (n/2, n/2)");
+    }
 }

@@ -161,16 +161,34 @@ pub fn write_png(
     height: u32,
     rgba: &[u8],
 ) -> std::io::Result<()> {
+    write_png_dpi(path, inputs, width, height, rgba, None)
+}
+
+/// [`write_png`] with the resolution `dpi` (dots per inch) in the PNG's pHYs chunk, so page
+/// layout programs place the figure at its intended size.
+pub fn write_png_dpi(
+    path: &Path,
+    inputs: &[&Path],
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+    dpi: Option<f64>,
+) -> std::io::Result<()> {
     write_atomic(path, inputs, |w| {
-        image::write_buffer_with_format(
-            w,
-            rgba,
-            width,
-            height,
-            image::ExtendedColorType::Rgba8,
-            image::ImageFormat::Png,
-        )
-        .map_err(Error::other)
+        let mut enc = png::Encoder::new(w, width, height);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        if let Some(dpi) = dpi {
+            let per_metre = (dpi / 0.0254).round() as u32;
+            enc.set_pixel_dims(Some(png::PixelDimensions {
+                xppu: per_metre,
+                yppu: per_metre,
+                unit: png::Unit::Meter,
+            }));
+        }
+        let mut writer = enc.write_header().map_err(Error::other)?;
+        writer.write_image_data(rgba).map_err(Error::other)?;
+        writer.finish().map_err(Error::other)
     })
 }
 

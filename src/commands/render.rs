@@ -13,7 +13,7 @@ use tensorglyph::backend::Backend;
 use tensorglyph::camera::Camera;
 use tensorglyph::defaults::DataKind;
 use tensorglyph::frame::Frame;
-use tensorglyph::image_out::write_png;
+use tensorglyph::image_out::{write_png, write_png_dpi};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
 use tensorglyph::request::{FrameRequest, GlyphKind, Method};
@@ -43,6 +43,17 @@ pub struct ImageArgs {
     /// With --reference-check: write a picture of where the two differ.
     #[arg(long, value_name = "FILE.png")]
     pub diff: Option<PathBuf>,
+    /// Anti-aliasing: render N×N samples per pixel and average them (box filter); ids and the
+    /// accuracy metrics use each pixel's centre sample.
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub ssaa: u32,
+    /// A transparent background: alpha 0 where no glyph (or underlay) is drawn.
+    #[arg(long)]
+    pub transparent: bool,
+    /// The resolution written into the PNG (pHYs), in dots per inch.
+    #[arg(long, value_name = "DPI", allow_hyphen_values = true)]
+    pub dpi: Option<f64>,
 }
 
 /// Everything `render` and `demo` share besides the input and output.
@@ -190,6 +201,15 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let mut framing = cam.framing()?;
     let defaults = DataKind::of(src).defaults();
     tensorglyph::frame::check_size(image.size.0, image.size.1)?;
+    if let Some(d) = image.dpi
+        && !(d.is_finite() && d > 0.0 && d / 0.0254 < f64::from(u32::MAX))
+    {
+        bail!("--dpi must be a positive number of dots per inch, got {d}");
+    }
+    let ssaa = image.ssaa;
+    let (w, h) = image.size;
+    tensorglyph::frame::check_size(w.saturating_mul(ssaa), h.saturating_mul(ssaa))
+        .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?;
     let depth_correction = !cam.no_depth_correction;
     let options = draw.options(cam.method, cam.glyph, depth_correction)?;
     let recipe = Recipe {
@@ -201,7 +221,6 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let staged = stage(src, &recipe, &progress)?;
     let mut timings: Timings = staged.timings;
     let mut scene = staged.scene;
-    let (w, h) = image.size;
     // The whole field, not the selection: a slice is drawn where it is in the volume; but one
     // slice of a DTI volume is seen face-on and close, as DTI viewers show it.
     let (centre, radius) = match staged.face {
@@ -211,7 +230,8 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         }
         _ => (staged.frame_centre, staged.frame_radius),
     };
-    let camera = Camera::frame(&framing, centre, radius, w, h);
+    // With --ssaa the camera renders N×N samples per output pixel.
+    let camera = Camera::frame(&framing, centre, radius, w * ssaa, h * ssaa);
     if draw.sort() {
         scene.sort_front_to_back(&camera);
     }
@@ -222,7 +242,10 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let req = backend.adapt(
         FrameRequest {
             aux: image.reference_check,
-            background: image.background.unwrap_or(defaults.background),
+            background: {
+                let [r, g, b, _] = image.background.unwrap_or(defaults.background);
+                [r, g, b, if image.transparent { 0.0 } else { 1.0 }]
+            },
             frames: image.frames.max(1),
             underlay: select.underlay_view(),
             ..FrameRequest::with_options(cam.method, cam.glyph, depth_correction, &options)
@@ -238,10 +261,14 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         ),
         None => (None, None),
     };
-    let frame: Frame = backend.render(&scene, &camera, &req, &mut timings, &progress)?;
+    let frame: Frame = backend
+        .render(&scene, &camera, &req, &mut timings, &progress)?
+        .downsample(ssaa);
 
     let accuracy = if image.reference_check {
-        let reference = ReferenceScene::new(&scene, &camera, req.glyph()).render(&req);
+        let reference = ReferenceScene::new(&scene, &camera, req.glyph())
+            .render(&req)
+            .downsample(ssaa);
         if let Some(d) = &image.diff {
             write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
                 .with_context(|| format!("{}: cannot write", d.display()))?;
@@ -250,7 +277,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     } else {
         None
     };
-    write_png(output, &inputs, w, h, &frame.color)
+    write_png_dpi(output, &inputs, w, h, &frame.color, image.dpi)
         .with_context(|| format!("{}: cannot write", output.display()))?;
 
     let Visibility {

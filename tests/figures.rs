@@ -1,0 +1,143 @@
+//! Figure export: `--ssaa N` (N×N samples per pixel, box filter), `--transparent` and `--dpi`.
+//! Truth: the same scene rendered at N× the size without anti-aliasing (each pixel's alpha is
+//! the share of its samples a glyph covers), and the PNG's own chunks read back by `png`.
+
+use std::path::{Path, PathBuf};
+
+mod common;
+use common::cli::{json, stderr, tg};
+
+fn tmp(name: &str) -> PathBuf {
+    std::env::temp_dir().join(format!("tg-fig-{}-{name}", std::process::id()))
+}
+
+/// RGBA pixels, size and pixels per metre of a PNG.
+fn read_png(path: &Path) -> (Vec<u8>, (u32, u32), Option<u32>) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let info = reader.info();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    let size = (info.width, info.height);
+    let ppm = info.pixel_dims.map(|d| {
+        assert_eq!(d.unit, png::Unit::Meter);
+        assert_eq!(d.xppu, d.yppu);
+        d.xppu
+    });
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let n = reader.next_frame(&mut buf).unwrap().buffer_size();
+    buf.truncate(n);
+    (buf, size, ppm)
+}
+
+#[test]
+fn supersampled_alpha_is_the_covered_share_of_the_samples() {
+    for method in ["gumhold", "reference"] {
+        let small = tmp(&format!("{method}-ssaa.png"));
+        let big = tmp(&format!("{method}-big.png"));
+        let common = [
+            "--demo",
+            "grid:5",
+            "--transparent",
+            "--method",
+            method,
+            "-q",
+        ];
+        let r = tg(&[
+            &[
+                "render",
+                "-o",
+                small.to_str().unwrap(),
+                "--size",
+                "120x90",
+                "--ssaa",
+                "3",
+                "--dpi",
+                "300",
+            ][..],
+            &common[..],
+        ]
+        .concat());
+        assert!(r.status.success(), "{}", stderr(&r));
+        let r = tg(&[
+            &["render", "-o", big.to_str().unwrap(), "--size", "360x270"][..],
+            &common[..],
+        ]
+        .concat());
+        assert!(r.status.success(), "{}", stderr(&r));
+        let (s, size, ppm) = read_png(&small);
+        let (b, _, no_ppm) = read_png(&big);
+        assert_eq!(size, (120, 90));
+        assert_eq!(
+            ppm,
+            Some((300.0f64 / 0.0254).round() as u32),
+            "pHYs of 300 dpi"
+        );
+        assert_eq!(no_ppm, None);
+        let mut partial = 0;
+        for y in 0..90 {
+            for x in 0..120 {
+                let covered = (0..9)
+                    .filter(|k| {
+                        let (sx, sy) = (3 * x + k % 3, 3 * y + k / 3);
+                        b[4 * (sy * 360 + sx) + 3] == 255
+                    })
+                    .count();
+                let alpha = s[4 * (y * 120 + x) + 3];
+                assert_eq!(
+                    alpha,
+                    (covered as f64 * 255.0 / 9.0).round() as u8,
+                    "{method} pixel ({x}, {y})"
+                );
+                partial += usize::from(covered > 0 && covered < 9);
+            }
+        }
+        assert!(
+            partial > 50,
+            "edges are anti-aliased ({partial} partial pixels)"
+        );
+        // Fully transparent outside: alpha 0 carries no colour.
+        assert_eq!(&s[..4], &[0, 0, 0, 0]);
+        std::fs::remove_file(&small).ok();
+        std::fs::remove_file(&big).ok();
+    }
+}
+
+#[test]
+fn supersampled_frames_are_checked_against_the_reference_sampled_the_same_way() {
+    let out = tmp("check.png");
+    let r = tg(&[
+        "render",
+        "--demo",
+        "grid:6",
+        "-o",
+        out.to_str().unwrap(),
+        "--size",
+        "160x120",
+        "--ssaa",
+        "2",
+        "--reference-check",
+        "--json",
+        "-q",
+    ]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let j = json(&r);
+    assert!(j["coverage_mismatch"].as_f64().unwrap() <= 1e-3, "{j}");
+    assert!(j["id_mismatch"].as_f64().unwrap() <= 1e-3, "{j}");
+    assert_eq!(j["width"], 160);
+    std::fs::remove_file(&out).ok();
+    for (args, what) in [
+        (vec!["--ssaa", "0"], "--ssaa"),
+        (vec!["--ssaa", "9"], "--ssaa"),
+        (vec!["--dpi", "-3"], "--dpi"),
+        (vec!["--size", "8000x8000", "--ssaa", "2"], "--ssaa 2"),
+    ] {
+        let mut a = vec!["render", "--demo", "grid:2", "-o", out.to_str().unwrap()];
+        a.extend(args);
+        let r = tg(&a);
+        let e = stderr(&r);
+        assert_eq!(r.status.code(), Some(2), "{e}");
+        assert_eq!(e.trim().lines().count(), 1, "{e}");
+        assert!(e.contains(what), "{e}");
+        assert!(!out.exists());
+    }
+}
