@@ -55,6 +55,7 @@ pub mod twin;
 pub mod files;
 pub mod image_out;
 pub mod info;
+pub mod legend;
 pub mod mem;
 
 // Front ends in the library (the binary adds arguments and output formatting).

@@ -272,6 +272,8 @@ pub struct Staged {
     pub glyphs_clamped: usize,
     /// With one slice shown: how to see it face-on.
     pub face: Option<FaceOn>,
+    /// The style with the field's numbers fixed (for the legend).
+    pub style: ResolvedStyle,
     pub timings: Timings,
 }
 
@@ -327,30 +329,14 @@ pub fn stage(
 
     let t = Instant::now();
     let volume = read_underlay(&recipe.underlay)?;
-    let selection = recipe.selection_for(&field);
-    let resolved = recipe.style.resolve(&set, field_spacing(&field));
-    let indices = select(&field, &set, &selection)?;
-    let mut built = match indices {
-        None => {
-            let scene = build_scene(&set, &resolved, recipe.glyph, progress);
-            Built::whole(scene, set.glyphs.len())
-        }
-        Some(indices) => {
-            let (c, r) = whole_field_bounds(&set, &resolved, recipe.glyph, progress);
-            let subset = Selection::subset(&set, &indices);
-            let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
-            Built::selected(scene, (c, r), set.glyphs.len(), indices)
-        }
-    };
-    add_underlay(
-        &mut built,
+    let built = build(
         &field,
         &set,
+        field_spacing(&field),
         recipe,
-        &selection,
         volume.as_ref(),
+        progress,
     )?;
-    built.face = face_on(&built, &field, &selection);
     drop(field);
     drop(set);
     timings.scene = ms(t);
@@ -362,6 +348,7 @@ pub fn stage(
         face: built.face,
         frame_centre: built.frame_centre,
         frame_radius: built.frame_radius,
+        style: built.style,
         scene: built.scene,
         timings,
     })
@@ -380,11 +367,14 @@ pub struct Built {
     pub glyphs_valid: usize,
     /// With one slice shown: how to see it face-on.
     pub face: Option<FaceOn>,
+    /// The style with the field's numbers fixed (for the legend).
+    pub style: ResolvedStyle,
 }
 
 impl Built {
-    fn whole((scene, clamped): (Scene, usize), valid: usize) -> Self {
+    fn whole((scene, clamped): (Scene, usize), valid: usize, style: ResolvedStyle) -> Self {
         Self {
+            style,
             glyphs_clamped: clamped,
             frame_centre: scene.centre,
             frame_radius: scene.radius,
@@ -400,8 +390,10 @@ impl Built {
         (c, r): (DVec3, f64),
         valid: usize,
         selected: Vec<usize>,
+        style: ResolvedStyle,
     ) -> Self {
         Self {
+            style,
             scene,
             glyphs_clamped: clamped,
             selected,
@@ -429,12 +421,13 @@ pub fn build(
         None => Built::whole(
             build_scene(set, &resolved, recipe.glyph, progress),
             set.glyphs.len(),
+            resolved,
         ),
         Some(indices) => {
             let bounds = whole_field_bounds(set, &resolved, recipe.glyph, progress);
             let subset = Selection::subset(set, &indices);
             let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
-            Built::selected(scene, bounds, set.glyphs.len(), indices)
+            Built::selected(scene, bounds, set.glyphs.len(), indices, resolved)
         }
     };
     add_underlay(&mut built, field, set, recipe, &selection, volume)?;

@@ -141,3 +141,55 @@ fn supersampled_frames_are_checked_against_the_reference_sampled_the_same_way() 
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn a_legend_changes_only_its_opaque_box_in_the_emptiest_corner() {
+    let plain = tmp("plain.png");
+    let with = tmp("legend.png");
+    let base = [
+        "render",
+        "--demo",
+        "grid:6",
+        "--size",
+        "640x480",
+        "--transparent",
+        "-q",
+    ];
+    let r = tg(&[&base[..], &["-o", plain.to_str().unwrap()]].concat());
+    assert!(r.status.success(), "{}", stderr(&r));
+    let r = tg(&[&base[..], &["-o", with.to_str().unwrap(), "--legend"]].concat());
+    assert!(r.status.success(), "{}", stderr(&r));
+    let (a, _, _) = read_png(&plain);
+    let (b, _, _) = read_png(&with);
+    // The changed pixels form one box, opaque, covering no glyph pixel of the plain image.
+    let changed: Vec<(usize, usize)> = (0..480)
+        .flat_map(|y| (0..640).map(move |x| (x, y)))
+        .filter(|&(x, y)| a[4 * (y * 640 + x)..][..4] != b[4 * (y * 640 + x)..][..4])
+        .collect();
+    assert!(
+        changed.len() > 2000,
+        "a legend was drawn ({} pixels)",
+        changed.len()
+    );
+    let (x0, x1) = (
+        changed.iter().map(|p| p.0).min().unwrap(),
+        changed.iter().map(|p| p.0).max().unwrap(),
+    );
+    let (y0, y1) = (
+        changed.iter().map(|p| p.1).min().unwrap(),
+        changed.iter().map(|p| p.1).max().unwrap(),
+    );
+    let mut glyph_pixels_under = 0;
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            let i = 4 * (y * 640 + x);
+            assert_eq!(b[i + 3], 255, "the legend is opaque at ({x}, {y})");
+            glyph_pixels_under += usize::from(a[i + 3] == 255);
+        }
+    }
+    // Some corner of the 6³ demo is free of glyphs at this size.
+    assert_eq!(glyph_pixels_under, 0, "the legend covers glyphs");
+    assert!(x0 < 20 || x1 > 620, "in a corner");
+    std::fs::remove_file(&plain).ok();
+    std::fs::remove_file(&with).ok();
+}

@@ -226,6 +226,7 @@ impl ViewerApp {
                     frame_radius: 1.0,
                     glyphs_valid: data.set.glyphs.len(),
                     face: None,
+                    style: recipe.style.resolve(&data.set, data.spacing),
                 }
             }
         };

@@ -6,7 +6,7 @@
 //! last one drawn, so an idle viewer costs nothing on lavapipe.
 
 use crate::camera::Camera;
-use crate::glyph::{ColorScheme, GlyphStyle};
+use crate::glyph::GlyphStyle;
 use crate::request::{DrawOptions, FrameRequest, GlyphKind, Method, UnderlayView};
 use crate::scene::UnderlaySource;
 use crate::select::{Selection, Slicing};
@@ -114,44 +114,6 @@ impl Settings {
     }
 }
 
-/// Which legend a colour scheme has.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Legend {
-    /// Class colours and the barycentric (cl, cp, cs) triangle.
-    Shape,
-    /// A colour bar from `lo` to `hi`.
-    Bar {
-        lo: f64,
-        hi: f64,
-        label: &'static str,
-    },
-    /// Tension / compression.
-    Sign,
-    /// Direction encoding: |e1| as RGB, scaled by FA.
-    Dec,
-    Solid,
-}
-
-/// The legend of `scheme` for a field whose MD runs over `md_range`.
-pub fn legend(scheme: ColorScheme, md_range: (f64, f64)) -> Legend {
-    match scheme {
-        ColorScheme::Shape => Legend::Shape,
-        ColorScheme::Fa => Legend::Bar {
-            lo: 0.0,
-            hi: 1.0,
-            label: "FA",
-        },
-        ColorScheme::Md => Legend::Bar {
-            lo: md_range.0,
-            hi: md_range.1,
-            label: "MD",
-        },
-        ColorScheme::Sign => Legend::Sign,
-        ColorScheme::Dec => Legend::Dec,
-        ColorScheme::Solid => Legend::Solid,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -217,27 +179,5 @@ mod tests {
         );
         s.clamp_to_lattice(None);
         assert_eq!(s.selection.slicing, Slicing::Whole);
-    }
-
-    #[test]
-    fn every_scheme_has_its_legend() {
-        assert_eq!(legend(ColorScheme::Shape, (0.0, 1.0)), Legend::Shape);
-        assert_eq!(
-            legend(ColorScheme::Md, (0.5, 2.0)),
-            Legend::Bar {
-                lo: 0.5,
-                hi: 2.0,
-                label: "MD"
-            }
-        );
-        assert!(matches!(
-            legend(ColorScheme::Fa, (0.0, 0.0)),
-            Legend::Bar {
-                lo: 0.0,
-                hi: 1.0,
-                ..
-            }
-        ));
-        assert_eq!(legend(ColorScheme::Sign, (0.0, 1.0)), Legend::Sign);
     }
 }

@@ -5,9 +5,10 @@ use egui::{Color32, Ui};
 
 use crate::glyph::colormap::{diverging, viridis};
 use crate::glyph::{ColorScheme, Normalize, Scale, SizeBy};
+use crate::legend::{Legend, legend};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::panel::{PanelInfo, PanelState};
-use crate::viewer::state::{Legend, Settings, legend};
+use crate::viewer::state::Settings;
 
 pub(super) fn style_section(
     ui: &mut Ui,
