@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::str::FromStr;
 
-use anyhow::{Result, bail, ensure};
+use anyhow::{Result, anyhow, bail, ensure};
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 
@@ -14,7 +14,7 @@ use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
 pub use tensorglyph::frame::parse_size;
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape};
-use tensorglyph::select::{Plane, Selection, Slicing, parse_roi};
+use tensorglyph::select::{Mask, Plane, Selection, Slicing, parse_roi};
 use tensorglyph::staging::{Demo, Recipe, Source};
 
 /// A value parser for one of `names` (clap lists them in `--help` and in its error).
@@ -119,11 +119,22 @@ pub struct SelectArgs {
     /// x0,y0,z0,x1,y1,z1 (bounds included).
     #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1", value_parser = parse_roi, allow_hyphen_values = true)]
     pub roi: Option<[f64; 6]>,
+    /// A scalar volume (NIfTI, NRRD or VTK image data, in the tensors' world): keep glyphs
+    /// whose centre's nearest voxel is non-zero (and not NaN or infinite); glyphs outside the
+    /// volume are dropped. Its lattice need not be the tensors'.
+    #[arg(long, value_name = "FILE")]
+    pub mask: Option<PathBuf>,
 }
 
 impl SelectArgs {
-    /// The selection these flags ask for, checked as far as it can be without the data.
+    /// The selection these flags ask for, checked as far as it can be without the data; the
+    /// mask file is read here, so a bad one stops the command before the tensors are read.
     pub fn selection(&self) -> Result<Selection> {
+        let mask = match &self.mask {
+            // The load error names the file and the place; one line, no chain to repeat it.
+            Some(path) => Some(Mask::read(path).map_err(|e| anyhow!("--mask {e}"))?),
+            None => None,
+        };
         let sel = Selection {
             fa_min: self.fa_min.unwrap_or(0.0),
             fa_max: self.fa_max.unwrap_or(1.0),
@@ -134,6 +145,7 @@ impl SelectArgs {
                 Slicing::Planes(self.slices.clone())
             },
             roi: self.roi,
+            mask,
         };
         sel.check()?;
         Ok(sel)
