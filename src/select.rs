@@ -1,19 +1,27 @@
-//! Which glyphs to show: an FA range, a stride over the lattice, axis-aligned slices and a
-//! region-of-interest box.
+//! Which glyphs to show: an FA range, a stride over the lattice, axis-aligned slices, a
+//! region-of-interest box and a mask volume.
 //!
 //! A [`Selection`] maps a field's [`GlyphSet`] to the indices (into `set.glyphs`) of the glyphs
 //! to draw; the scene is then built from those glyphs only. Stride and slices use the lattice of
 //! structured data ([`TensorField::lattice_dims`], x fastest); unstructured data has no lattice,
 //! so there the stride runs over file order and slicing is not available. The ROI box tests the
-//! glyph centres in world coordinates, so it works on any data (as ParaView's box clip).
+//! glyph centres in world coordinates, so it works on any data (as ParaView's box clip). The
+//! mask is sampled at the glyph centres too, through its own voxel-to-world matrix, so it need
+//! not share the tensors' lattice.
 //!
 //! The same selection is used by the viewer's panel and by the `--fa-min`, `--fa-max`,
-//! `--stride`, `--slice` and `--roi` flags of the command line; [`Selection::check`] and
+//! `--stride`, `--slice`, `--roi` and `--mask` flags of the command line; [`Selection::check`] and
 //! [`Selection::check_field`] give the errors for input that cannot be honoured.
 
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use glam::{DMat4, DVec4};
 use rayon::prelude::*;
 
+use crate::error::{LoadError, LoadErrorKind, escape_path};
 use crate::field::TensorField;
+use crate::field::scalar::{ScalarVolume, read_scalar_volume};
 use crate::glyph::GlyphSet;
 use crate::tensor::shape;
 
@@ -90,6 +98,97 @@ impl Slicing {
 #[error("{0}")]
 pub struct SelectionError(pub String);
 
+/// A mask volume (`--mask FILE`): a glyph is kept when the voxel nearest to its centre holds a
+/// non-zero, finite value; glyphs outside the volume (more than half a voxel beyond its outer
+/// voxel centres) are dropped.
+///
+/// The volume is shared ([`Arc`]): a selection is cloned with every change in the viewer, and a
+/// mask can be as large as the tensor field. Two masks are equal when they share one volume
+/// (pointer equality): a volume is never changed once read, and comparing voxels would cost as
+/// much as the volume and call a NaN-holding mask unequal to itself.
+#[derive(Clone)]
+pub struct Mask {
+    path: PathBuf,
+    volume: Arc<ScalarVolume>,
+    to_voxel: DMat4,
+}
+
+/// The file and the size, not every voxel: selections are printed in debug messages.
+impl std::fmt::Debug for Mask {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Mask")
+            .field("path", &self.path)
+            .field("dims", &self.volume.dims)
+            .finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for Mask {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.volume, &other.volume)
+    }
+}
+
+impl Mask {
+    /// The mask in the scalar volume file `path` (any format [`read_scalar_volume`] reads).
+    pub fn read(path: &Path) -> Result<Self, LoadError> {
+        let volume = read_scalar_volume(path)?;
+        Self::build(path.to_path_buf(), Arc::new(volume))
+            .map_err(|e| LoadError::new(path, LoadErrorKind::Other(e)))
+    }
+
+    /// A mask of `volume`; `path` names it in messages. An error when the volume's voxels
+    /// cannot be placed (a singular matrix) or its values do not fill its dimensions.
+    pub fn new(
+        path: impl Into<PathBuf>,
+        volume: Arc<ScalarVolume>,
+    ) -> Result<Self, SelectionError> {
+        let path = path.into();
+        let shown = escape_path(&path);
+        Self::build(path, volume).map_err(|e| SelectionError(format!("mask {shown}: {e}")))
+    }
+
+    fn build(path: PathBuf, volume: Arc<ScalarVolume>) -> Result<Self, String> {
+        let want = volume
+            .dims
+            .iter()
+            .try_fold(1usize, |a, &d| a.checked_mul(d));
+        if want != Some(volume.values.len()) {
+            return Err(format!(
+                "{} values for {:?} voxels",
+                volume.values.len(),
+                volume.dims
+            ));
+        }
+        let to_voxel = volume
+            .world_to_voxel()
+            .ok_or("the voxel-to-world matrix is singular")?;
+        Ok(Self {
+            path,
+            volume,
+            to_voxel,
+        })
+    }
+
+    /// The file the mask was read from, as given.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    pub fn volume(&self) -> &Arc<ScalarVolume> {
+        &self.volume
+    }
+
+    /// Whether a glyph centred at `world` is kept.
+    pub fn keeps(&self, world: [f64; 3]) -> bool {
+        let v = (self.to_voxel * DVec4::new(world[0], world[1], world[2], 1.0)).truncate();
+        self.volume
+            .nearest_voxel(v)
+            .map(|ijk| self.volume.at(ijk))
+            .is_some_and(|x| x.is_finite() && x != 0.0)
+    }
+}
+
 /// What to draw of a field.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Selection {
@@ -103,6 +202,8 @@ pub struct Selection {
     /// Region of interest `[x0, y0, z0, x1, y1, z1]`: keep glyphs whose centre (world
     /// coordinates) lies in the box, bounds included.
     pub roi: Option<[f64; 6]>,
+    /// Keep glyphs whose centre is in a non-zero, finite voxel of this volume.
+    pub mask: Option<Mask>,
 }
 
 impl Default for Selection {
@@ -113,6 +214,7 @@ impl Default for Selection {
             stride: 1,
             slicing: Slicing::Whole,
             roi: None,
+            mask: None,
         }
     }
 }
@@ -221,6 +323,7 @@ impl Selection {
             && self.stride <= 1
             && self.slicing == Slicing::Whole
             && self.roi.is_none()
+            && self.mask.is_none()
     }
 
     /// Errors that do not depend on the data: FA bounds outside [0, 1] or NaN, fa-min above
@@ -300,6 +403,9 @@ impl Selection {
         if let Some(roi) = &self.roi {
             parts.push(format!("--roi {}", fmt_roi(roi)));
         }
+        if let Some(mask) = &self.mask {
+            parts.push(format!("--mask {}", escape_path(mask.path())));
+        }
         if parts.is_empty() {
             "everything".into()
         } else {
@@ -324,6 +430,7 @@ impl Selection {
                 && self
                     .roi
                     .is_none_or(|r| (0..3).all(|a| g.centre[a] >= r[a] && g.centre[a] <= r[a + 3]))
+                && self.mask.as_ref().is_none_or(|m| m.keeps(g.centre))
                 && (fa_all || {
                     let fa = shape::fa(g.eigenvalues.map(f64::from));
                     fa >= self.fa_min && (self.fa_max >= 1.0 || fa <= self.fa_max)
@@ -610,6 +717,99 @@ mod tests {
         );
     }
 
+    /// A volume of `dims` voxels whose voxel (i, j, k) is at world `origin + size · (i, j, k)`.
+    fn volume(
+        dims: [usize; 3],
+        values: Vec<f32>,
+        size: f64,
+        origin: [f64; 3],
+    ) -> Arc<ScalarVolume> {
+        let mut m = [[0.0; 4]; 4];
+        for a in 0..3 {
+            m[a][a] = size;
+            m[a][3] = origin[a];
+        }
+        m[3][3] = 1.0;
+        Arc::new(ScalarVolume {
+            dims,
+            values,
+            voxel_to_world: m,
+        })
+    }
+
+    fn masked(f: &TensorField, s: &GlyphSet, mask: Mask) -> Vec<[usize; 3]> {
+        Selection {
+            mask: Some(mask),
+            ..Selection::default()
+        }
+        .select(f, s)
+        .into_iter()
+        .map(|k| lattice_coords(s.glyphs[k].index as usize, [4, 4, 4]))
+        .collect()
+    }
+
+    #[test]
+    fn mask_on_the_same_lattice_keeps_non_zero_finite_voxels() {
+        // grid:4 has lattice position (i, j, k) at world (i, j, k): the mask shares it.
+        let (f, s) = demo(4);
+        let at = |i: usize, j: usize, k: usize| i + 4 * (j + 4 * k);
+        let mut values: Vec<f32> = (0..64)
+            .map(|n| {
+                let [i, j, k] = lattice_coords(n, [4, 4, 4]);
+                ((i + j + k) % 2) as f32
+            })
+            .collect();
+        values[at(1, 0, 0)] = f32::NAN;
+        values[at(0, 1, 0)] = f32::INFINITY;
+        values[at(0, 0, 0)] = -0.5;
+        let mask = Mask::new("same.nii", volume([4, 4, 4], values, 1.0, [0.0; 3])).unwrap();
+        let kept = masked(&f, &s, mask);
+        let want: Vec<[usize; 3]> = (0..64)
+            .map(|n| lattice_coords(n, [4, 4, 4]))
+            .filter(|&[i, j, k]| {
+                ((i + j + k) % 2 == 1 && [i, j, k] != [1, 0, 0] && [i, j, k] != [0, 1, 0])
+                    || [i, j, k] == [0, 0, 0]
+            })
+            .collect();
+        assert_eq!(kept, want);
+    }
+
+    #[test]
+    fn mask_on_a_coarser_shifted_lattice_uses_its_nearest_voxel() {
+        let (f, s) = demo(4);
+        // 2 mm voxels centred at 0.5 and 2.5 along y and z: lattice 0, 1 fall in voxel 0
+        // and 2, 3 in voxel 1. One voxel along x (centre 0.5): x = 2 is 0.75 voxels out.
+        let values = vec![1.0, 0.0, 0.0, 1.0];
+        let mask = Mask::new("coarse.nii", volume([1, 2, 2], values, 2.0, [0.5; 3])).unwrap();
+        let kept = masked(&f, &s, mask);
+        let want: Vec<[usize; 3]> = (0..64)
+            .map(|n| lattice_coords(n, [4, 4, 4]))
+            .filter(|&[i, j, k]| i < 2 && (j / 2 == k / 2))
+            .collect();
+        assert_eq!(kept, want);
+    }
+
+    #[test]
+    fn masks_are_equal_when_they_share_the_volume() {
+        let v = volume([1, 1, 1], vec![1.0], 1.0, [0.0; 3]);
+        let a = Mask::new("m.nii", v.clone()).unwrap();
+        let sel = Selection {
+            mask: Some(a.clone()),
+            ..Selection::default()
+        };
+        assert_eq!(sel.clone(), sel);
+        assert!(!sel.is_everything());
+        assert_eq!(Mask::new("other.nii", v.clone()).unwrap(), a);
+        assert_ne!(Mask::new("m.nii", Arc::new((*v).clone())).unwrap(), a);
+        let singular = volume([1, 1, 1], vec![1.0], 0.0, [0.0; 3]);
+        let e = Mask::new("flat.nii", singular).unwrap_err().0;
+        assert!(e.contains("flat.nii") && e.contains("singular"), "{e}");
+        let e = Mask::new("short.nii", volume([2, 1, 1], vec![1.0], 1.0, [0.0; 3]))
+            .unwrap_err()
+            .0;
+        assert!(e.contains("1 values for [2, 1, 1] voxels"), "{e}");
+    }
+
     #[test]
     fn describe_names_what_was_asked() {
         let sel = Selection {
@@ -622,6 +822,16 @@ mod tests {
         assert_eq!(
             sel.describe(),
             "--fa-min 0.9 --stride 2 --slice x=3 --roi 0,0,0,1,1,1"
+        );
+        let v = volume([1, 1, 1], vec![1.0], 1.0, [0.0; 3]);
+        let sel = Selection {
+            mask: Some(Mask::new("dir/fa\nmask.nii.gz", v).unwrap()),
+            ..sel
+        };
+        assert!(
+            sel.describe().ends_with(" --mask dir/fa\\nmask.nii.gz"),
+            "{}",
+            sel.describe()
         );
         assert_eq!(Selection::default().describe(), "everything");
     }

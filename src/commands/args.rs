@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::str::FromStr;
 
-use anyhow::{Result, bail, ensure};
+use anyhow::{Result, anyhow, bail, ensure};
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 
@@ -16,7 +16,7 @@ pub use tensorglyph::frame::parse_size;
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
 use tensorglyph::scene::UnderlaySource;
-use tensorglyph::select::{Plane, Selection, Slicing, parse_roi};
+use tensorglyph::select::{Mask, Plane, Selection, Slicing, parse_roi};
 use tensorglyph::staging::{Demo, Recipe, Source};
 
 /// A value parser for one of `names` (clap lists them in `--help` and in its error).
@@ -141,6 +141,11 @@ pub struct SelectArgs {
     #[arg(long, value_name = "LO,HI", requires = "underlay", value_parser = parse_window,
           allow_hyphen_values = true)]
     pub underlay_range: Option<[f32; 2]>,
+    /// A scalar volume (NIfTI, NRRD or VTK image data, in the tensors' world): keep glyphs
+    /// whose centre's nearest voxel is non-zero (and not NaN or infinite); glyphs outside the
+    /// volume are dropped. Its lattice need not be the tensors'.
+    #[arg(long, value_name = "FILE")]
+    pub mask: Option<PathBuf>,
 }
 
 /// `LO,HI` with LO < HI, both finite.
@@ -189,7 +194,8 @@ impl SelectArgs {
         }
     }
 
-    /// The selection these flags ask for, checked as far as it can be without the data.
+    /// The selection these flags ask for, checked as far as it can be without the data; the
+    /// mask file is read here, so a bad one stops the command before the tensors are read.
     pub fn selection(&self) -> Result<Selection> {
         let planes: Vec<Plane> = self
             .slices
@@ -202,6 +208,11 @@ impl SelectArgs {
         if !planes.is_empty() && planes.len() < self.slices.len() {
             bail!("--slice all cannot be given with planes");
         }
+        let mask = match &self.mask {
+            // The load error names the file and the place; one line, no chain to repeat it.
+            Some(path) => Some(Mask::read(path).map_err(|e| anyhow!("--mask {e}"))?),
+            None => None,
+        };
         let sel = Selection {
             fa_min: self.fa_min.unwrap_or(0.0),
             fa_max: self.fa_max.unwrap_or(1.0),
@@ -212,6 +223,7 @@ impl SelectArgs {
                 Slicing::Planes(planes)
             },
             roi: self.roi,
+            mask,
         };
         sel.check()?;
         Ok(sel)

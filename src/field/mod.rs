@@ -12,6 +12,7 @@ pub mod vtk;
 
 pub use frame::{ReadMeta, TensorFrame};
 pub use order::ComponentOrder;
+pub use scalar::{ScalarVolume, read_scalar_volume};
 pub use vtk::ReadOptions;
 
 use std::path::Path;

@@ -11,6 +11,9 @@
 //!   DIPY and nibabel write it: "file"; without the intent, `--order` or `nifti`);
 //! - 4-D `X×Y×Z×6`: `--order`, default `fsl` (`xx xy xz yy yz zz`); MRtrix needs `--order mrtrix`;
 //! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major.
+//!
+//! Scalar volumes ([`parse_scalar`]: FA maps, masks, anatomy) share the header, data and affine
+//! code, so they land in the same world as tensors.
 
 use std::borrow::Cow;
 use std::io::Cursor;
@@ -23,6 +26,7 @@ use super::frame::{
     FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
     smallest_spacing, tensor_rotation,
 };
+use super::scalar::{self, ScalarVolume};
 use super::vtk::ReadOptions;
 use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
 use crate::error::LoadErrorKind;
@@ -33,8 +37,16 @@ const HEADER_LEN: usize = 348;
 /// The header plus the 4-byte extension flag of a single `.nii` file.
 const MIN_OFFSET: u64 = 352;
 const INTENT_SYMMATRIX: i16 = 1005;
+const DT_UINT8: i16 = 2;
+const DT_INT16: i16 = 4;
+const DT_INT32: i16 = 8;
 const DT_FLOAT32: i16 = 16;
 const DT_FLOAT64: i16 = 64;
+const DT_INT8: i16 = 256;
+const DT_UINT16: i16 = 512;
+const DT_UINT32: i16 = 768;
+const DT_INT64: i16 = 1024;
+const DT_UINT64: i16 = 1280;
 
 fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Field {
@@ -45,47 +57,10 @@ fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
 
 /// Read a NIfTI-1 tensor volume from the file's bytes (gzip-compressed or not).
 pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
-    let gz = bytes.starts_with(&[0x1f, 0x8b]);
-    let head: Cow<[u8]> = if gz {
-        Cow::Owned(gunzip(bytes, MIN_OFFSET, "the header")?)
-    } else {
-        Cow::Borrowed(bytes)
-    };
-    let h = header(&head)?;
+    let (h, gz) = read_header(bytes)?;
     let shape = Shape::of(&h)?;
-    let offset = (h.vox_offset.is_finite() && h.vox_offset >= 0.0)
-        .then_some(h.vox_offset as u64)
-        .ok_or_else(|| {
-            field(
-                "vox_offset",
-                format!("{} is not a byte offset", h.vox_offset),
-            )
-        })?
-        .max(MIN_OFFSET);
-    let width = shape.width as u64;
-    let data_len = (shape.voxels as u64)
-        .checked_mul(shape.components as u64)
-        .and_then(|n| n.checked_mul(width))
-        .ok_or_else(|| field("dim", "the dimensions overflow"))?;
-    let needed = offset
-        .checked_add(data_len)
-        .ok_or_else(|| field("vox_offset", "the data end overflows"))?;
-    let data: Cow<[u8]> = if gz {
-        Cow::Owned(gunzip(bytes, needed, "the voxel data")?)
-    } else {
-        Cow::Borrowed(bytes)
-    };
-    if (data.len() as u64) < needed {
-        return Err(field(
-            "dim",
-            format!(
-                "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {}",
-                if gz { " uncompressed" } else { "" },
-                data.len()
-            ),
-        ));
-    }
-    let data = &data[offset as usize..needed as usize];
+    let data = voxel_data(bytes, &h, gz, shape.voxels, shape.components, shape.width)?;
+    let data = &data[..];
     let (layout, expand) = layout(&h, &shape, opts)?;
     let affine_source = affine(&h)?;
     let (a, source) = affine_source;
@@ -140,8 +115,121 @@ pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     })
 }
 
+/// Read a NIfTI-1 scalar volume (3-D, or 4-D and up with one value per voxel) from the file's
+/// bytes: any integer or float datatype, `scl_slope` and `scl_inter` applied, placed in RAS by
+/// the same sform/qform/pixdim rule as tensors.
+pub fn parse_scalar(bytes: &[u8]) -> Res<ScalarVolume> {
+    let (h, gz) = read_header(bytes)?;
+    let d = axes(&h)?;
+    let at = |i: usize| d.get(i).copied().unwrap_or(1);
+    let dims = [at(0), at(1), at(2)];
+    let per_voxel = d
+        .iter()
+        .skip(3)
+        .try_fold(1usize, |a, &x| a.checked_mul(x))
+        .ok_or_else(|| field("dim", "the dimensions overflow"))?;
+    if per_voxel != 1 {
+        return Err(field(
+            "dim",
+            match per_voxel {
+                6 | 9 => format!(
+                    "{per_voxel} values per voxel: a tensor volume, not a scalar volume (one value per voxel)"
+                ),
+                n => format!("{n} values per voxel (dimensions {d:?}); a scalar volume has one"),
+            },
+        ));
+    }
+    let big = h.endianness == nifti::Endianness::Big;
+    let (width, value) = sample_type(h.datatype, big).ok_or_else(|| {
+        field(
+            "datatype",
+            format!(
+                "{} ({}); scalar volumes are read as integers or float32/float64",
+                h.datatype,
+                type_name(h.datatype)
+            ),
+        )
+    })?;
+    check_bitpix(&h, width)?;
+    let voxels = dims
+        .iter()
+        .try_fold(1usize, |a, &x| a.checked_mul(x))
+        .ok_or_else(|| field("dim", "the dimensions overflow"))?;
+    let data = voxel_data(bytes, &h, gz, voxels, 1, width)?;
+    let (a, source) = affine(&h)?;
+    let (slope, inter) = scaling(&h);
+    let values = data
+        .chunks_exact(width)
+        .map(|b| (value(b) * slope + inter) as f32)
+        .collect();
+    scalar::checked(dims, values, rows4(&a), source)
+}
+
 fn gunzip(bytes: &[u8], want: u64, what: &str) -> Res<Vec<u8>> {
     super::input::gunzip_prefix(bytes, want, what)
+}
+
+/// The header of a NIfTI-1 file's bytes, and whether they are gzip-compressed.
+fn read_header(bytes: &[u8]) -> Res<(NiftiHeader, bool)> {
+    let gz = bytes.starts_with(&[0x1f, 0x8b]);
+    let head: Cow<[u8]> = if gz {
+        Cow::Owned(gunzip(bytes, MIN_OFFSET, "the header")?)
+    } else {
+        Cow::Borrowed(bytes)
+    };
+    Ok((header(&head)?, gz))
+}
+
+/// The voxel data: `voxels × per_voxel` numbers of `width` bytes from `vox_offset` on,
+/// inflated no further than they reach; an error naming `dim` when the file holds fewer.
+fn voxel_data<'a>(
+    bytes: &'a [u8],
+    h: &NiftiHeader,
+    gz: bool,
+    voxels: usize,
+    per_voxel: usize,
+    width: usize,
+) -> Res<Cow<'a, [u8]>> {
+    let offset = (h.vox_offset.is_finite() && h.vox_offset >= 0.0)
+        .then_some(h.vox_offset as u64)
+        .ok_or_else(|| {
+            field(
+                "vox_offset",
+                format!("{} is not a byte offset", h.vox_offset),
+            )
+        })?
+        .max(MIN_OFFSET);
+    let data_len = (voxels as u64)
+        .checked_mul(per_voxel as u64)
+        .and_then(|n| n.checked_mul(width as u64))
+        .ok_or_else(|| field("dim", "the dimensions overflow"))?;
+    let needed = offset
+        .checked_add(data_len)
+        .ok_or_else(|| field("vox_offset", "the data end overflows"))?;
+    let data: Cow<[u8]> = if gz {
+        Cow::Owned(gunzip(bytes, needed, "the voxel data")?)
+    } else {
+        Cow::Borrowed(bytes)
+    };
+    if (data.len() as u64) < needed {
+        return Err(field(
+            "dim",
+            format!(
+                "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {}",
+                if gz { " uncompressed" } else { "" },
+                data.len()
+            ),
+        ));
+    }
+    let range = offset as usize..needed as usize;
+    Ok(match data {
+        Cow::Borrowed(b) => Cow::Borrowed(&b[range]),
+        Cow::Owned(mut v) => {
+            v.truncate(range.end);
+            v.drain(..range.start);
+            Cow::Owned(v)
+        }
+    })
 }
 
 fn header(bytes: &[u8]) -> Res<NiftiHeader> {
@@ -199,14 +287,8 @@ struct Shape {
 
 impl Shape {
     fn of(h: &NiftiHeader) -> Res<Self> {
-        let nd = h.dim[0];
-        if !(1..=7).contains(&nd) {
-            return Err(field("dim", format!("dim[0] = {nd} is not 1 to 7")));
-        }
-        let d: Vec<usize> = (1..=nd as usize).map(|i| h.dim[i] as usize).collect();
-        if d.contains(&0) {
-            return Err(field("dim", "a dimension is 0"));
-        }
+        let d = axes(h)?;
+        let nd = d.len();
         let at = |i: usize| d.get(i).copied().unwrap_or(1);
         let dims = [at(0), at(1), at(2)];
         let (components, five_d) = match nd {
@@ -250,12 +332,7 @@ impl Shape {
                 ));
             }
         };
-        if h.bitpix as usize != 8 * width {
-            return Err(field(
-                "bitpix",
-                format!("{} does not match datatype {}", h.bitpix, h.datatype),
-            ));
-        }
+        check_bitpix(h, width)?;
         Ok(Shape {
             dims,
             voxels: dims[0] * dims[1] * dims[2],
@@ -264,6 +341,29 @@ impl Shape {
             width,
         })
     }
+}
+
+/// The sizes along the header's `dim[0]` axes, all positive.
+fn axes(h: &NiftiHeader) -> Res<Vec<usize>> {
+    let nd = h.dim[0];
+    if !(1..=7).contains(&nd) {
+        return Err(field("dim", format!("dim[0] = {nd} is not 1 to 7")));
+    }
+    let d: Vec<usize> = (1..=nd as usize).map(|i| h.dim[i] as usize).collect();
+    if d.contains(&0) {
+        return Err(field("dim", "a dimension is 0"));
+    }
+    Ok(d)
+}
+
+fn check_bitpix(h: &NiftiHeader, width: usize) -> Res<()> {
+    if h.bitpix as usize != 8 * width {
+        return Err(field(
+            "bitpix",
+            format!("{} does not match datatype {}", h.bitpix, h.datatype),
+        ));
+    }
+    Ok(())
 }
 
 fn type_name(t: i16) -> &'static str {
@@ -345,15 +445,43 @@ fn affine(h: &NiftiHeader) -> Res<(Matrix4<f64>, &'static str)> {
     Ok((a, "pixdim"))
 }
 
-fn number_reader(h: &NiftiHeader, width: usize) -> Res<fn(&[u8]) -> f64> {
-    let big = h.endianness == nifti::Endianness::Big;
-    Ok(match (width, big) {
-        (4, false) => |b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64,
-        (4, true) => |b| f32::from_be_bytes([b[0], b[1], b[2], b[3]]) as f64,
-        (8, false) => |b| f64::from_le_bytes(b.try_into().unwrap_or_default()),
-        (8, true) => |b| f64::from_be_bytes(b.try_into().unwrap_or_default()),
-        _ => return Err(field("datatype", "unsupported width")),
-    })
+/// Reads one number from its bytes.
+type ReadNumber = fn(&[u8]) -> f64;
+
+fn number_reader(h: &NiftiHeader, width: usize) -> Res<ReadNumber> {
+    sample_type(h.datatype, h.endianness == nifti::Endianness::Big)
+        .filter(|(w, _)| *w == width)
+        .map(|(_, read)| read)
+        .ok_or_else(|| field("datatype", "unsupported width"))
+}
+
+/// Bytes per number of a NIfTI datatype and how to read one, for the integers and the floats
+/// (not complex, RGB or float128). 64-bit integers beyond 2^53 lose their last bits.
+fn sample_type(datatype: i16, big: bool) -> Option<(usize, ReadNumber)> {
+    macro_rules! read {
+        ($t:ty) => {{
+            const W: usize = std::mem::size_of::<$t>();
+            let read: ReadNumber = if big {
+                |b| <$t>::from_be_bytes(b[..W].try_into().unwrap_or_default()) as f64
+            } else {
+                |b| <$t>::from_le_bytes(b[..W].try_into().unwrap_or_default()) as f64
+            };
+            Some((W, read))
+        }};
+    }
+    match datatype {
+        DT_UINT8 => read!(u8),
+        DT_INT8 => read!(i8),
+        DT_INT16 => read!(i16),
+        DT_UINT16 => read!(u16),
+        DT_INT32 => read!(i32),
+        DT_UINT32 => read!(u32),
+        DT_INT64 => read!(i64),
+        DT_UINT64 => read!(u64),
+        DT_FLOAT32 => read!(f32),
+        DT_FLOAT64 => read!(f64),
+        _ => None,
+    }
 }
 
 /// `scl_slope` and `scl_inter`; a slope of 0 (or not finite) means "no scaling", per the

@@ -13,6 +13,9 @@
 //! `space directions`, `space origin`, `measurement frame`; `data file`. Positions and
 //! tensors are turned into RAS+ (LPS: x and y negated). Tensors are taken to be in the
 //! measurement frame (world when there is none) unless `--tensor-frame` says otherwise.
+//!
+//! Scalar volumes ([`parse_scalar`]: `dimension` 3, any integer or float `type`) share the
+//! header, data and geometry code, so they land in the same RAS+ world as tensors.
 
 use std::borrow::Cow;
 use std::path::Path;
@@ -24,6 +27,7 @@ use super::frame::{
     smallest_spacing, tensor_rotation,
 };
 use super::input::{gunzip_prefix, read_regular_file};
+use super::scalar::{self, ScalarVolume};
 use super::vtk::ReadOptions;
 use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
 use crate::error::{LoadErrorKind, escape_for_error, escape_path};
@@ -85,7 +89,7 @@ impl<'a> Header<'a> {
 
     fn need(&self, key: &str) -> Res<&'a str> {
         self.get(key)
-            .ok_or_else(|| field(key, "missing; a tensor NRRD needs it"))
+            .ok_or_else(|| field(key, "missing; the reader needs it"))
     }
 }
 
@@ -209,9 +213,9 @@ fn space_to_ras(h: &Header) -> Res<(Vector3<f64>, &'static str)> {
 /// Read a NRRD tensor volume from the bytes of `path` (the header, with or without data).
 pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     let h = parse_header(bytes)?;
-    let width = match h.need("type")? {
-        "float" | "float32" => 4,
-        "double" | "float64" => 8,
+    let ty = match h.need("type")? {
+        "float" | "float32" => Number::F32,
+        "double" | "float64" => Number::F64,
         t => {
             return Err(field(
                 "type",
@@ -229,14 +233,7 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
             format!("{dimension}; a tensor volume has 4 axes (tensor, x, y, z)"),
         ));
     }
-    let sizes: Vec<usize> = h
-        .need("sizes")?
-        .split_whitespace()
-        .map(|s| number("sizes", s))
-        .collect::<Res<_>>()?;
-    if sizes.len() != 4 || sizes.contains(&0) {
-        return Err(field("sizes", "needs 4 positive sizes"));
-    }
+    let sizes = sizes(&h, 4)?;
     let kinds: Vec<&str> = h.need("kinds")?.split_whitespace().collect();
     if kinds.len() != 4 {
         return Err(field("kinds", "needs 4 kinds"));
@@ -275,49 +272,11 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
     let count = voxels
         .checked_mul(kind.values())
         .ok_or_else(|| field("sizes", "the sizes overflow"))?;
-    let encoding = match h.need("encoding")? {
-        "raw" => Encoding::Raw,
-        "gzip" | "gz" => Encoding::Gzip,
-        "ascii" | "text" | "txt" => Encoding::Ascii,
-        e => {
-            return Err(field(
-                "encoding",
-                format!("'{}'; read are raw, gzip and ascii", escape_for_error(e)),
-            ));
-        }
-    };
-    let big = match h.get("endian") {
-        Some("little") => false,
-        Some("big") => true,
-        Some(e) => {
-            return Err(field(
-                "endian",
-                format!("'{}' is neither little nor big", escape_for_error(e)),
-            ));
-        }
-        None if encoding == Encoding::Ascii => false,
-        None => return Err(field("endian", "missing; binary data needs it")),
-    };
-
-    let detached;
-    let data: &[u8] = match h.get("data file") {
-        Some(name) => {
-            if name.starts_with("LIST") || name.contains(' ') {
-                return Err(field(
-                    "data file",
-                    "only a single data file is read (no LIST or file patterns)",
-                ));
-            }
-            let dir = path.parent().unwrap_or(Path::new("."));
-            let p = dir.join(name);
-            detached = read_regular_file(&p)
-                .map_err(|e| field("data file", format!("{}: {}", escape_path(&p), e)))?;
-            &detached
-        }
-        None => &bytes[h.data_start..],
-    };
-    let (data, from_end) = skip(&h, data, encoding)?;
-    let values = decode(data, encoding, width, big, count, from_end)?;
+    let encoding = encoding(&h)?;
+    let big = big_endian(&h, encoding, ty)?;
+    let data = payload(path, &h, bytes)?;
+    let (data, from_end) = skip(&h, &data, encoding)?;
+    let values = decode(data, encoding, ty, big, count, from_end)?;
 
     let (order, tensor_of): (&str, Expand) = match kind {
         Kind::Full => ("full", |c| std::array::from_fn(|i| c[i])),
@@ -337,48 +296,13 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
         }
     }
 
-    // Geometry: space directions (or spacings), origin, then the space's signs to RAS+.
-    let (sign, world) = space_to_ras(&h)?;
-    let s = Matrix3::from_diagonal(&sign);
-    let (dirs, source) = match h.get("space directions") {
-        Some(v) => {
-            let v = vectors("space directions", v)?;
-            if v.len() != 4 || v[0].is_some() || v[1..].iter().any(Option::is_none) {
-                return Err(field(
-                    "space directions",
-                    "needs 'none' for the tensor axis and three vectors",
-                ));
-            }
-            let cols: Vec<Vector3<f64>> = v[1..].iter().flatten().copied().collect();
-            (Matrix3::from_columns(&cols), "space directions")
-        }
-        None => match h.get("spacings") {
-            Some(sp) => {
-                let sp: Vec<f64> = sp
-                    .split_whitespace()
-                    .skip(1)
-                    .map(|x| number("spacings", x))
-                    .collect::<Res<_>>()?;
-                if sp.len() != 3 || !sp.iter().all(|x| x.is_finite() && *x != 0.0) {
-                    return Err(field("spacings", "needs three finite non-zero spacings"));
-                }
-                (
-                    Matrix3::from_diagonal(&Vector3::new(sp[0], sp[1], sp[2])),
-                    "spacings",
-                )
-            }
-            None => (Matrix3::identity(), "none (unit voxels)"),
-        },
-    };
-    let origin = match h.get("space origin") {
-        Some(o) => vector("space origin", o)?
-            .ok_or_else(|| field("space origin", "'none' is not an origin"))?,
-        None => Vector3::zeros(),
-    };
-    let linear = s * dirs;
-    let mut a = Matrix4::identity();
-    a.fixed_view_mut::<3, 3>(0, 0).copy_from(&linear);
-    a.fixed_view_mut::<3, 1>(0, 3).copy_from(&(s * origin));
+    let Placement {
+        a,
+        linear,
+        s,
+        world,
+        source,
+    } = placement(&h, 1)?;
 
     let tensor_frame = opts.tensor_frame.unwrap_or(TensorFrame::World);
     let q = match tensor_frame {
@@ -435,6 +359,301 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
     })
 }
 
+/// Read a NRRD scalar volume (`dimension: 3`, any integer or float `type`) from the bytes of
+/// `path`, placed in RAS+ exactly as tensor volumes are.
+pub fn parse_scalar(path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
+    let h = parse_header(bytes)?;
+    let dimension: usize = number("dimension", h.need("dimension")?)?;
+    if dimension != 3 {
+        let first = h
+            .get("kinds")
+            .and_then(|k| k.split_whitespace().next())
+            .unwrap_or("");
+        return Err(field(
+            "dimension",
+            if dimension == 4 && first.starts_with("3D-") && first.contains("matrix") {
+                format!(
+                    "4 axes, '{}' first: a tensor volume, not a scalar volume (3 axes)",
+                    escape_for_error(first)
+                )
+            } else {
+                format!("{dimension}; a scalar volume has 3 axes (x, y, z)")
+            },
+        ));
+    }
+    let t = h.need("type")?;
+    let ty = Number::named(t).ok_or_else(|| {
+        field(
+            "type",
+            format!(
+                "'{}'; scalar volumes are read as integer, float or double types",
+                escape_for_error(t)
+            ),
+        )
+    })?;
+    let sizes = sizes(&h, 3)?;
+    // A 3-D NRRD can be a 2-D colour or vector image (`kinds: 3-color space space`).
+    if let Some(kinds) = h.get("kinds") {
+        let kinds: Vec<&str> = kinds.split_whitespace().collect();
+        if kinds.len() != 3 {
+            return Err(field("kinds", "needs 3 kinds"));
+        }
+        if let Some((axis, k)) = kinds.iter().enumerate().find(|(_, k)| {
+            !matches!(
+                k.to_ascii_lowercase().as_str(),
+                "domain" | "space" | "none" | "???"
+            )
+        }) {
+            return Err(field(
+                "kinds",
+                format!(
+                    "'{}' on axis {axis}: a scalar volume has three spatial axes (domain or space)",
+                    escape_for_error(k)
+                ),
+            ));
+        }
+    }
+    let dims = [sizes[0], sizes[1], sizes[2]];
+    let voxels = dims
+        .iter()
+        .try_fold(1usize, |a, &d| a.checked_mul(d))
+        .ok_or_else(|| field("sizes", "the sizes overflow"))?;
+    let encoding = encoding(&h)?;
+    let big = big_endian(&h, encoding, ty)?;
+    let data = payload(path, &h, bytes)?;
+    let (data, from_end) = skip(&h, &data, encoding)?;
+    let values = decode(data, encoding, ty, big, voxels, from_end)?;
+    let p = placement(&h, 0)?;
+    scalar::checked(
+        dims,
+        values.into_iter().map(|v| v as f32).collect(),
+        rows4(&p.a),
+        p.source,
+    )
+}
+
+/// The `n` sizes of `sizes`, all positive.
+fn sizes(h: &Header, n: usize) -> Res<Vec<usize>> {
+    let sizes: Vec<usize> = h
+        .need("sizes")?
+        .split_whitespace()
+        .map(|s| number("sizes", s))
+        .collect::<Res<_>>()?;
+    if sizes.len() != n || sizes.contains(&0) {
+        return Err(field("sizes", format!("needs {n} positive sizes")));
+    }
+    Ok(sizes)
+}
+
+/// The `encoding`, in any case (Teem writes `ASCII`).
+fn encoding(h: &Header) -> Res<Encoding> {
+    let e = h.need("encoding")?;
+    Ok(match e.to_ascii_lowercase().as_str() {
+        "raw" => Encoding::Raw,
+        "gzip" | "gz" => Encoding::Gzip,
+        "ascii" | "text" | "txt" => Encoding::Ascii,
+        _ => {
+            return Err(field(
+                "encoding",
+                format!("'{}'; read are raw, gzip and ascii", escape_for_error(e)),
+            ));
+        }
+    })
+}
+
+/// Whether binary values are big-endian; single bytes and text need no `endian`.
+fn big_endian(h: &Header, encoding: Encoding, ty: Number) -> Res<bool> {
+    Ok(match h.get("endian") {
+        Some("little") => false,
+        Some("big") => true,
+        Some(e) => {
+            return Err(field(
+                "endian",
+                format!("'{}' is neither little nor big", escape_for_error(e)),
+            ));
+        }
+        None if encoding == Encoding::Ascii || ty.width() == 1 => false,
+        None => return Err(field("endian", "missing; binary data needs it")),
+    })
+}
+
+/// The bytes holding the data: after the header, or the detached `data file` (a regular file
+/// named relative to the header's folder).
+fn payload<'a>(path: &Path, h: &Header, bytes: &'a [u8]) -> Res<Cow<'a, [u8]>> {
+    match h.get("data file") {
+        Some(name) => {
+            if name.starts_with("LIST") || name.contains(' ') {
+                return Err(field(
+                    "data file",
+                    "only a single data file is read (no LIST or file patterns)",
+                ));
+            }
+            let dir = path.parent().unwrap_or(Path::new("."));
+            let p = dir.join(name);
+            read_regular_file(&p)
+                .map(Cow::Owned)
+                .map_err(|e| field("data file", format!("{}: {}", escape_path(&p), e)))
+        }
+        None => Ok(Cow::Borrowed(&bytes[h.data_start..])),
+    }
+}
+
+/// Where the lattice is in the world.
+struct Placement {
+    /// Voxel to world (RAS+ unless the space is `scanner`).
+    a: Matrix4<f64>,
+    /// The linear part of `a`.
+    linear: Matrix3<f64>,
+    /// The signs taking the file's space to RAS+, as a diagonal matrix.
+    s: Matrix3<f64>,
+    world: &'static str,
+    source: &'static str,
+}
+
+/// Geometry: space directions (or spacings), origin, then the space's signs to RAS+.
+/// `leading` axes come before the three spatial ones (the tensor axis), with `none` for a
+/// direction.
+fn placement(h: &Header, leading: usize) -> Res<Placement> {
+    let (sign, world) = space_to_ras(h)?;
+    let s = Matrix3::from_diagonal(&sign);
+    let (dirs, source) = match h.get("space directions") {
+        Some(v) => {
+            let v = vectors("space directions", v)?;
+            if v.len() != leading + 3
+                || v[..leading].iter().any(Option::is_some)
+                || v[leading..].iter().any(Option::is_none)
+            {
+                return Err(field(
+                    "space directions",
+                    if leading == 0 {
+                        "needs three vectors"
+                    } else {
+                        "needs 'none' for the tensor axis and three vectors"
+                    },
+                ));
+            }
+            let cols: Vec<Vector3<f64>> = v[leading..].iter().flatten().copied().collect();
+            (Matrix3::from_columns(&cols), "space directions")
+        }
+        None => match h.get("spacings") {
+            Some(sp) => {
+                let sp: Vec<f64> = sp
+                    .split_whitespace()
+                    .skip(leading)
+                    .map(|x| number("spacings", x))
+                    .collect::<Res<_>>()?;
+                if sp.len() != 3 || !sp.iter().all(|x| x.is_finite() && *x != 0.0) {
+                    return Err(field("spacings", "needs three finite non-zero spacings"));
+                }
+                (
+                    Matrix3::from_diagonal(&Vector3::new(sp[0], sp[1], sp[2])),
+                    "spacings",
+                )
+            }
+            None => (Matrix3::identity(), "none (unit voxels)"),
+        },
+    };
+    let origin = match h.get("space origin") {
+        Some(o) => vector("space origin", o)?
+            .ok_or_else(|| field("space origin", "'none' is not an origin"))?,
+        None => Vector3::zeros(),
+    };
+    let linear = s * dirs;
+    let mut a = Matrix4::identity();
+    a.fixed_view_mut::<3, 3>(0, 0).copy_from(&linear);
+    a.fixed_view_mut::<3, 1>(0, 3).copy_from(&(s * origin));
+    Ok(Placement {
+        a,
+        linear,
+        s,
+        world,
+        source,
+    })
+}
+
+/// A NRRD `type` that is read.
+#[derive(Clone, Copy, PartialEq)]
+enum Number {
+    I8,
+    U8,
+    I16,
+    U16,
+    I32,
+    U32,
+    I64,
+    U64,
+    F32,
+    F64,
+}
+
+impl Number {
+    /// The type a `type` field names (every spelling the NRRD format allows; not `block`).
+    fn named(t: &str) -> Option<Number> {
+        Some(match t.to_ascii_lowercase().as_str() {
+            "signed char" | "int8" | "int8_t" => Number::I8,
+            "uchar" | "unsigned char" | "uint8" | "uint8_t" => Number::U8,
+            "short" | "short int" | "signed short" | "signed short int" | "int16" | "int16_t" => {
+                Number::I16
+            }
+            "ushort" | "unsigned short" | "unsigned short int" | "uint16" | "uint16_t" => {
+                Number::U16
+            }
+            "int" | "signed int" | "int32" | "int32_t" => Number::I32,
+            "uint" | "unsigned int" | "uint32" | "uint32_t" => Number::U32,
+            "longlong"
+            | "long long"
+            | "long long int"
+            | "signed long long"
+            | "signed long long int"
+            | "int64"
+            | "int64_t" => Number::I64,
+            "ulonglong"
+            | "unsigned long long"
+            | "unsigned long long int"
+            | "uint64"
+            | "uint64_t" => Number::U64,
+            "float" | "float32" => Number::F32,
+            "double" | "float64" => Number::F64,
+            _ => return None,
+        })
+    }
+
+    fn width(self) -> usize {
+        match self {
+            Number::I8 | Number::U8 => 1,
+            Number::I16 | Number::U16 => 2,
+            Number::I32 | Number::U32 | Number::F32 => 4,
+            Number::I64 | Number::U64 | Number::F64 => 8,
+        }
+    }
+
+    /// One value from its `width()` bytes.
+    fn read(self, b: &[u8], big: bool) -> f64 {
+        macro_rules! conv {
+            ($t:ty) => {{
+                let a = b.try_into().unwrap_or_default();
+                (if big {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                }) as f64
+            }};
+        }
+        match self {
+            Number::I8 => conv!(i8),
+            Number::U8 => conv!(u8),
+            Number::I16 => conv!(i16),
+            Number::U16 => conv!(u16),
+            Number::I32 => conv!(i32),
+            Number::U32 => conv!(u32),
+            Number::I64 => conv!(i64),
+            Number::U64 => conv!(u64),
+            Number::F32 => conv!(f32),
+            Number::F64 => conv!(f64),
+        }
+    }
+}
+
 /// The data after `line skip` lines and `byte skip` bytes, and whether the values are the last
 /// bytes of it (`byte skip: -1`, raw encoding only).
 fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], bool)> {
@@ -467,11 +686,12 @@ fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], boo
 fn decode(
     data: &[u8],
     enc: Encoding,
-    width: usize,
+    ty: Number,
     big: bool,
     count: usize,
     from_end: bool,
 ) -> Res<Vec<f64>> {
+    let width = ty.width();
     let short = |have: usize, what: &str| {
         field(
             "sizes",
@@ -526,12 +746,5 @@ fn decode(
     } else {
         &bytes[..need]
     };
-    Ok(b.chunks_exact(width)
-        .map(|c| match (width, big) {
-            (4, false) => f32::from_le_bytes([c[0], c[1], c[2], c[3]]) as f64,
-            (4, true) => f32::from_be_bytes([c[0], c[1], c[2], c[3]]) as f64,
-            (_, false) => f64::from_le_bytes(c.try_into().unwrap_or_default()),
-            (_, true) => f64::from_be_bytes(c.try_into().unwrap_or_default()),
-        })
-        .collect())
+    Ok(b.chunks_exact(width).map(|c| ty.read(c, big)).collect())
 }

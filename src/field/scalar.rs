@@ -3,8 +3,65 @@
 //!
 //! A volume is sampled through its own voxel-to-world matrix, so it need not share the tensors'
 //! lattice (a 1 mm T1 under 2 mm tensors).
+//!
+//! [`read_scalar_volume`] reads NIfTI-1, NRRD and VTK image data with the tensor readers' header,
+//! geometry and data code, so a volume's world is the one those readers put glyphs in: RAS for
+//! NIfTI (sform, qform, pixdim) and NRRD (LPS turned into RAS as for tensors), the writer's own
+//! for VTK.
+
+use std::path::Path;
 
 use glam::{DMat4, DVec3, DVec4};
+
+use super::input::read_regular_file;
+use super::{nifti, nrrd, vtk};
+use crate::error::{LoadError, LoadErrorKind};
+
+/// Read a 3-D scalar image (or a 4-D one holding a single volume), the reader picked by the
+/// extension as for tensors: `.nii`/`.nii.gz` NIfTI-1 (uint8, int8, int16, uint16, int32,
+/// uint32, int64, uint64, float32, float64; `scl_slope` and `scl_inter` applied), `.nrrd`/`.nhdr`
+/// NRRD (the same types; `dimension: 3`), anything else VTK image data (`.vti`, or legacy
+/// `STRUCTURED_POINTS`) with a one-component point-data array, the first one if there are
+/// several.
+///
+/// Errors name the file and, where there is one, the header field: a tensor volume where a
+/// scalar volume is expected, data shorter than the header says, a voxel-to-world matrix that
+/// cannot be inverted. Memory is bounded as for tensors (nothing is allocated for data the bytes
+/// cannot hold), and a panic inside a reader becomes an error.
+pub fn read_scalar_volume(path: &Path) -> Result<ScalarVolume, LoadError> {
+    vtk::guarded(path, || {
+        let bytes = read_regular_file(path)?;
+        if nifti::is_nifti_path(path) {
+            nifti::parse_scalar(&bytes)
+        } else if nrrd::is_nrrd_path(path) {
+            nrrd::parse_scalar(path, &bytes)
+        } else {
+            vtk::parse_scalar_bytes(&bytes)
+        }
+    })
+}
+
+/// A volume the readers made, refused when its matrix cannot place voxels in the world
+/// (`field` names the header field the matrix came from).
+pub(crate) fn checked(
+    dims: [usize; 3],
+    values: Vec<f32>,
+    voxel_to_world: [[f64; 4]; 4],
+    field: &str,
+) -> Result<ScalarVolume, LoadErrorKind> {
+    let v = ScalarVolume {
+        dims,
+        values,
+        voxel_to_world,
+    };
+    if v.world_to_voxel().is_none() {
+        return Err(LoadErrorKind::Field {
+            field: field.to_string(),
+            message: "the voxel-to-world matrix is singular or not finite: the voxels have no place in the world".into(),
+        });
+    }
+    Ok(v)
+}
 
 /// A 3-D scalar image and where its voxels are.
 #[derive(Debug, Clone, PartialEq)]
@@ -27,18 +84,25 @@ impl ScalarVolume {
         self.values[i + self.dims[0] * (j + self.dims[1] * k)]
     }
 
-    /// Continuous voxel coordinates of a world point; `None` for a singular matrix.
-    pub fn voxel_of(&self, world: DVec3) -> Option<DVec3> {
+    /// The matrix taking world points to continuous voxel coordinates; `None` when the
+    /// voxel-to-world matrix is singular or not finite.
+    pub fn world_to_voxel(&self) -> Option<DMat4> {
         let m = self.matrix();
         let det = m.determinant();
         (det.is_finite() && det != 0.0)
-            .then(|| (m.inverse() * DVec4::new(world.x, world.y, world.z, 1.0)).truncate())
+            .then(|| m.inverse())
+            .filter(|inv| inv.is_finite())
     }
 
-    /// The value of the voxel whose centre is nearest to `world` (ties round up); `None`
-    /// outside the volume (more than half a voxel beyond its outer centres).
-    pub fn nearest(&self, world: DVec3) -> Option<f32> {
-        let v = self.voxel_of(world)?;
+    /// Continuous voxel coordinates of a world point; `None` for a singular matrix.
+    pub fn voxel_of(&self, world: DVec3) -> Option<DVec3> {
+        self.world_to_voxel()
+            .map(|inv| (inv * DVec4::new(world.x, world.y, world.z, 1.0)).truncate())
+    }
+
+    /// The voxel whose centre is nearest to continuous voxel coordinates `v` (ties round up);
+    /// `None` outside the volume (more than half a voxel beyond its outer centres).
+    pub fn nearest_voxel(&self, v: DVec3) -> Option<[usize; 3]> {
         let mut ijk = [0usize; 3];
         for a in 0..3 {
             let r = (v[a] + 0.5).floor();
@@ -47,7 +111,14 @@ impl ScalarVolume {
             }
             ijk[a] = r as usize;
         }
-        Some(self.at(ijk))
+        Some(ijk)
+    }
+
+    /// The value of the voxel whose centre is nearest to `world` (ties round up); `None`
+    /// outside the volume (more than half a voxel beyond its outer centres).
+    pub fn nearest(&self, world: DVec3) -> Option<f32> {
+        self.nearest_voxel(self.voxel_of(world)?)
+            .map(|ijk| self.at(ijk))
     }
 
     /// Trilinear interpolation at `world` (edges clamped to the outer voxel centres); `None`
@@ -130,12 +201,4 @@ mod tests {
         assert!((v.trilinear(w).unwrap() - expect).abs() < 1e-5);
         assert_eq!(v.trilinear(DVec3::new(-3.1, 0.0, 4.0)), None);
     }
-}
-
-/// Read a scalar volume (placeholder until the readers land).
-pub fn read_scalar_volume(path: &std::path::Path) -> Result<ScalarVolume, crate::error::LoadError> {
-    Err(crate::error::LoadError::new(
-        path,
-        crate::error::LoadErrorKind::Malformed("scalar volumes are not read yet".into()),
-    ))
 }

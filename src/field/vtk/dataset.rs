@@ -191,7 +191,7 @@ impl Geometry {
 /// Arrays listed in errors; a file may declare thousands, the line stays readable.
 const LISTED_ARRAYS: usize = 20;
 
-fn describe_arrays(arrays: &[ArrayDesc]) -> String {
+pub(crate) fn describe_arrays(arrays: &[ArrayDesc]) -> String {
     if arrays.is_empty() {
         return "none".into();
     }

@@ -31,6 +31,7 @@ mod assemble;
 mod binary;
 mod dataset;
 mod legacy;
+mod scalars;
 mod xml;
 
 use std::path::Path;
@@ -40,6 +41,7 @@ use super::{ComponentOrder, TensorField, TensorFrame};
 use crate::error::{LoadError, LoadErrorKind, escape_for_error};
 pub(crate) use assemble::assemble;
 pub(crate) use dataset::{ArrayDesc, Cells, Geometry, Parsed, pick, point_dims};
+pub(crate) use scalars::parse_scalar_bytes;
 
 /// How to read a tensor file (VTK, NIfTI).
 #[derive(Debug, Clone, Default)]
@@ -79,10 +81,7 @@ pub fn read_field_bytes(
     guarded(path, || parse_bytes(path, bytes, opts))
 }
 
-pub(crate) fn guarded(
-    path: &Path,
-    f: impl FnOnce() -> Res<TensorField>,
-) -> Result<TensorField, LoadError> {
+pub(crate) fn guarded<T>(path: &Path, f: impl FnOnce() -> Res<T>) -> Result<T, LoadError> {
     let result =
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
             let msg = payload
@@ -104,20 +103,34 @@ pub(crate) fn malformed(msg: impl Into<String>) -> LoadErrorKind {
     LoadErrorKind::Malformed(msg.into())
 }
 
-fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
-    let start = skip_bom_ws(bytes);
-    let head = &bytes[start..];
+/// The two VTK file families, told apart by their first bytes.
+enum Family {
+    Legacy,
+    Xml,
+}
+
+fn family(bytes: &[u8]) -> Res<Family> {
+    let head = &bytes[skip_bom_ws(bytes)..];
     if head.starts_with(b"# vtk DataFile") || head.starts_with(b"# VTK DataFile") {
-        let parsed = legacy::parse(bytes, opts.array.as_deref())?;
-        assemble(parsed, opts)
+        Ok(Family::Legacy)
     } else if head.starts_with(b"<") {
-        xml::read(path, bytes, opts)
+        Ok(Family::Xml)
     } else if bytes.is_empty() {
         Err(LoadErrorKind::NotVtk("the file is empty".into()))
     } else {
         Err(LoadErrorKind::NotVtk(
             "neither a legacy VTK header ('# vtk DataFile Version') nor XML".into(),
         ))
+    }
+}
+
+fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+    match family(bytes)? {
+        Family::Legacy => {
+            let parsed = legacy::parse(bytes, opts.array.as_deref())?;
+            assemble(parsed, opts)
+        }
+        Family::Xml => xml::read(path, bytes, opts),
     }
 }
 

@@ -102,6 +102,18 @@ fn read_cells(cur: &mut Cursor, toks: &[&str], v5: bool, npoints_limit: usize) -
 
 /// Parse a legacy file. Arrays that cannot be tensors are skipped unless `wanted` names them.
 pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>> {
+    parse_keeping(bytes, &|name, ncomp| match wanted {
+        Some(w) => w == name,
+        None => matches!(ncomp, 6 | 9),
+    })
+}
+
+/// Parse a legacy file, decoding the arrays `keep(name, components)` accepts; the others are
+/// listed but their values skipped.
+pub(crate) fn parse_keeping<'a>(
+    bytes: &'a [u8],
+    keep: &dyn Fn(&str, usize) -> bool,
+) -> Res<Parsed<'a>> {
     let mut cur = Cursor {
         b: bytes,
         pos: 0,
@@ -154,10 +166,6 @@ pub(crate) fn parse<'a>(bytes: &'a [u8], wanted: Option<&str>) -> Res<Parsed<'a>
     let mut values: Vec<Option<Vec<f64>>> = Vec::new();
     let mut location: Option<Location> = None;
     let mut declared = 0usize;
-    let keep = |name: &str, ncomp: usize| match wanted {
-        Some(w) => w == name,
-        None => matches!(ncomp, 6 | 9),
-    };
     let npoints_limit = |points: &Option<Vec<[f64; 3]>>| points.as_ref().map_or(0, |p| p.len());
 
     while let Some(t) = cur.line()? {

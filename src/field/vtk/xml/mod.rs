@@ -21,7 +21,7 @@ mod tokenize;
 
 use std::path::Path;
 
-use super::{ReadOptions, Res, assemble, malformed};
+use super::{Parsed, ReadOptions, Res, assemble, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
 use crate::field::TensorField;
 use decode::{Compressor, Ctx};
@@ -80,4 +80,18 @@ pub(crate) fn read(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorF
     }
     let parsed = serial::parse_serial(&ctx, &doc, &ty)?;
     assemble(parsed, opts)
+}
+
+/// One serial XML dataset, handed to `f` as parsed (its arrays load on demand). Parallel files
+/// are refused: their pieces are merged by the tensor reader only.
+pub(crate) fn with_serial<T>(bytes: &[u8], f: impl FnOnce(Parsed<'_>) -> Res<T>) -> Res<T> {
+    let doc = tokenize::tokenize(bytes)?;
+    let (ctx, ty) = header_ctx(bytes, &doc)?;
+    if ty.starts_with('P') {
+        return Err(LoadErrorKind::UnsupportedDataset(format!(
+            "parallel XML file ('{}'); give one of its pieces",
+            esc(&ty)
+        )));
+    }
+    f(serial::parse_serial(&ctx, &doc, &ty)?)
 }
