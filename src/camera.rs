@@ -169,6 +169,61 @@ impl Camera {
         cam
     }
 
+    /// A camera that shows the box `centre ± half` (axis-aligned, world) as large as the image
+    /// allows: oriented as [`Self::frame`] but with the box's projection, not its bounding
+    /// sphere's, fitted to the image (with a 3 % margin), so an elongated field (a beam, a
+    /// slice) fills the frame. `--zoom` divides the distance as in [`Self::frame`].
+    pub fn frame_box(
+        framing: &Framing,
+        centre: DVec3,
+        half: DVec3,
+        width: u32,
+        height: u32,
+    ) -> Self {
+        let radius = half.length();
+        let mut cam = Self::frame(framing, centre, radius, width, height);
+        if !(radius.is_finite() && radius > 0.0) {
+            return cam;
+        }
+        let dir = cam.forward();
+        let up = (cam.up - dir * cam.up.dot(dir)).normalize();
+        let right = dir.cross(up).normalize();
+        let corners = (0..8).map(|k| {
+            let s = |bit: usize| if k >> bit & 1 == 1 { 1.0 } else { -1.0 };
+            DVec3::new(s(0) * half.x, s(1) * half.y, s(2) * half.z)
+        });
+        let aspect = cam.aspect();
+        let zoom = if framing.zoom > 0.0 {
+            framing.zoom
+        } else {
+            1.0
+        };
+        const MARGIN: f64 = 1.03;
+        match cam.projection {
+            Projection::Perspective { fov_y } => {
+                let ty = (fov_y / 2.0).tan();
+                let tx = ty * aspect;
+                let d = corners
+                    .map(|o| (o.dot(right).abs() / tx).max(o.dot(up).abs() / ty) - o.dot(dir))
+                    .fold(0.0f64, f64::max);
+                if d.is_finite() && d > 0.0 {
+                    cam.eye = centre - dir * (d * MARGIN / zoom);
+                }
+            }
+            Projection::Orthographic { .. } => {
+                let (hx, hy) = corners.fold((0.0f64, 0.0f64), |(hx, hy), o| {
+                    (hx.max(o.dot(right).abs()), hy.max(o.dot(up).abs()))
+                });
+                let h = (2.0 * hy).max(2.0 * hx / aspect) * MARGIN / zoom;
+                if h.is_finite() && h > 0.0 {
+                    cam.projection = Projection::Orthographic { height: h };
+                }
+            }
+        }
+        cam.fit_depth_range(centre, radius);
+        cam
+    }
+
     /// Near and far planes tight around a bounding sphere, so depth keeps its resolution.
     /// An eye inside the sphere gets a near plane of 1e-4 of the radius (glyphs cut by it are
     /// clipped, as in any rasteriser).

@@ -184,17 +184,19 @@ fn add_underlay(
         &built.scene,
     )?;
     built.scene.underlay = Some(u);
-    // The scene's sphere holds what it draws (near and far planes are fitted to it).
-    built.scene.radius = holding_underlay(&built.scene, built.scene.centre, built.scene.radius);
-    built.frame_radius = holding_underlay(&built.scene, built.frame_centre, built.frame_radius);
+    // The scene's bounds hold what it draws (near and far planes are fitted to them).
+    built.scene.half = holding_underlay(&built.scene, built.scene.centre, built.scene.half);
+    built.scene.radius = built.scene.half.length();
+    built.frame_half = holding_underlay(&built.scene, built.frame_centre, built.frame_half);
+    built.frame_radius = built.frame_half.length();
     Ok(())
 }
 
-/// `radius` grown so that the sphere at `centre` holds the scene's underlay images wherever
-/// they are placed (up to `behind` off their plane).
-fn holding_underlay(scene: &Scene, centre: DVec3, radius: f64) -> f64 {
+/// The half extents `half` of a box at `centre` grown to hold the scene's underlay images
+/// wherever they are placed (up to `behind` off their plane).
+fn holding_underlay(scene: &Scene, centre: DVec3, half: DVec3) -> DVec3 {
     let planes = scene.underlay.iter().flat_map(|u| &u.planes);
-    planes.fold(radius, |r, p| {
+    planes.fold(half, |h, p| {
         let g = p.geometry;
         [
             g.corner,
@@ -203,7 +205,9 @@ fn holding_underlay(scene: &Scene, centre: DVec3, radius: f64) -> f64 {
             g.corner + g.u + g.v,
         ]
         .iter()
-        .fold(r, |r, c| r.max((*c - centre).length() + g.behind))
+        .fold(h, |h, c| {
+            h.max((*c - centre).abs() + DVec3::splat(g.behind))
+        })
     })
 }
 
@@ -260,10 +264,11 @@ pub(crate) fn ms(since: Instant) -> f64 {
 /// A scene, the bounds the camera frames, and what it took.
 pub struct Staged {
     pub scene: Scene,
-    /// Bounding sphere of the whole field (every valid glyph), which the camera frames so a
-    /// selection is drawn in place.
+    /// Bounding box (`frame_centre ± frame_half`) and sphere of the whole field (every valid
+    /// glyph), which the camera frames so a selection is drawn in place.
     pub frame_centre: DVec3,
     pub frame_radius: f64,
+    pub frame_half: DVec3,
     /// Valid tensors (glyphs before the selection).
     pub glyphs_valid: usize,
     /// Glyphs the selection kept (the scene's instances).
@@ -277,13 +282,14 @@ pub struct Staged {
     pub timings: Timings,
 }
 
-/// One lattice slice seen face-on: the view's (direction, up) and the bounding sphere of the
-/// slice's glyphs and underlay, to frame it closely.
+/// One lattice slice seen face-on: the view's (direction, up) and the bounding box and sphere
+/// of the slice's glyphs and underlay, to frame it closely.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FaceOn {
     pub toward: (DVec3, DVec3),
     pub centre: DVec3,
     pub radius: f64,
+    pub half: DVec3,
 }
 
 /// Read the file (or make the demo field).
@@ -348,6 +354,7 @@ pub fn stage(
         face: built.face,
         frame_centre: built.frame_centre,
         frame_radius: built.frame_radius,
+        frame_half: built.frame_half,
         style: built.style,
         scene: built.scene,
         timings,
@@ -361,9 +368,10 @@ pub struct Built {
     pub glyphs_clamped: usize,
     /// Instance k is glyph `selected[k]` of the set.
     pub selected: Vec<usize>,
-    /// Bounding sphere of the whole field.
+    /// Bounding box (`frame_centre ± frame_half`) and sphere of the whole field.
     pub frame_centre: DVec3,
     pub frame_radius: f64,
+    pub frame_half: DVec3,
     pub glyphs_valid: usize,
     /// With one slice shown: how to see it face-on.
     pub face: Option<FaceOn>,
@@ -378,6 +386,7 @@ impl Built {
             glyphs_clamped: clamped,
             frame_centre: scene.centre,
             frame_radius: scene.radius,
+            frame_half: scene.half,
             selected: (0..valid).collect(),
             glyphs_valid: valid,
             face: None,
@@ -387,7 +396,7 @@ impl Built {
 
     fn selected(
         (scene, clamped): (Scene, usize),
-        (c, r): (DVec3, f64),
+        (c, half): (DVec3, DVec3),
         valid: usize,
         selected: Vec<usize>,
         style: ResolvedStyle,
@@ -398,7 +407,8 @@ impl Built {
             glyphs_clamped: clamped,
             selected,
             frame_centre: c,
-            frame_radius: r,
+            frame_radius: half.length(),
+            frame_half: half,
             glyphs_valid: valid,
             face: None,
         }
@@ -447,6 +457,7 @@ fn face_on(built: &Built, field: &TensorField, selection: &Selection) -> Option<
         toward,
         centre: scene.centre,
         radius: scene.radius,
+        half: scene.half,
     })
 }
 
@@ -492,8 +503,8 @@ fn whole_field_bounds(
     style: &ResolvedStyle,
     glyph: GlyphKind,
     progress: &dyn Progress,
-) -> (DVec3, f64) {
+) -> (DVec3, DVec3) {
     run_stage(progress, "bounds of the whole field", None, || {
-        Scene::bounding_sphere(set, style, glyph)
+        Scene::bounding_box(set, style, glyph)
     })
 }

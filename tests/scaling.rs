@@ -9,9 +9,14 @@ mod common;
 use common::cli::{json, stderr, tg};
 
 fn coverage(extra: &[&str]) -> (f64, serde_json::Value) {
+    coverage_of("pointload.vti", extra)
+}
+
+fn coverage_of(file: &str, extra: &[&str]) -> (f64, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("s.png");
-    let input = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/stress/pointload.vti");
+    let input = format!("{}/tests/stress/{file}", env!("CARGO_MANIFEST_DIR"));
+    let input = input.as_str();
     let mut args = vec![
         "render",
         input,
@@ -44,6 +49,19 @@ fn the_default_scale_shows_a_point_load_field() {
     // logarithm the default picks for stress fields shows more.
     let (linear, _) = coverage(&["--size-by", "linear"]);
     assert!(linear < default && linear > 0.01, "linear {linear}");
+}
+
+/// A cantilever beam solved by scikit-fem (tests/stress/make_beam.py): bending stress is
+/// uniaxial, so its ellipsoids are needles; the stress defaults (log sizing, radii at most 4:1)
+/// and framing the field's box keep them visible.
+#[test]
+fn the_default_scale_shows_a_bending_beam() {
+    let (default, j) = coverage_of("beam.vtu", &[]);
+    assert!(default >= 0.04, "default scale covers {default}");
+    assert_eq!(j["glyphs_total"], 2989);
+    // The needles the tensor's own ellipsoids are (radii down to 1 % of the largest).
+    let (needles, _) = coverage_of("beam.vtu", &["--min-radius", "0.01"]);
+    assert!(needles < default / 1.4, "needles {needles} vs {default}");
 }
 
 #[test]

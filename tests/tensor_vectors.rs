@@ -202,7 +202,7 @@ fn test_vector_tensors() {
         let style = GlyphStyle {
             scale: Scale::Factor(1.0),
             normalize: Normalize::None,
-            min_radius: 1e-3,
+            min_radius: Some(1e-3),
             ..GlyphStyle::default()
         };
         let rs = style.resolve(&set, 1.0);

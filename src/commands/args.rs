@@ -56,9 +56,11 @@ pub struct SceneArgs {
     /// Normalise eigenvalues before scaling.
     #[arg(long, default_value = "none", value_parser = one_of::<Normalize>(Normalize::NAMES))]
     pub normalize: Normalize,
-    /// Smallest radius as a fraction of the glyph's largest (keeps T invertible).
-    #[arg(long, default_value_t = 0.01)]
-    pub min_radius: f64,
+    /// Smallest radius as a fraction of the glyph's largest (keeps T invertible). Default 0.01;
+    /// 0.2 for stress-like fields sized by the automatic log map (uniaxial stress is a needle
+    /// otherwise).
+    #[arg(long, value_name = "EPS")]
+    pub min_radius: Option<f64>,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -75,11 +77,12 @@ impl SceneArgs {
 
     /// The style asked for, with `defaults` (of the data's kind) for what was not.
     pub fn style(&self, defaults: &Defaults) -> Result<GlyphStyle> {
-        ensure!(
-            self.min_radius.is_finite() && (0.0..=1.0).contains(&self.min_radius),
-            "--min-radius must be between 0 and 1, got {}",
-            self.min_radius
-        );
+        if let Some(e) = self.min_radius {
+            ensure!(
+                e.is_finite() && (0.0..=1.0).contains(&e),
+                "--min-radius must be between 0 and 1, got {e}"
+            );
+        }
         Ok(GlyphStyle {
             color: self.color.unwrap_or(defaults.color),
             scale: self.scale,

@@ -172,14 +172,14 @@ fn run_staged(
             large.glyphs = staged.glyphs_selected;
             let (w, h) = args.size;
             let mut framing = Framing::default();
-            let (centre, radius) = match staged.face {
+            let (centre, half) = match staged.face {
                 Some(face) => {
                     framing.toward = Some(face.toward);
-                    (face.centre, face.radius)
+                    (face.centre, face.half)
                 }
-                None => (staged.frame_centre, staged.frame_radius),
+                None => (staged.frame_centre, staged.frame_half),
             };
-            let camera = Camera::frame(&framing, centre, radius, w, h);
+            let camera = Camera::frame_box(&framing, centre, half, w, h);
             // As `render` draws it by default.
             let req = FrameRequest::preset(method, glyph, true, Preset::DEFAULT);
             let result = render_gpu(

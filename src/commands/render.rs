@@ -229,15 +229,15 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let mut scene = staged.scene;
     // The whole field, not the selection: a slice is drawn where it is in the volume; but one
     // slice of a DTI volume is seen face-on and close, as DTI viewers show it.
-    let (centre, radius) = match staged.face {
+    let (centre, half) = match staged.face {
         Some(face) if defaults.face_on && cam.view.is_none() => {
             framing.toward = Some(face.toward);
-            (face.centre, face.radius)
+            (face.centre, face.half)
         }
-        _ => (staged.frame_centre, staged.frame_radius),
+        _ => (staged.frame_centre, staged.frame_half),
     };
     // With --ssaa the camera renders N×N samples per output pixel.
-    let camera = Camera::frame(&framing, centre, radius, w * ssaa, h * ssaa);
+    let camera = Camera::frame_box(&framing, centre, half, w * ssaa, h * ssaa);
     if draw.sort() {
         scene.sort_front_to_back(&camera);
     }

@@ -110,7 +110,7 @@ pub enum SizeBy {
     Linear,
     /// `r_i ∝ √|λ_i|` (for diffusion: the displacement's standard deviation), a gentler spread.
     Sqrt,
-    /// `r_i ∝ ln(1 + |λ_i| / λ_ref)`, λ_ref the field's median largest |λ|: for fields spanning
+    /// `r_i ∝ ln(1 + |λ_i| / λ_ref)`, λ_ref the 10th percentile of the largest |λ|: for fields spanning
     /// orders of magnitude (stress near a load).
     Log,
     /// The glyph's shape (`|λ_i| / max |λ|`) at a size ∝ its FA (clamped to 1).
@@ -136,6 +136,15 @@ pub const AUTO_PERCENTILE: f64 = 0.98;
 /// At most this many glyphs (evenly spread in file order) estimate the percentile.
 const PERCENTILE_SAMPLES: usize = 1 << 20;
 
+/// `--size-by log`: λ_ref is this percentile of the glyphs' largest |λ|.
+pub const LOG_REF_PERCENTILE: f64 = 0.1;
+
+/// The smallest radius, relative to the glyph's largest, by default.
+pub const DEFAULT_MIN_RADIUS: f64 = 0.01;
+/// The default for stress-like fields: their common uniaxial states (a beam in bending) are
+/// needles otherwise, too thin to see; at most 4:1, the principal direction still reads.
+pub const STRESS_MIN_RADIUS: f64 = 0.25;
+
 /// User options for glyph geometry and colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GlyphStyle {
@@ -143,8 +152,9 @@ pub struct GlyphStyle {
     pub scale: Scale,
     pub normalize: Normalize,
     pub size_by: SizeBy,
-    /// Relative minimum radius ε: `r_i ← max(r_i, ε · r_max)` per glyph (default 0.01).
-    pub min_radius: f64,
+    /// Relative minimum radius ε: `r_i ← max(r_i, ε · r_max)` per glyph. `None`: 0.01, or
+    /// [`STRESS_MIN_RADIUS`] where `--size-by auto` picks `log` (stress-like fields).
+    pub min_radius: Option<f64>,
     /// Shape-class threshold τ (default 0.5).
     pub class_threshold: f64,
     /// Colour of [`ColorScheme::Solid`].
@@ -158,7 +168,7 @@ impl Default for GlyphStyle {
             scale: Scale::Auto,
             normalize: Normalize::None,
             size_by: SizeBy::Auto,
-            min_radius: 0.01,
+            min_radius: None,
             class_threshold: DEFAULT_CLASS_THRESHOLD,
             solid_color: [200, 200, 200],
         }
@@ -195,10 +205,11 @@ impl GlyphStyle {
             size_by,
             log_ref: 1.0,
             cap: f64::INFINITY,
-            min_radius: if self.min_radius.is_finite() {
-                self.min_radius.max(0.0)
-            } else {
-                0.0
+            min_radius: match self.min_radius {
+                Some(e) if e.is_finite() => e.max(0.0),
+                Some(_) => 0.0,
+                None if self.size_by == SizeBy::Auto && size_by == SizeBy::Log => STRESS_MIN_RADIUS,
+                None => DEFAULT_MIN_RADIUS,
             },
             color: self.color,
             class_threshold: self.class_threshold,
@@ -206,13 +217,13 @@ impl GlyphStyle {
             md_range,
         };
         if size_by == SizeBy::Log {
-            // λ_ref: the median largest |λ|, so that the typical glyph sits where the
-            // logarithm bends.
+            // λ_ref: a low percentile of the largest |λ|, so that most glyphs sit where the
+            // logarithm compresses (a singular field's far glyphs stay visible).
             let linear = ResolvedStyle {
                 size_by: SizeBy::Linear,
                 ..style.clone()
             };
-            let r = percentile_largest(set, &linear, 0.5);
+            let r = percentile_largest(set, &linear, LOG_REF_PERCENTILE);
             style.log_ref = if r > 0.0 { r } else { 1.0 };
         }
         match self.scale {
@@ -440,7 +451,7 @@ mod tests {
             GlyphStyle {
                 scale: Scale::Factor(1.0),
                 size_by,
-                min_radius: 0.0,
+                min_radius: Some(0.0),
                 ..GlyphStyle::default()
             }
             .resolve(&s, 1.0)
@@ -453,7 +464,8 @@ mod tests {
         for (r, want) in with(SizeBy::Fa).iter().zip([fa, 0.25 * fa, 0.0625 * fa]) {
             assert!((f64::from(*r) - want).abs() < 1e-6);
         }
-        // Log: λ_ref is the median largest |λ| (4 here): ln(1 + |λ| / 4).
+        // Log: λ_ref is the 10th percentile of the largest |λ| (4 here, the only glyph):
+        // ln(1 + |λ| / 4).
         let log = with(SizeBy::Log);
         for (r, l) in log.iter().zip([4.0f64, 1.0, 0.25]) {
             assert!((f64::from(*r) - (l / 4.0).ln_1p()).abs() < 1e-6, "{log:?}");
@@ -509,7 +521,7 @@ mod tests {
         let st = GlyphStyle {
             scale: Scale::Factor(2.0),
             normalize: Normalize::Max,
-            min_radius: 1e-3,
+            min_radius: Some(1e-3),
             ..GlyphStyle::default()
         }
         .resolve(&s, 1.0);

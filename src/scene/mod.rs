@@ -43,9 +43,10 @@ pub struct Scene {
     /// World point that instance centres are relative to (keeps f32 precise far from 0).
     pub origin: DVec3,
     pub instances: Vec<GlyphInstance>,
-    /// Bounding sphere of all glyphs (world).
+    /// Bounding sphere of all glyphs (world): the box `centre ± half` and its circumsphere.
     pub centre: DVec3,
     pub radius: f64,
+    pub half: DVec3,
     /// A scalar image under the glyphs (`--underlay`), if asked for.
     pub underlay: Option<Underlay>,
 }
@@ -172,16 +173,17 @@ impl Scene {
             lo = lo.min(geo.centre - h);
             hi = hi.max(geo.centre + h);
         }
-        let (centre, radius) = if instances.is_empty() {
-            (origin, 1.0)
+        let (centre, half) = if instances.is_empty() {
+            (origin, DVec3::splat(1.0 / 3f64.sqrt()))
         } else {
-            ((lo + hi) / 2.0 + origin, ((hi - lo) / 2.0).length())
+            ((lo + hi) / 2.0 + origin, (hi - lo) / 2.0)
         };
         Self {
             origin,
             instances,
             centre,
-            radius,
+            radius: half.length(),
+            half,
             underlay: None,
         }
     }
@@ -228,18 +230,18 @@ impl Scene {
         Self::from_instances(origin, instances)
     }
 
-    /// The bounding sphere (centre, radius) that [`Self::build`] would give the scene of `set`,
-    /// without making the instances: to frame the whole field while drawing a selection of it.
-    /// Equal to the built scene's up to rounding.
-    pub fn bounding_sphere(
+    /// The bounding box (centre, half extents) that [`Self::build`] would give the scene of
+    /// `set`, without making the instances: to frame the whole field while drawing a selection
+    /// of it. Equal to the built scene's up to rounding.
+    pub fn bounding_box(
         set: &crate::glyph::GlyphSet,
         style: &crate::glyph::ResolvedStyle,
         glyph: GlyphKind,
-    ) -> (DVec3, f64) {
+    ) -> (DVec3, DVec3) {
         use rayon::prelude::*;
         let origin = centre_box_middle(set);
         if set.glyphs.is_empty() {
-            return (origin, 1.0);
+            return (origin, DVec3::splat(1.0 / 3f64.sqrt()));
         }
         let empty = || (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
         let (lo, hi) = set
@@ -252,7 +254,7 @@ impl Scene {
                 (lo.min(geo.centre - h), hi.max(geo.centre + h))
             })
             .reduce(empty, |a, b| (a.0.min(b.0), a.1.max(b.1)));
-        ((lo + hi) / 2.0 + origin, ((hi - lo) / 2.0).length())
+        ((lo + hi) / 2.0 + origin, (hi - lo) / 2.0)
     }
 
     /// How many glyphs the camera cannot draw: eye inside or on them (Gumhold's quad does not
@@ -448,13 +450,15 @@ mod tests {
     use std::sync::atomic::{AtomicU64, Ordering};
 
     #[test]
-    fn bounding_sphere_is_the_built_scenes() {
+    fn bounding_box_is_the_built_scenes() {
         let field = crate::field::synthetic::grid(7);
         let set = derive_glyphs(&field, &crate::progress::Silent);
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
         for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
             let scene = Scene::build(&set, &style, glyph);
-            let (c, r) = Scene::bounding_sphere(&set, &style, glyph);
+            let (c, half) = Scene::bounding_box(&set, &style, glyph);
+            assert!((half - scene.half).length() <= 1e-9 * scene.radius);
+            let r = half.length();
             assert!(
                 (c - scene.centre).length() <= 1e-9 * scene.radius,
                 "{c} vs {}",
@@ -469,8 +473,8 @@ mod tests {
         let empty = crate::glyph::GlyphSet::default();
         let scene = Scene::build(&empty, &style, GlyphKind::Ellipsoid);
         assert_eq!(
-            Scene::bounding_sphere(&empty, &style, GlyphKind::Ellipsoid),
-            (scene.centre, scene.radius)
+            Scene::bounding_box(&empty, &style, GlyphKind::Ellipsoid),
+            (scene.centre, scene.half)
         );
     }
 

@@ -33,6 +33,8 @@ struct Built {
     selected: Vec<usize>,
     /// Of those, glyphs `--scale auto` scaled down to the robust largest size.
     clamped: usize,
+    /// The smallest relative radius in effect.
+    min_radius: f64,
     generation: u64,
 }
 
@@ -224,6 +226,7 @@ impl ViewerApp {
                     selected: Vec::new(),
                     frame_centre: DVec3::ZERO,
                     frame_radius: 1.0,
+                    frame_half: DVec3::splat(1.0 / 3f64.sqrt()),
                     glyphs_valid: data.set.glyphs.len(),
                     face: None,
                     style: recipe.style.resolve(&data.set, data.spacing),
@@ -237,6 +240,7 @@ impl ViewerApp {
             frame_radius,
             face,
             glyphs_clamped,
+            style,
             ..
         } = built;
         if let Err(e) = self.view.set_scene(&self.gpu, &scene) {
@@ -271,6 +275,7 @@ impl ViewerApp {
             scene,
             selected,
             clamped: glyphs_clamped,
+            min_radius: style.min_radius,
             generation: self.scene_generation,
         });
     }
@@ -527,6 +532,7 @@ impl eframe::App for ViewerApp {
                     frame: self.view.last_frame,
                     adapter: &adapter,
                     glyphs_clamped: self.built.as_ref().map_or(0, |b| b.clamped),
+                    min_radius: self.built.as_ref().map(|b| b.min_radius),
                     underlay_file: self.underlay_file.as_ref(),
                     underlay_window: self
                         .built

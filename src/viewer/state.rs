@@ -151,7 +151,7 @@ mod tests {
         r.selection.roi = Some([0.0, 0.0, 0.0, 1.0, 1.0, 1.0]);
         assert_ne!(s.build_key(1), r.build_key(1), "an ROI rebuilds");
         let mut u = s.clone();
-        u.style.min_radius = 0.2;
+        u.style.min_radius = Some(0.2);
         assert_ne!(s.build_key(1), u.build_key(1));
         assert_ne!(s.build_key(1), s.build_key(2), "a new file rebuilds");
     }

@@ -69,6 +69,8 @@ pub struct PanelInfo<'a> {
     pub adapter: &'a str,
     /// Selected glyphs `--scale auto` scaled down to the robust largest size.
     pub glyphs_clamped: usize,
+    /// The smallest relative radius the scene was built with.
+    pub min_radius: Option<f64>,
     /// `--underlay FILE`, offered when its volume was read.
     pub underlay_file: Option<&'a crate::scene::UnderlaySource>,
     /// The scene's underlay window (its 2nd and 98th percentiles).

@@ -4,6 +4,7 @@
 use egui::{Color32, Ui};
 
 use crate::glyph::colormap::{diverging, viridis};
+use crate::glyph::style::DEFAULT_MIN_RADIUS;
 use crate::glyph::{ColorScheme, Normalize, Scale, SizeBy};
 use crate::legend::{Legend, legend};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
@@ -67,7 +68,17 @@ pub(super) fn style_section(
                 ui.selectable_value(&mut style.normalize, n, n.name());
             }
         });
-    ui.add(egui::Slider::new(&mut style.min_radius, 0.0..=1.0).text("min radius"));
+    // The field's default until the slider is moved.
+    let mut eps = style
+        .min_radius
+        .or(info.min_radius)
+        .unwrap_or(DEFAULT_MIN_RADIUS);
+    if ui
+        .add(egui::Slider::new(&mut eps, 0.0..=1.0).text("min radius"))
+        .changed()
+    {
+        style.min_radius = Some(eps);
+    }
 }
 
 fn color32(c: [f64; 3]) -> Color32 {

@@ -48,6 +48,7 @@ fn info(data: Option<&Loaded>) -> PanelInfo<'_> {
         }),
         adapter: "llvmpipe",
         glyphs_clamped: 3,
+        min_radius: Some(0.01),
         underlay_file: None,
         underlay_window: Some([0.1, 0.9]),
     }
