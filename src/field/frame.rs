@@ -39,6 +39,8 @@ pub enum Why {
     Flag,
     /// The documented default for the format.
     Default,
+    /// The files' names (FSL's eigen set `_L1`..`_V3`).
+    Names,
 }
 
 /// How the components were laid out.

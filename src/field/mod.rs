@@ -2,6 +2,7 @@
 //! order, with what is known about where they came from.
 
 pub mod frame;
+pub mod fsl_eigen;
 pub mod input;
 pub mod nifti;
 pub mod nrrd;
@@ -18,11 +19,13 @@ use std::path::Path;
 
 use crate::error::LoadError;
 
-/// Read a tensor field from a file, the reader picked by the extension: `.nii` and `.nii.gz`
-/// NIfTI-1, `.nrrd` and `.nhdr` NRRD, anything else VTK (whose format is then told by the
-/// content).
+/// Read a tensor field from a file, the reader picked by the name: FSL's eigen set
+/// (`PREFIX_L1.nii.gz` .. `PREFIX_V3.nii.gz`, or `PREFIX`), `.nii` and `.nii.gz` NIfTI-1, `.nrrd`
+/// and `.nhdr` NRRD, anything else VTK (whose format is then told by the content).
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-    if nifti::is_nifti_path(path) {
+    if let Some(set) = fsl_eigen::EigenSet::named_by(path) {
+        fsl_eigen::read(&set, opts)
+    } else if nifti::is_nifti_path(path) {
         vtk::guarded(path, || {
             let bytes = input::read_regular_file(path)?;
             nifti::parse(&bytes, opts)

@@ -1,16 +1,26 @@
 //! NIfTI-1 tensor volumes (`.nii`, `.nii.gz`): FSL `dtifit --save_tensor`, MRtrix
-//! `dwi2tensor`, DIPY/nibabel.
+//! `dwi2tensor`, DIPY/nibabel, ANTs/ITK.
 //!
 //! The `nifti` crate parses the 348-byte header and builds the sform/qform affines; the bytes
 //! are ours: read whole through the bounded regular-file reader, inflated no further than the
 //! header's dimensions need (and never further than the compressed size could hold), and the
-//! voxel data is checked against the bytes present before anything is allocated for it.
+//! voxel data is checked against the bytes present before anything is allocated for it. The
+//! crate reads no NIfTI-2 (a 540-byte header): such a file is refused by its `sizeof_hdr`.
 //!
 //! Layouts (the file's own word wins, then `--order`, then the default):
-//! - 5-D `X×Y×Z×1×6`: NIfTI's lower triangle by rows `xx xy yy xz yz zz` (intent SYMMATRIX, as
-//!   DIPY and nibabel write it: "file"; without the intent, `--order` or `nifti`);
+//! - 5-D `X×Y×Z×1×6` with intent SYMMATRIX: NIfTI's lower triangle by rows `xx xy yy xz yz zz`
+//!   ("file"). DIPY writes this, and so does ITK (hence ANTs) for its tensor images: it keeps
+//!   them as the upper triangle `xx xy xz yy yz zz` in memory and reorders them on writing.
+//! - 5-D `X×Y×Z×1×6` without that intent: `--order`, default `fsl` (`xx xy xz yy yz zz`). ITK
+//!   writes 6-vector images (intent VECTOR) with their components unreordered, so tensors
+//!   handled as vectors there come out in its upper-triangle order; DIPY sets the intent
+//!   whenever it writes the lower triangle (and writes FSL's 4-D order otherwise).
 //! - 4-D `X×Y×Z×6`: `--order`, default `fsl` (`xx xy xz yy yz zz`); MRtrix needs `--order mrtrix`;
 //! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major.
+//!
+//! Tensors are taken to be in the voxel axes unless `--tensor-frame` says otherwise: FSL, DIPY
+//! and ANTs (whose tensors ITK's direction matrix, the rotation of the qform, takes to world)
+//! all store them so.
 
 use std::borrow::Cow;
 use std::io::Cursor;
@@ -45,6 +55,40 @@ fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
 
 /// Read a NIfTI-1 tensor volume from the file's bytes (gzip-compressed or not).
 pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+    let head = read_header(bytes, tensor_components)?;
+    let voxels = head.voxels(bytes)?;
+    let (layout, expand) = layout(&head.h, &head.shape, opts)?;
+    let affine = head.affine()?;
+    let components = head.shape.components;
+    let mut comps = vec![0.0f64; components];
+    let mut tensors = Vec::with_capacity(head.shape.voxels);
+    for v in 0..head.shape.voxels {
+        for (c, out) in comps.iter_mut().enumerate() {
+            *out = voxels.get(c, v);
+        }
+        tensors.push(expand(&comps));
+    }
+    let array = TensorArrayInfo {
+        name: "tensor".into(),
+        components,
+        location: Location::Point,
+    };
+    lattice_field(head.dims(), affine, opts, tensors, array, layout)
+}
+
+/// A NIfTI-1 file's header and the lattice it gives, read before any voxel data is inflated.
+pub(crate) struct Header {
+    h: NiftiHeader,
+    shape: Shape,
+    gz: bool,
+}
+
+/// Read and check the header of a NIfTI-1 file from its bytes (gzip-compressed or not).
+///
+/// `check` is given the number of values per voxel (volumes of a 4-D file, the fifth
+/// dimension of a 5-D one, 1 for a 3-D one) and refuses what its caller cannot use, before the
+/// data type is looked at: a 3-D mask given as tensors is told as such, not as "uint8".
+pub(crate) fn read_header(bytes: &[u8], check: impl FnOnce(usize) -> Res<()>) -> Res<Header> {
     let gz = bytes.starts_with(&[0x1f, 0x8b]);
     let head: Cow<[u8]> = if gz {
         Cow::Owned(gunzip(bytes, MIN_OFFSET, "the header")?)
@@ -52,43 +96,100 @@ pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
         Cow::Borrowed(bytes)
     };
     let h = header(&head)?;
-    let shape = Shape::of(&h)?;
-    let offset = (h.vox_offset.is_finite() && h.vox_offset >= 0.0)
-        .then_some(h.vox_offset as u64)
-        .ok_or_else(|| {
-            field(
-                "vox_offset",
-                format!("{} is not a byte offset", h.vox_offset),
-            )
-        })?
-        .max(MIN_OFFSET);
-    let width = shape.width as u64;
-    let data_len = (shape.voxels as u64)
-        .checked_mul(shape.components as u64)
-        .and_then(|n| n.checked_mul(width))
-        .ok_or_else(|| field("dim", "the dimensions overflow"))?;
-    let needed = offset
-        .checked_add(data_len)
-        .ok_or_else(|| field("vox_offset", "the data end overflows"))?;
-    let data: Cow<[u8]> = if gz {
-        Cow::Owned(gunzip(bytes, needed, "the voxel data")?)
-    } else {
-        Cow::Borrowed(bytes)
-    };
-    if (data.len() as u64) < needed {
-        return Err(field(
-            "dim",
-            format!(
-                "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {}",
-                if gz { " uncompressed" } else { "" },
-                data.len()
-            ),
-        ));
+    let shape = Shape::of(&h, check)?;
+    Ok(Header { h, shape, gz })
+}
+
+impl Header {
+    pub(crate) fn dims(&self) -> [usize; 3] {
+        self.shape.dims
     }
-    let data = &data[offset as usize..needed as usize];
-    let (layout, expand) = layout(&h, &shape, opts)?;
-    let affine_source = affine(&h)?;
-    let (a, source) = affine_source;
+
+    /// The voxel-to-world matrix and the field it came from (`sform`, `qform` or `pixdim`).
+    pub(crate) fn affine(&self) -> Res<(Matrix4<f64>, &'static str)> {
+        affine(&self.h)
+    }
+
+    /// The voxel data of the file whose bytes are `bytes`, checked against the bytes present
+    /// (inflated no further than the header's dimensions need).
+    pub(crate) fn voxels<'a>(&self, bytes: &'a [u8]) -> Res<Voxels<'a>> {
+        let (h, shape) = (&self.h, &self.shape);
+        let offset = (h.vox_offset.is_finite() && h.vox_offset >= 0.0)
+            .then_some(h.vox_offset as u64)
+            .ok_or_else(|| {
+                field(
+                    "vox_offset",
+                    format!("{} is not a byte offset", h.vox_offset),
+                )
+            })?
+            .max(MIN_OFFSET);
+        let width = shape.width as u64;
+        let data_len = (shape.voxels as u64)
+            .checked_mul(shape.components as u64)
+            .and_then(|n| n.checked_mul(width))
+            .ok_or_else(|| field("dim", "the dimensions overflow"))?;
+        let needed = offset
+            .checked_add(data_len)
+            .ok_or_else(|| field("vox_offset", "the data end overflows"))?;
+        let data: Cow<[u8]> = if self.gz {
+            Cow::Owned(gunzip(bytes, needed, "the voxel data")?)
+        } else {
+            Cow::Borrowed(bytes)
+        };
+        if (data.len() as u64) < needed {
+            return Err(field(
+                "dim",
+                format!(
+                    "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {}",
+                    if self.gz { " uncompressed" } else { "" },
+                    data.len()
+                ),
+            ));
+        }
+        let (slope, inter) = scaling(h);
+        Ok(Voxels {
+            data,
+            start: offset as usize,
+            width: shape.width,
+            voxels: shape.voxels,
+            value: number_reader(h, shape.width)?,
+            slope,
+            inter,
+        })
+    }
+}
+
+/// A NIfTI-1 file's voxel values: `components` volumes one after the other, x fastest.
+pub(crate) struct Voxels<'a> {
+    /// The file (inflated), holding the values from `start` on.
+    data: Cow<'a, [u8]>,
+    start: usize,
+    width: usize,
+    voxels: usize,
+    value: fn(&[u8]) -> f64,
+    slope: f64,
+    inter: f64,
+}
+
+impl Voxels<'_> {
+    /// Value `c` of voxel `v`, scaled by `scl_slope` and `scl_inter`.
+    pub(crate) fn get(&self, c: usize, v: usize) -> f64 {
+        let at = self.start + (c * self.voxels + v) * self.width;
+        (self.value)(&self.data[at..at + self.width]) * self.slope + self.inter
+    }
+}
+
+/// The field of `tensors` (file order, in the frame they were stored in) on a NIfTI lattice of
+/// `dims` voxels placed by the affine `a` (from `source`): positions in world (RAS), and the
+/// rotation that `--tensor-frame` (default `voxel`) takes the tensors to world with.
+pub(crate) fn lattice_field(
+    dims: [usize; 3],
+    (a, source): (Matrix4<f64>, &'static str),
+    opts: &ReadOptions,
+    tensors: Vec<[f64; 9]>,
+    array: TensorArrayInfo,
+    layout: Layout,
+) -> Res<TensorField> {
     let linear: Matrix3<f64> = a.fixed_view::<3, 3>(0, 0).into_owned();
     let tensor_frame = opts.tensor_frame.unwrap_or(TensorFrame::Voxel);
     let rotation = tensor_rotation(tensor_frame, &linear);
@@ -98,31 +199,14 @@ pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
             "the voxel-to-world matrix is singular: no rotation to take voxel-frame tensors to world",
         ));
     }
-
-    let value = number_reader(&h, shape.width)?;
-    let (slope, inter) = scaling(&h);
-    let n = shape.voxels;
-    let mut comps = vec![0.0f64; shape.components];
-    let mut tensors = Vec::with_capacity(n);
-    for v in 0..n {
-        for (c, out) in comps.iter_mut().enumerate() {
-            let at = (c * n + v) * shape.width;
-            *out = value(&data[at..at + shape.width]) * slope + inter;
-        }
-        tensors.push(expand(&comps));
-    }
-    let dims = shape.dims;
+    let n = tensors.len();
     Ok(TensorField {
         format: "nifti".into(),
         dataset: DatasetKind::ImageData,
         dims: Some(dims),
         points: n,
         cells: dims.iter().map(|d| d.saturating_sub(1)).product(),
-        array: TensorArrayInfo {
-            name: "tensor".into(),
-            components: shape.components,
-            location: Location::Point,
-        },
+        array,
         positions: lattice_positions(&a, dims),
         tensors,
         direction: rotation.as_ref().map(rows3),
@@ -158,7 +242,8 @@ fn header(bytes: &[u8]) -> Res<NiftiHeader> {
     if size.contains(&540) {
         return Err(field(
             "sizeof_hdr",
-            "540: a NIfTI-2 file; only NIfTI-1 is read (convert with nibabel or mrconvert)",
+            "540: NIfTI-2 is not supported; convert it to NIfTI-1 \
+             (nibabel's Nifti1Image.from_image, or mrconvert)",
         ));
     }
     let mut h = NiftiHeader::from_reader(Cursor::new(bytes)).map_err(|e| {
@@ -198,7 +283,7 @@ struct Shape {
 }
 
 impl Shape {
-    fn of(h: &NiftiHeader) -> Res<Self> {
+    fn of(h: &NiftiHeader, check: impl FnOnce(usize) -> Res<()>) -> Res<Self> {
         let nd = h.dim[0];
         if !(1..=7).contains(&nd) {
             return Err(field("dim", format!("dim[0] = {nd} is not 1 to 7")));
@@ -225,18 +310,7 @@ impl Shape {
             _ if d[3..].iter().all(|&x| x == 1) => (1, false),
             _ => return Err(field("dim", format!("{nd}-D data is not a tensor volume"))),
         };
-        if components == 1 {
-            return Err(field(
-                "dim",
-                "a scalar volume (one value per voxel), not tensors: a tensor volume has 6 or 9 volumes",
-            ));
-        }
-        if components != 6 && components != 9 {
-            return Err(field(
-                "dim",
-                format!("{components} volumes per voxel; a tensor volume has 6 or 9"),
-            ));
-        }
+        check(components)?;
         let width = match h.datatype {
             DT_FLOAT32 => 4,
             DT_FLOAT64 => 8,
@@ -264,6 +338,23 @@ impl Shape {
             width,
         })
     }
+}
+
+/// A tensor volume has 6 or 9 values per voxel.
+fn tensor_components(components: usize) -> Res<()> {
+    if components == 1 {
+        return Err(field(
+            "dim",
+            "a scalar volume (one value per voxel), not tensors: a tensor volume has 6 or 9 volumes",
+        ));
+    }
+    if components != 6 && components != 9 {
+        return Err(field(
+            "dim",
+            format!("{components} volumes per voxel; a tensor volume has 6 or 9"),
+        ));
+    }
+    Ok(())
 }
 
 fn type_name(t: i16) -> &'static str {
@@ -294,9 +385,10 @@ fn layout(h: &NiftiHeader, s: &Shape, opts: &ReadOptions) -> Res<(Layout, Expand
         (ComponentOrder::Nifti, Why::File)
     } else if let Some(o) = opts.order {
         (o, Why::Flag)
-    } else if s.five_d {
-        (ComponentOrder::Nifti, Why::Default)
     } else {
+        // Only the SYMMATRIX intent says "lower triangle": ITK writes its tensors so (and
+        // marks them), but a 6-vector image (intent VECTOR, or none) in its own upper-triangle
+        // order, FSL's order too.
         (ComponentOrder::Fsl, Why::Default)
     };
     let expand: Expand = match order {
