@@ -112,7 +112,10 @@ mod tests {
     #[test]
     fn nearest_finds_the_voxel_and_nothing_outside() {
         let v = ramp();
-        assert_eq!(v.nearest(DVec3::new(0.0, 2.0, 8.0)), Some(1.0 + 10.0 + 200.0));
+        assert_eq!(
+            v.nearest(DVec3::new(0.0, 2.0, 8.0)),
+            Some(1.0 + 10.0 + 200.0)
+        );
         assert_eq!(v.nearest(DVec3::new(-2.9, -0.9, 3.1)), Some(0.0));
         assert_eq!(v.nearest(DVec3::new(-3.1, 0.0, 4.0)), None);
         assert_eq!(v.nearest(DVec3::new(0.0, 5.1, 4.0)), None);
