@@ -85,7 +85,8 @@ impl DatasetKind {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct TensorArrayInfo {
     pub name: String,
-    /// 9 or 6, as stored in the file.
+    /// Values per tensor as stored in the file: 9 or 6; 7 for NRRD's masked tensors (the
+    /// confidence first); 6 for an FSL eigen set (rebuilt symmetric).
     pub components: usize,
     pub location: Location,
 }

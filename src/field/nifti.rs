@@ -420,6 +420,15 @@ fn affine(h: &NiftiHeader) -> Res<(Matrix4<f64>, &'static str)> {
                 "the qform needs finite, non-negative voxel sizes and quaternion",
             ));
         }
+        // Its quaternion's (b, c, d) must fit in a unit quaternion; the crate panics past
+        // float32 rounding (as nibabel refuses), so that is refused here first.
+        let bcd: f64 = q.iter().map(|x| (*x as f64).powi(2)).sum();
+        if 1.0 - bcd < -2.0 * f32::EPSILON as f64 {
+            return Err(field(
+                "quatern_b",
+                format!("b² + c² + d² = {bcd} is more than 1: the qform is not a rotation"),
+            ));
+        }
         let a = h.qform_affine::<f64>();
         if !finite(&a) {
             return Err(field("quatern_b", "the qform is not a rotation"));
