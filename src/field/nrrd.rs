@@ -9,7 +9,8 @@
 //! Read: `type` float or double; `dimension` 4 with the tensor axis first; `kinds`
 //! `3D-symmetric-matrix` (6 values `xx xy xz yy yz zz`), `3D-masked-symmetric-matrix` (7, the
 //! confidence first: below 0.5 the voxel is skipped and counted, as Teem does) or `3D-matrix`
-//! (9, row-major); `encoding` raw, gzip or ascii; `endian`; `byte skip`, `line skip`; `space`,
+//! (9, row-major); `encoding` raw, gzip or ascii; `endian`; `byte skip`, `line skip` (as Teem
+//! counts them: lines in the file, bytes in the inflated data of gzip); `space`,
 //! `space directions`, `space origin`, `measurement frame`; `data file`. Positions and
 //! tensors are turned into RAS+ (LPS: x and y negated). Tensors are taken to be in the
 //! measurement frame (world when there is none) unless `--tensor-frame` says otherwise.

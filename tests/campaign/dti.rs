@@ -274,7 +274,7 @@ fn nrrd_fields(b: &[u8]) -> Vec<(String, usize, usize)> {
 /// One mutation of the NRRD header or attached file `orig`.
 pub fn nrrd(orig: &[u8], k: usize, rng: &mut Rng) -> (Vec<u8>, String) {
     let fields = nrrd_fields(orig);
-    if fields.is_empty() || k % 3 == 0 {
+    if fields.is_empty() || k.is_multiple_of(3) {
         return mutate(orig, &shape_of(orig), k % 12, rng);
     }
     let splice = |at: (usize, usize), with: &[u8]| [&orig[..at.0], with, &orig[at.1..]].concat();
