@@ -176,6 +176,10 @@ pub enum LoadErrorKind {
     /// format spells it, `message` already escaped.
     #[error("field '{}': {message}", escape_for_error(.field))]
     Field { field: String, message: String },
+    /// A file of a set read as one field (FSL's eigen set) is missing: the error's path is that
+    /// file, `set` names them all (already escaped).
+    #[error("file not found; the files of an FSL eigen set are read together: {set}")]
+    SetMemberMissing { set: String },
     #[error("unsupported dataset: {0}")]
     UnsupportedDataset(String),
     #[error("{0}")]

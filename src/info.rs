@@ -201,6 +201,7 @@ pub fn human_summary(r: &InfoReport) -> String {
             Why::File => "from the file",
             Why::Flag => "from --order",
             Why::Default => "the default",
+            Why::Names => "from the file names",
         };
         let _ = writeln!(o, "layout: {} ({why})", l.order);
     }

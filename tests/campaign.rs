@@ -5,9 +5,13 @@
 //! headers), bit-flipped, header numbers replaced by 0, −1, 2³¹, 2⁶³, NaN and friends, compressed
 //! block headers and payloads corrupted, base64 broken, tags nested past the depth cap and
 //! repeated, control characters planted in names, `.pvti` pieces pointed at FIFOs, devices and
-//! absolute paths. Each case is read once, sequentially, and must:
+//! absolute paths. The DTI files of `tests/dti` are mutated the same way by their structure:
+//! NIfTI-1 header fields at their offsets (inside the gzip stream of `.nii.gz`), NRRD header
+//! fields by name (data files pointed at devices, FIFOs, folders), detached NRRD data, and each
+//! file of an FSL eigen set read with the other five (by its own name and by the prefix). Each
+//! case is read once, sequentially, and must:
 //! - return a consistent field (as many positions as tensors, as the location's count, as the
-//!   dimensions say; 6 or 9 components), which must then go through `derive_glyphs` and the
+//!   dimensions say; 6, 7 or 9 components), which must then go through `derive_glyphs` and the
 //!   `info` report, or an error whose `Display` is one line without control characters that
 //!   names the file;
 //! - take at most 2 s and allocate at most 64 MiB + 8× the bytes of the files read (measured by
@@ -27,7 +31,7 @@ use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use tensorglyph::field::vtk::{ReadOptions, read_field};
+use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame, read_field};
 
 // ---------------------------------------------------------------------------------------------
 // Counting allocator: current and peak live bytes of the whole process. The cases run one at a
@@ -101,6 +105,9 @@ fn peak_reset() -> usize {
 #[path = "campaign/mutate.rs"]
 mod mutate;
 
+#[path = "campaign/dti.rs"]
+mod dti;
+
 use mutate::{Rng, mutate, shape_of};
 
 // ---------------------------------------------------------------------------------------------
@@ -117,6 +124,9 @@ struct Case {
     /// Bytes of every file the read may open (the file, its pieces).
     input_bytes: usize,
     opts: ReadOptions,
+    /// File names an error may name instead of the file read: the files of an FSL eigen set
+    /// (an error names the one at fault).
+    names: Vec<String>,
 }
 
 #[derive(Default)]
@@ -175,7 +185,8 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
             };
             if f.positions.len() != n
                 || want != n
-                || !matches!(f.array.components, 6 | 9)
+                // 7: NRRD's masked tensors, the confidence first.
+                || !matches!(f.array.components, 6 | 7 | 9)
                 || f.dims.is_some_and(|d| {
                     d.iter().try_fold(1usize, |a, &x| a.checked_mul(x)) != Some(f.points)
                 })
@@ -201,6 +212,7 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
             tally.errors += 1;
             let msg = e.to_string();
             let name = case.path.file_name().unwrap().to_string_lossy();
+            let named = msg.contains(name.as_ref()) || case.names.iter().any(|n| msg.contains(n));
             // The reader's last defence turns a panic into this error: still a bug.
             if msg.contains("internal reader error") {
                 return Err(format!("{label}: the reader panicked: {msg}"));
@@ -208,7 +220,7 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
             if msg.chars().any(char::is_control) {
                 return Err(format!("{label}: error with control characters: {msg:?}"));
             }
-            if !msg.contains(name.as_ref()) {
+            if !named {
                 return Err(format!("{label}: error does not name the file: {msg}"));
             }
             if msg.len() > 4096 {
@@ -277,6 +289,70 @@ fn pvti_cases(dir: &Path, fifo: Option<&Path>) -> Vec<(String, Vec<u8>)> {
         .collect()
 }
 
+/// What is read of `tests/dti`: files on their own, detached NRRD headers with their data
+/// file, and FSL eigen sets (six files read as one).
+enum DtiJob {
+    Single(PathBuf),
+    Detached { header: PathBuf, data: PathBuf },
+    EigenSet { prefix: String, files: Vec<PathBuf> },
+}
+
+const EIGEN_MEMBERS: [&str; 6] = ["L1", "L2", "L3", "V1", "V2", "V3"];
+
+fn dti_jobs(dir: &Path) -> Vec<DtiJob> {
+    let files = data_files(dir);
+    let mut jobs = Vec::new();
+    let mut in_sets = Vec::new();
+    for p in &files {
+        let name = p.file_name().unwrap().to_string_lossy();
+        for ext in [".nii.gz", ".nii"] {
+            let Some(stem) = name.strip_suffix(&format!("_L1{ext}")) else {
+                continue;
+            };
+            let set: Vec<PathBuf> = EIGEN_MEMBERS
+                .iter()
+                .map(|m| dir.join(format!("{stem}_{m}{ext}")))
+                .collect();
+            if set.iter().all(|f| f.is_file()) {
+                in_sets.extend(set.iter().cloned());
+                jobs.push(DtiJob::EigenSet {
+                    prefix: stem.to_string(),
+                    files: set,
+                });
+            }
+        }
+    }
+    for p in files {
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if in_sets.contains(&p) || name.ends_with(".raw") || name.ends_with(".raw.gz") {
+            continue;
+        }
+        let data = name
+            .ends_with(".nhdr")
+            .then(|| std::fs::read_to_string(&p).ok())
+            .flatten()
+            .and_then(|t| {
+                t.lines()
+                    .find_map(|l| l.strip_prefix("data file: ").map(|d| dir.join(d.trim())))
+            })
+            .filter(|d| d.is_file());
+        jobs.push(match data {
+            Some(data) => DtiJob::Detached { header: p, data },
+            None => DtiJob::Single(p),
+        });
+    }
+    jobs
+}
+
+/// Now and then another order or tensor frame, as `--order` and `--tensor-frame` give.
+fn dti_options(k: usize) -> ReadOptions {
+    ReadOptions {
+        order: (k % 17 == 16).then_some(ComponentOrder::Mrtrix),
+        tensor_frame: (k % 19 == 18).then_some([TensorFrame::Fsl, TensorFrame::World][k % 2]),
+        ..ReadOptions::default()
+    }
+}
+
 #[test]
 fn mutation_campaign() {
     let seed = env_usize("TENSORGLYPH_CAMPAIGN_SEED", 13);
@@ -305,6 +381,10 @@ fn mutation_campaign() {
         .status()
         .is_ok_and(|s| s.success())
         .then_some(fifo);
+
+    let dti_root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/dti");
+    let dti_jobs = dti_jobs(&dti_root);
+    assert!(dti_jobs.len() > 30, "{} DTI jobs", dti_jobs.len());
 
     let (tx, rx) = mpsc::channel::<Result<String, String>>();
     let worker = std::thread::spawn(move || {
@@ -356,6 +436,7 @@ fn mutation_campaign() {
                             0
                         },
                     opts: opts.clone(),
+                    names: Vec::new(),
                 }];
                 if is_piece {
                     let stem = name.strip_suffix(".vti").unwrap();
@@ -370,6 +451,7 @@ fn mutation_campaign() {
                         path: copy,
                         input_bytes: size_of(&pvti) + pieces_bytes + bytes.len(),
                         opts,
+                        names: Vec::new(),
                     });
                 }
                 for c in cases {
@@ -382,6 +464,138 @@ fn mutation_campaign() {
             std::fs::write(&target, &orig).unwrap();
         }
 
+        // The DTI files, each mutated by its structure and read as the program reads it.
+        let size_of_all = |ps: &[PathBuf]| ps.iter().map(|p| size_of(p)).sum::<usize>();
+        for (ji, job) in dti_jobs.iter().enumerate() {
+            let mut rng = Rng(seed ^ (0x5DEE_CE66_D1CE_4E5B_u64.wrapping_mul(ji as u64 + 1)));
+            // (the file mutated, its copy, the paths it is read by)
+            let mut plans: Vec<(PathBuf, PathBuf, Vec<PathBuf>)> = Vec::new();
+            match job {
+                DtiJob::Single(p) => {
+                    let t = dir.join(p.file_name().unwrap());
+                    plans.push((p.clone(), t.clone(), vec![t]));
+                }
+                DtiJob::Detached { header, data } => {
+                    let h = dir.join(header.file_name().unwrap());
+                    let d = dir.join(data.file_name().unwrap());
+                    std::fs::copy(header, &h).unwrap();
+                    std::fs::copy(data, &d).unwrap();
+                    plans.push((header.clone(), h.clone(), vec![h.clone()]));
+                    plans.push((data.clone(), d, vec![h]));
+                }
+                DtiJob::EigenSet { prefix, files } => {
+                    for f in files {
+                        std::fs::copy(f, dir.join(f.file_name().unwrap())).unwrap();
+                    }
+                    for f in files {
+                        let t = dir.join(f.file_name().unwrap());
+                        plans.push((f.clone(), t.clone(), vec![t, dir.join(prefix)]));
+                    }
+                }
+            }
+            let companions: Vec<PathBuf> = plans.iter().map(|p| p.1.clone()).collect();
+            let set_names: Vec<String> = match job {
+                DtiJob::EigenSet { .. } => companions
+                    .iter()
+                    .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+                    .collect(),
+                _ => Vec::new(),
+            };
+            for (orig_path, target, read_by) in &plans {
+                let name = orig_path
+                    .file_name()
+                    .unwrap()
+                    .to_string_lossy()
+                    .into_owned();
+                let orig = std::fs::read(orig_path).unwrap();
+                let nifti = name.ends_with(".nii") || name.ends_with(".nii.gz");
+                let header = name.ends_with(".nrrd") || name.ends_with(".nhdr");
+                // The six files of a set share the file's budget of cases.
+                let cases = if read_by.len() > 1 {
+                    per_file / 3
+                } else {
+                    per_file
+                };
+                for k in 0..=cases {
+                    let (bytes, what) = if k == 0 {
+                        (orig.clone(), "original".to_string())
+                    } else if nifti {
+                        dti::nifti(&orig, k, &mut rng)
+                    } else if header {
+                        dti::nrrd(&orig, k, &mut rng)
+                    } else {
+                        mutate(&orig, &shape_of(&orig), [0, 2, 3][k % 3], &mut rng)
+                    };
+                    std::fs::write(target, &bytes).unwrap();
+                    let path = read_by[k % 3 % read_by.len()].clone();
+                    let case = Case {
+                        label: format!(
+                            "seed {seed}: {name} #{k}: {what} (read as {})",
+                            path.file_name().unwrap().to_string_lossy()
+                        ),
+                        path,
+                        input_bytes: size_of_all(&companions),
+                        opts: dti_options(k),
+                        names: set_names.clone(),
+                    };
+                    if !run(case, &mut tally) {
+                        return;
+                    }
+                }
+                std::fs::write(target, &orig).unwrap();
+            }
+        }
+        // An eigen set with a member that is a FIFO, a device or a folder.
+        if let Some(DtiJob::EigenSet { prefix, files }) = dti_jobs
+            .iter()
+            .find(|j| matches!(j, DtiJob::EigenSet { .. }))
+        {
+            let set = dir.join("special");
+            let member = |m: usize| set.join(files[m].file_name().unwrap());
+            let mut specials: Vec<(usize, Option<PathBuf>)> = vec![(4, None)];
+            specials.extend(
+                ["/dev/zero", "/dev/urandom"]
+                    .iter()
+                    .map(|d| (0, Some(PathBuf::from(d))))
+                    .filter(|(_, d)| d.as_ref().is_some_and(|d| d.exists())),
+            );
+            specials.extend(fifo.clone().map(|f| (1, Some(f))));
+            for (m, target) in specials {
+                let _ = std::fs::remove_dir_all(&set);
+                std::fs::create_dir(&set).unwrap();
+                for f in files {
+                    std::fs::copy(f, set.join(f.file_name().unwrap())).unwrap();
+                }
+                std::fs::remove_file(member(m)).unwrap();
+                let what = match &target {
+                    #[cfg(unix)]
+                    Some(t) => {
+                        std::os::unix::fs::symlink(t, member(m)).unwrap();
+                        format!("a link to {}", t.display())
+                    }
+                    _ => {
+                        std::fs::create_dir(member(m)).unwrap();
+                        "a folder".to_string()
+                    }
+                };
+                for path in [member(3 - m.min(3)), set.join(prefix)] {
+                    let case = Case {
+                        label: format!("{prefix}_{} is {what}", EIGEN_MEMBERS[m]),
+                        path,
+                        input_bytes: size_of_all(files),
+                        opts: ReadOptions::default(),
+                        names: files
+                            .iter()
+                            .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
+                            .collect(),
+                    };
+                    if !run(case, &mut tally) {
+                        return;
+                    }
+                }
+            }
+        }
+
         for (label, bytes) in pvti_cases(&dir, fifo.as_deref()) {
             let path = dir.join("case.pvti");
             std::fs::write(&path, &bytes).unwrap();
@@ -390,6 +604,7 @@ fn mutation_campaign() {
                 path,
                 input_bytes: bytes.len() + pieces_bytes,
                 opts: ReadOptions::default(),
+                names: Vec::new(),
             };
             if !run(case, &mut tally) {
                 return;
@@ -409,6 +624,7 @@ fn mutation_campaign() {
                 path: p,
                 input_bytes: 0,
                 opts: ReadOptions::default(),
+                names: Vec::new(),
             };
             if !run(case, &mut tally) {
                 return;

@@ -165,7 +165,7 @@ fn a_coarser_shifted_mask_keeps_the_voxels_numpys_nearest_voxel_rule_keeps() {
     assert_eq!(kept_by("mask_coarse.nii.gz"), want);
 }
 
-/// `render` of the DIPY tensors, small and on the CPU, with `extra` flags.
+/// `render` of the DIPY tensors (every voxel), small and on the CPU, with `extra` flags.
 fn render(extra: &[&str]) -> (std::process::Output, bool) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("m.png");
@@ -179,6 +179,9 @@ fn render(extra: &[&str]) -> (std::process::Output, bool) {
         "64x48",
         "--method",
         "reference",
+        // The whole lattice: DTI files otherwise open on their middle axial slice.
+        "--slice",
+        "all",
         "--json",
         "--quiet",
     ];

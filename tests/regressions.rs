@@ -1,4 +1,5 @@
-//! Named reproducers of issue 13's defects, one test each (the files are in
+//! Named reproducers of the defects the mutation campaign found (issue 13's, then the DTI
+//! readers'), one test each (the files are in
 //! `tests/data/regressions/`, which the mutation campaign in `tests/campaign.rs` also reads and
 //! mutates under its memory and time budget).
 
@@ -432,4 +433,21 @@ fn outputs_write_through_symlinks_and_refuse_special_files() {
             .file_type()
             .is_char_device()
     );
+}
+
+// The DTI readers (the campaign's NIfTI and NRRD cases) ----------------------------------------
+
+/// A qform whose quaternion has b² + c² + d² = 0.9² + 0.9² > 1 made the nifti crate panic
+/// ("should be positive"); the reader's last defence turned that into an internal error.
+#[test]
+fn nifti_qform_quaternion_over_1_is_a_field_error() {
+    let path = regression("nifti_qform_quaternion_over_1.nii");
+    let e = tensorglyph::field::read_field(&path, &ReadOptions::default()).expect_err("must fail");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("field 'quatern_b': b² + c² + d² = 1.61999"),
+        "{msg}"
+    );
+    assert!(msg.contains("nifti_qform_quaternion_over_1.nii"), "{msg}");
+    assert!(!msg.contains("internal reader error"), "{msg}");
 }

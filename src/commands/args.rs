@@ -33,7 +33,7 @@ pub struct SceneArgs {
     #[arg(long)]
     pub array: Option<String>,
     /// Component order of 6-component arrays where the file does not say (default: vtk for VTK
-    /// files; fsl for 4-D NIfTI, nifti for 5-D NIfTI).
+    /// files; fsl for NIfTI, where 5-D files with intent SYMMATRIX say nifti themselves).
     #[arg(long, value_parser = one_of::<ComponentOrder>(ComponentOrder::NAMES))]
     pub order: Option<ComponentOrder>,
     /// The axes the file's tensors are in (default: voxel for NIfTI; VTK image tensors are

@@ -33,12 +33,14 @@ crate::names::named_values!(TensorFrame {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Why {
-    /// The file says (NIfTI intent code or 5-D shape, NRRD `kinds`, VTK's 9 components).
+    /// The file says (NIfTI intent code or 9 volumes, NRRD `kinds`, VTK's 9 components).
     File,
     /// `--order`.
     Flag,
     /// The documented default for the format.
     Default,
+    /// The files' names (FSL's eigen set `_L1`..`_V3`).
+    Names,
 }
 
 /// How the components were laid out.

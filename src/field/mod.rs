@@ -2,6 +2,7 @@
 //! order, with what is known about where they came from.
 
 pub mod frame;
+pub mod fsl_eigen;
 pub mod input;
 pub mod nifti;
 pub mod nrrd;
@@ -19,11 +20,13 @@ use std::path::Path;
 
 use crate::error::LoadError;
 
-/// Read a tensor field from a file, the reader picked by the extension: `.nii` and `.nii.gz`
-/// NIfTI-1, `.nrrd` and `.nhdr` NRRD, anything else VTK (whose format is then told by the
-/// content).
+/// Read a tensor field from a file, the reader picked by the name: FSL's eigen set
+/// (`PREFIX_L1.nii.gz` .. `PREFIX_V3.nii.gz`, or `PREFIX`), `.nii` and `.nii.gz` NIfTI-1, `.nrrd`
+/// and `.nhdr` NRRD, anything else VTK (whose format is then told by the content).
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-    if nifti::is_nifti_path(path) {
+    if let Some(set) = fsl_eigen::EigenSet::named_by(path) {
+        fsl_eigen::read(&set, opts)
+    } else if nifti::is_nifti_path(path) {
         vtk::guarded(path, || {
             let bytes = input::read_regular_file(path)?;
             nifti::parse(&bytes, opts)
@@ -83,7 +86,8 @@ impl DatasetKind {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct TensorArrayInfo {
     pub name: String,
-    /// 9 or 6, as stored in the file.
+    /// Values per tensor as stored in the file: 9 or 6; 7 for NRRD's masked tensors (the
+    /// confidence first); 6 for an FSL eigen set (rebuilt symmetric).
     pub components: usize,
     pub location: Location,
 }

@@ -9,7 +9,8 @@
 //! Read: `type` float or double; `dimension` 4 with the tensor axis first; `kinds`
 //! `3D-symmetric-matrix` (6 values `xx xy xz yy yz zz`), `3D-masked-symmetric-matrix` (7, the
 //! confidence first: below 0.5 the voxel is skipped and counted, as Teem does) or `3D-matrix`
-//! (9, row-major); `encoding` raw, gzip or ascii; `endian`; `byte skip`, `line skip`; `space`,
+//! (9, row-major); `encoding` raw, gzip or ascii; `endian`; `byte skip`, `line skip` (as Teem
+//! counts them: lines in the file, bytes in the inflated data of gzip); `space`,
 //! `space directions`, `space origin`, `measurement frame`; `data file`. Positions and
 //! tensors are turned into RAS+ (LPS: x and y negated). Tensors are taken to be in the
 //! measurement frame (world when there is none) unless `--tensor-frame` says otherwise.
@@ -275,8 +276,8 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
     let encoding = encoding(&h)?;
     let big = big_endian(&h, encoding, ty)?;
     let data = payload(path, &h, bytes)?;
-    let (data, from_end) = skip(&h, &data, encoding)?;
-    let values = decode(data, encoding, ty, big, count, from_end)?;
+    let (data, start) = skip(&h, &data, encoding)?;
+    let values = decode(data, encoding, ty, big, count, start)?;
 
     let (order, tensor_of): (&str, Expand) = match kind {
         Kind::Full => ("full", |c| std::array::from_fn(|i| c[i])),
@@ -421,8 +422,8 @@ pub fn parse_scalar(path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
     let encoding = encoding(&h)?;
     let big = big_endian(&h, encoding, ty)?;
     let data = payload(path, &h, bytes)?;
-    let (data, from_end) = skip(&h, &data, encoding)?;
-    let values = decode(data, encoding, ty, big, voxels, from_end)?;
+    let (data, start) = skip(&h, &data, encoding)?;
+    let values = decode(data, encoding, ty, big, voxels, start)?;
     let p = placement(&h, 0)?;
     scalar::checked(
         dims,
@@ -654,9 +655,19 @@ impl Number {
     }
 }
 
-/// The data after `line skip` lines and `byte skip` bytes, and whether the values are the last
-/// bytes of it (`byte skip: -1`, raw encoding only).
-fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], bool)> {
+/// Where the values begin in what [`skip`] leaves.
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Start {
+    Here,
+    /// After this many bytes of the inflated stream: Teem counts a gzip file's `byte skip`
+    /// there (its `line skip` in the file).
+    Inflated(usize),
+    /// The values are the last bytes (`byte skip: -1`, raw data only).
+    AtEnd,
+}
+
+/// The data after `line skip` lines and, unless it is compressed, `byte skip` bytes.
+fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], Start)> {
     if let Some(n) = h.get("line skip") {
         let n: usize = number("line skip", n)?;
         for _ in 0..n {
@@ -673,14 +684,17 @@ fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], boo
             if enc != Encoding::Raw {
                 return Err(field("byte skip", "-1 is for raw data only"));
             }
-            return Ok((data, true));
+            return Ok((data, Start::AtEnd));
         }
         let n = usize::try_from(n).map_err(|_| field("byte skip", "must be -1 or ≥ 0"))?;
+        if enc == Encoding::Gzip {
+            return Ok((data, Start::Inflated(n)));
+        }
         data = data
             .get(n..)
             .ok_or_else(|| field("byte skip", "beyond the end of the data"))?;
     }
-    Ok((data, false))
+    Ok((data, Start::Here))
 }
 
 fn decode(
@@ -689,7 +703,7 @@ fn decode(
     ty: Number,
     big: bool,
     count: usize,
-    from_end: bool,
+    start: Start,
 ) -> Res<Vec<f64>> {
     let width = ty.width();
     let short = |have: usize, what: &str| {
@@ -731,8 +745,25 @@ fn decode(
         }
         Encoding::Raw => Cow::Borrowed(data),
         Encoding::Gzip => {
-            let want = (count as u64).saturating_mul(width as u64);
-            Cow::Owned(gunzip_prefix(data, want, "the NRRD data")?)
+            let skipped = match start {
+                Start::Inflated(n) => n,
+                _ => 0,
+            };
+            let want = (count as u64)
+                .saturating_mul(width as u64)
+                .saturating_add(skipped as u64);
+            let mut inflated = gunzip_prefix(data, want, "the NRRD data")?;
+            if inflated.len() < skipped {
+                return Err(field(
+                    "byte skip",
+                    format!(
+                        "{skipped} bytes, beyond the end of the data ({} bytes inflated)",
+                        inflated.len()
+                    ),
+                ));
+            }
+            inflated.drain(..skipped);
+            Cow::Owned(inflated)
         }
     };
     let need = count
@@ -741,10 +772,168 @@ fn decode(
     if bytes.len() < need {
         return Err(short(bytes.len(), "data"));
     }
-    let b = if from_end {
+    let b = if start == Start::AtEnd {
         &bytes[bytes.len() - need..]
     } else {
         &bytes[..need]
     };
     Ok(b.chunks_exact(width).map(|c| ty.read(c, big)).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Two voxels (2×1×1) of six components each: voxel v holds 10v+1 .. 10v+6.
+    fn values() -> Vec<f32> {
+        (0..2)
+            .flat_map(|v| (1..=6).map(move |c| (10 * v + c) as f32))
+            .collect()
+    }
+
+    fn le_bytes() -> Vec<u8> {
+        values().iter().flat_map(|x| x.to_le_bytes()).collect()
+    }
+
+    fn header(fields: &str) -> Vec<u8> {
+        format!(
+            "NRRD0004\ntype: float\ndimension: 4\nsizes: 6 2 1 1\n\
+             kinds: 3D-symmetric-matrix space space space\n{fields}"
+        )
+        .into_bytes()
+    }
+
+    fn attached(fields: &str, data: &[u8]) -> Vec<u8> {
+        let mut b = header(fields);
+        b.push(b'\n');
+        b.extend_from_slice(data);
+        b
+    }
+
+    fn read(path: &Path, bytes: &[u8]) -> Res<TensorField> {
+        parse(path, bytes, &ReadOptions::default())
+    }
+
+    /// The field holds the two voxels written, `xx xy xz yy yz zz` each.
+    fn holds_the_values(f: &TensorField) {
+        let v: Vec<f64> = values().iter().map(|&x| x as f64).collect();
+        assert_eq!(f.tensors.len(), 2);
+        for (i, t) in f.tensors.iter().enumerate() {
+            assert_eq!(
+                *t,
+                ComponentOrder::Fsl.expand(&v[6 * i..6 * i + 6]),
+                "voxel {i}"
+            );
+        }
+    }
+
+    fn junk_then(junk: &[u8], data: &[u8]) -> Vec<u8> {
+        [junk, data].concat()
+    }
+
+    #[test]
+    fn byte_skip_skips_bytes_before_attached_raw_data() {
+        let p = Path::new("a.nrrd");
+        let b = attached(
+            "endian: little\nencoding: raw\nbyte skip: 5\n",
+            &junk_then(b"\x00\x01\x02\x03\x04", &le_bytes()),
+        );
+        holds_the_values(&read(p, &b).unwrap());
+        // Without the skip the same bytes are other numbers (and one value too few).
+        let b = attached(
+            "endian: little\nencoding: raw\n",
+            &junk_then(b"\x00\x01\x02\x03\x04", &le_bytes()),
+        );
+        assert_ne!(read(p, &b).unwrap().tensors[0][0], 1.0);
+    }
+
+    #[test]
+    fn byte_skip_minus_one_takes_the_last_bytes_of_raw_data() {
+        let b = attached(
+            "endian: little\nencoding: raw\nbyte skip: -1\n",
+            &junk_then(b"a preamble of unknown length\n", &le_bytes()),
+        );
+        holds_the_values(&read(Path::new("a.nrrd"), &b).unwrap());
+        let b = attached(
+            "endian: little\nencoding: gzip\nbyte skip: -1\n",
+            &le_bytes(),
+        );
+        let e = read(Path::new("a.nrrd"), &b).unwrap_err().to_string();
+        assert!(e.contains("'byte skip': -1 is for raw data only"), "{e}");
+    }
+
+    #[test]
+    fn line_skip_then_byte_skip_apply_to_a_detached_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let raw = junk_then(b"first line\nsecond line\n\xff\xfe\xfd", &le_bytes());
+        std::fs::write(dir.path().join("d.raw"), &raw).unwrap();
+        let nhdr = dir.path().join("d.nhdr");
+        let h = header(
+            "endian: little\nencoding: raw\nline skip: 2\nbyte skip: 3\ndata file: ./d.raw\n",
+        );
+        holds_the_values(&read(&nhdr, &h).unwrap());
+        // Line skip alone leaves the three bytes in front of the values.
+        let h = header("endian: little\nencoding: raw\nline skip: 2\ndata file: d.raw\n");
+        assert_ne!(read(&nhdr, &h).unwrap().tensors[0][0], 1.0);
+        let h = header("endian: little\nencoding: raw\nline skip: 3\ndata file: d.raw\n");
+        let e = read(&nhdr, &h).unwrap_err().to_string();
+        assert!(
+            e.contains("'line skip': more lines than the data holds"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn big_endian_floats_and_doubles() {
+        let be: Vec<u8> = values().iter().flat_map(|x| x.to_be_bytes()).collect();
+        let b = attached("endian: big\nencoding: raw\n", &be);
+        holds_the_values(&read(Path::new("a.nrrd"), &b).unwrap());
+        let be64: Vec<u8> = values()
+            .iter()
+            .flat_map(|&x| (x as f64).to_be_bytes())
+            .collect();
+        let b = attached("endian: big\nencoding: raw\n", &be64);
+        let b = String::from_utf8_lossy(&b[..b.len() - be64.len()])
+            .replace("type: float", "type: double")
+            .into_bytes();
+        holds_the_values(&read(Path::new("a.nrrd"), &[b, be64].concat()).unwrap());
+        // Read as little-endian, the same bytes are other numbers.
+        let b = attached("endian: little\nencoding: raw\n", &be);
+        assert_ne!(read(Path::new("a.nrrd"), &b).unwrap().tensors[0][0], 1.0);
+    }
+
+    #[test]
+    fn gzip_byte_skip_counts_inflated_bytes_and_line_skip_file_lines() {
+        use std::io::Write as _;
+        let gz = |data: &[u8]| {
+            let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+            e.write_all(data).unwrap();
+            e.finish().unwrap()
+        };
+        let inflated = gz(&junk_then(b"1234", &le_bytes()));
+        let b = attached(
+            "endian: little\nencoding: gzip\nline skip: 1\nbyte skip: 4\n",
+            &junk_then(b"a text line before the gzip stream\n", &inflated),
+        );
+        holds_the_values(&read(Path::new("a.nrrd"), &b).unwrap());
+        let b = attached(
+            "endian: little\nencoding: gzip\nbyte skip: 1000\n",
+            &inflated,
+        );
+        let e = read(Path::new("a.nrrd"), &b).unwrap_err().to_string();
+        assert!(e.contains("'byte skip': 1000 bytes, beyond the end"), "{e}");
+    }
+
+    #[test]
+    fn a_byte_skip_past_the_data_is_an_error() {
+        let b = attached(
+            "endian: little\nencoding: raw\nbyte skip: 4096\n",
+            &le_bytes(),
+        );
+        let e = read(Path::new("a.nrrd"), &b).unwrap_err().to_string();
+        assert!(e.contains("'byte skip': beyond the end of the data"), "{e}");
+        let b = attached("endian: little\nencoding: raw\nbyte skip: 4\n", &le_bytes());
+        let e = read(Path::new("a.nrrd"), &b).unwrap_err().to_string();
+        assert!(e.contains("'sizes': need 12 values (48 bytes)"), "{e}");
+    }
 }

@@ -11,11 +11,16 @@ the order or the frame wrong moves e1 off that axis. Each file stores the tensor
 frame (`D_file = Qᵀ D_world Q`, Q the rotation the reader applies), rounded to float32; the
 expected eigenvalues are numpy's `eigh` of exactly those float32 numbers, in float64.
 
-NRRD files are written here too (no Teem needed): headers by hand, data raw, gzip or ascii.
+NRRD files are written here too: headers by hand (data raw, gzip or ascii), and where Teem's
+`unu` is installed (Debian's teem-apps: `teem-unu`) a few by `unu make` and `unu save` from raw
+floats written here, read back by `unu` to check that they hold what was meant. Without `unu`
+those are left as they are (they are committed, so tests never need it).
 """
 import gzip
 import json
 import os
+import shutil
+import subprocess
 
 import nibabel as nib
 import numpy as np
@@ -171,6 +176,59 @@ nifti_six("fslframe_oblique.nii.gz", "fsl", "oblique", "fsl", ["--tensor-frame",
 nifti_six("fsl4d_flipped.nii.gz", "voxel", "flipped", "fsl", ["--tensor-frame", "fsl"])
 nifti_six("fsl4d_plain.nii", "voxel", "plain", "fsl", [])
 
+
+
+# FSL dtifit's eigen outputs (PREFIX_L1..L3: 3-D eigenvalue maps; PREFIX_V1..V3: 4-D, the
+# eigenvectors' x, y, z), computed from the voxel-frame tensors. The truth is numpy's eigh of
+# T = sum(l_i v_i v_i^T) of exactly the float32 numbers stored.
+def fsl_eigen(prefix, aff, ext, args):
+    d = file_tensors("voxel", AFFINES[aff], np.float64)
+    w, v = np.linalg.eigh(d)
+    w, v = w[:, ::-1].astype(np.float32), v[:, :, ::-1].astype(np.float32)
+    for k in range(3):
+        save_nifti(f"{prefix}_L{k + 1}{ext}", to_volume(w[:, k:k + 1])[..., 0], AFFINES[aff])
+        save_nifti(f"{prefix}_V{k + 1}{ext}", to_volume(v[:, :, k]), AFFINES[aff])
+    w64, v64 = w.astype(np.float64), v.astype(np.float64)
+    t = np.einsum("vk,vik,vjk->vij", w64, v64, v64)
+    record(prefix, t, args, extra={"eigen_set": [f"{prefix}_{m}{ext}" for m in
+                                                 ("L1", "L2", "L3", "V1", "V2", "V3")],
+                                   "stored_eigenvalues": w64.tolist()})
+
+
+fsl_eigen("fsl_eigen_oblique", "oblique", ".nii.gz", [])
+fsl_eigen("fsl_eigen_flipped", "flipped", ".nii", [])
+
+
+# ANTs/ITK: itk::NiftiImageIO writes a DiffusionTensor3D image 5-D (X, Y, Z, 1, 6) with intent
+# SYMMATRIX, turning ITK's upper triangle (xx xy xz yy yz zz) into NIfTI's lower one; tensors
+# in voxel axes (ANTs rotates them by the direction matrix); sform = qform (codes 1 and 2),
+# pixdim[0] = qfac, units mm and s, no scaling.
+def save_itk(name, data, affine, intent):
+    img = nib.Nifti1Image(data, affine)
+    img.set_qform(affine, code=2)
+    img.set_sform(affine, code=1)
+    h = img.header
+    h.set_intent(intent)
+    h.set_xyzt_units("mm", "sec")
+    path = os.path.join(HERE, name)
+    nib.save(img, path)
+    # nibabel writes "no scaling" as NaN; ITK writes slope 1, intercept 0.
+    with open(path, "rb") as f:
+        b = bytearray(gzip.decompress(f.read()))
+    b[112:120] = np.array([1.0, 0.0], "<f4").tobytes()
+    with open(path, "wb") as f:
+        f.write(gzip.compress(bytes(b), mtime=0))
+
+
+d = file_tensors("voxel", AFFINES["oblique"])
+save_itk("ants5d_oblique.nii.gz", to_volume(components(d, "nifti"))[:, :, :, None, :],
+         AFFINES["oblique"], "symmetric matrix")
+record("ants5d_oblique.nii.gz", d, [])
+# The same tensors as an ITK 6-vector image (intent VECTOR): ITK's order, unreordered.
+save_itk("itk5d_vector_oblique.nii.gz", to_volume(components(d, "fsl"))[:, :, :, None, :],
+         AFFINES["oblique"], "vector")
+record("itk5d_vector_oblique.nii.gz", d, [])
+
 # Bad inputs.
 save_nifti("bad_scalar3d.nii.gz", np.ones(DIMS, np.float32), AFFINES["plain"])
 save_nifti("bad_five_volumes.nii.gz", np.ones(DIMS + (5,), np.float32), AFFINES["plain"])
@@ -181,10 +239,24 @@ with open(os.path.join(HERE, "bad_truncated.nii.gz"), "wb") as f:
     f.write(gzip.compress(whole[: len(whole) - 100], mtime=0)[:-30])
 with open(os.path.join(HERE, "bad_short_data.nii"), "wb") as f:
     f.write(whole[: len(whole) - 8])
+# vox_offset beyond the end of the file (the data itself whole).
+h = bytearray(whole)
+h[108:112] = np.array([4096.0], "<f4").tobytes()
+with open(os.path.join(HERE, "bad_vox_offset.nii"), "wb") as f:
+    f.write(bytes(h))
+# NIfTI-2 (a 540-byte header), which the reader refuses.
+d = file_tensors("voxel", AFFINES["oblique"])
+nib.save(nib.Nifti2Image(to_volume(components(d, "fsl")), AFFINES["oblique"]),
+         os.path.join(HERE, "bad_nifti2.nii.gz"))
+# A 3-D map of different dimensions, to stand in for one of an FSL eigen set.
+save_nifti("bad_eigen_other_dims.nii.gz", np.ones((5, 4, 2), np.float32), AFFINES["oblique"])
 
 
 # NRRD: world-frame tensors after the measurement frame, in RAS or LPS space.
-def nrrd(name, space, aff, encoding="raw", masked=False, detached=False, mframe=None, kinds="3D-symmetric-matrix"):
+def nrrd_content(space, aff, masked=False, mframe=None):
+    """What a NRRD file in `space` holds for the world tensors: per-voxel values (confidence
+    first when masked), the tensors as stored, space directions (columns), origin, measurement
+    frame, and what record() needs of masked voxels."""
     a = AFFINES[aff].copy()
     flip = np.diag([-1.0, -1.0, 1.0]) if space == "left-posterior-superior" else np.eye(3)
     # The same world (RAS) positions and tensors, said in the file's space.
@@ -195,7 +267,6 @@ def nrrd(name, space, aff, encoding="raw", masked=False, detached=False, mframe=
     d_space = np.einsum("ij,vjk,lk->vil", flip, D_WORLD, flip)
     d_m = np.einsum("ji,vjk,kl->vil", mf, d_space, mf).astype(np.float32)
     comps = components(d_m, "nrrd")
-    e1 = AXES.copy()
     extra = {}
     if masked:
         conf = np.ones(N, np.float32)
@@ -204,6 +275,16 @@ def nrrd(name, space, aff, encoding="raw", masked=False, detached=False, mframe=
         conf[np.arange(N) % 7 == 5] = 0.5  # exactly 0.5 is kept, as in Teem
         comps = np.concatenate([conf[:, None], comps], axis=1)
         extra = {"masked": int(low.sum()), "masked_voxels": np.nonzero(low)[0].tolist()}
+    return comps, d_m, dirs, origin, mf, extra
+
+
+def vec(v):
+    return "(" + ",".join(repr(float(x)) for x in v) + ")"
+
+
+def nrrd(name, space, aff, encoding="raw", masked=False, detached=False, mframe=None, kinds="3D-symmetric-matrix"):
+    comps, d_m, dirs, origin, mf, extra = nrrd_content(space, aff, masked, mframe)
+    if masked:
         kinds = "3D-masked-symmetric-matrix"
     ncomp = comps.shape[1]
     if encoding == "ascii":
@@ -212,7 +293,6 @@ def nrrd(name, space, aff, encoding="raw", masked=False, detached=False, mframe=
         body = comps.astype("<f4").tobytes()
         if encoding == "gzip":
             body = gzip.compress(body, mtime=0)
-    vec = lambda v: "(" + ",".join(repr(float(x)) for x in v) + ")"
     lines = [
         "NRRD0004",
         "# written by make_dti_files.py",
@@ -238,7 +318,7 @@ def nrrd(name, space, aff, encoding="raw", masked=False, detached=False, mframe=
     else:
         with open(os.path.join(HERE, name), "wb") as f:
             f.write(("\n".join(lines) + "\n\n").encode() + body)
-    record(name, d_m, [], e1, extra)
+    record(name, d_m, [], AXES, extra)
 
 
 nrrd("nrrd_raw_oblique.nrrd", "right-anterior-superior", "oblique")
@@ -265,6 +345,83 @@ with open(os.path.join(HERE, "nrrd_raw_oblique.nrrd"), "rb") as f:
     b = f.read()
 with open(os.path.join(HERE, "bad_short_data.nrrd"), "wb") as f:
     f.write(b[:-4])
+# Five values per voxel where 3D-symmetric-matrix has six; a 3-D scalar volume.
+with open(os.path.join(HERE, "bad_components.nrrd"), "wb") as f:
+    f.write(b.replace(b"sizes: 6 5 4 3", b"sizes: 5 5 4 3", 1))
+with open(os.path.join(HERE, "bad_scalar3d.nrrd"), "wb") as f:
+    f.write(b"NRRD0004\ntype: float\ndimension: 3\nsizes: 5 4 3\nkinds: space space space\n"
+            b"endian: little\nencoding: raw\n\n" + np.ones(N, "<f4").tobytes())
+
+
+
+# NRRD files written by Teem's own unu from raw floats written here; each is read back by unu
+# and must hold exactly the numbers meant.
+UNU = shutil.which("unu") or shutil.which("teem-unu")
+
+
+def unu(*args):
+    subprocess.run([UNU, *args], cwd=HERE, check=True, capture_output=True)
+
+
+def unu_values(name):
+    """The values Teem reads from `name`, as float32."""
+    out = subprocess.run([UNU, "save", "-i", name, "-f", "nrrd", "-e", "raw", "-en", "little",
+                          "-o", "-"], cwd=HERE, check=True, capture_output=True).stdout
+    return np.frombuffer(out[out.index(b"\n\n") + 2:], "<f4")
+
+
+def teem(name, space, aff, masked=False, mframe=None, encoding="raw", skip=None, endian="little"):
+    """`unu make` a NRRD of the world tensors: attached (then `unu save -e ENCODING`), or with
+    `skip = (lines, bytes)` a detached header (`unu make -h`) whose data file starts with that
+    many text lines and junk bytes (inside the inflated stream for gzip, as Teem reads it)."""
+    comps, d_m, dirs, origin, mf, extra = nrrd_content(space, aff, masked, mframe)
+    kinds = "3D-masked-symmetric-matrix" if masked else "3D-symmetric-matrix"
+    values = comps.astype(">f4" if endian == "big" else "<f4").tobytes()
+    geometry = ["-t", "float", "-s", str(comps.shape[1]), *map(str, DIMS),
+                "-k", kinds, "space", "space", "space", "-en", endian,
+                "-spc", {"left-posterior-superior": "LPS"}.get(space, "RAS"),
+                "-orig", vec(origin),
+                "-dirs", "none " + " ".join(vec(dirs[:, i]) for i in range(3))]
+    if mframe is not None:
+        geometry += ["-mf", " ".join(vec(mf[:, i]) for i in range(3))]
+    if skip is None:
+        raw = name + ".tmp.raw"
+        with open(os.path.join(HERE, raw), "wb") as f:
+            f.write(values)
+        unu("make", "-i", raw, *geometry, "-o", name + ".tmp.nrrd")
+        unu("save", "-i", name + ".tmp.nrrd", "-f", "nrrd", "-e", encoding, "-o", name)
+        for t in (raw, name + ".tmp.nrrd"):
+            os.remove(os.path.join(HERE, t))
+    else:
+        lines, junk = skip
+        data_name = name.rsplit(".", 1)[0] + (".raw.gz" if encoding == "gzip" else ".raw")
+        inner = b"\xa5" * junk + values
+        body = gzip.compress(inner, mtime=0) if encoding == "gzip" else inner
+        text = b"".join(b"preamble line %d\n" % i for i in range(lines))
+        with open(os.path.join(HERE, data_name), "wb") as f:
+            f.write(text + body)
+        unu("make", "-h", "-i", data_name, *geometry, "-e", encoding,
+            "-ls", str(lines), "-bs", str(junk), "-o", name)
+    got = unu_values(name)
+    assert np.array_equal(got, comps.reshape(-1)), f"unu reads other numbers from {name}"
+    record(name, d_m, [], AXES, extra)
+
+
+if UNU:
+    teem("teem_masked_lps.nrrd", "left-posterior-superior", "oblique", masked=True,
+         mframe=rot(2, 90) @ rot(1, 15), encoding="gzip")
+    teem("teem_skip_bigendian.nhdr", "right-anterior-superior", "oblique", skip=(2, 3),
+         endian="big")
+    teem("teem_skip_gzip.nhdr", "left-posterior-superior", "flipped", skip=(1, 4),
+         encoding="gzip")
+else:
+    # Keep the committed files' truth.
+    with open(os.path.join(HERE, "expected.json")) as f:
+        old = json.load(f)["files"]
+    for name in ("teem_masked_lps.nrrd", "teem_skip_bigendian.nhdr", "teem_skip_gzip.nhdr"):
+        if name in old:
+            expected["files"][name] = old[name]
+    print("unu not found: the Teem-written NRRD files are left as they are")
 
 with open(os.path.join(HERE, "expected.json"), "w") as f:
     json.dump(expected, f, indent=1)

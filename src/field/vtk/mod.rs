@@ -50,7 +50,7 @@ pub struct ReadOptions {
     /// 6-component point array, else the first such cell array.
     pub array: Option<String>,
     /// Component order of 6-component arrays where the file does not say; `None`: the
-    /// format's default (VTK: `vtk`; NIfTI 4-D: `fsl`, 5-D: `nifti`).
+    /// format's default (VTK: `vtk`; NIfTI: `fsl`, unless a 5-D file has intent SYMMATRIX).
     pub order: Option<ComponentOrder>,
     /// The axes the stored tensors are in; `None`: the format's default (NIfTI: `voxel`).
     /// VTK files are read as before: image data tensors rotated by the image's `Direction`.
@@ -82,19 +82,29 @@ pub fn read_field_bytes(
 }
 
 pub(crate) fn guarded<T>(path: &Path, f: impl FnOnce() -> Res<T>) -> Result<T, LoadError> {
-    let result =
-        std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
-            let msg = payload
-                .downcast_ref::<&str>()
-                .map(|s| s.to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "unknown panic".into());
-            Err(LoadErrorKind::Other(format!(
+    catch_panics(path, || f().map_err(|kind| LoadError::new(path, kind)))
+}
+
+/// `f()`, with a panic inside it turned into an error naming `path` (readers of several files
+/// name the one at fault themselves).
+pub(crate) fn catch_panics<T>(
+    path: &Path,
+    f: impl FnOnce() -> Result<T, LoadError>,
+) -> Result<T, LoadError> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
+        let msg = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into());
+        Err(LoadError::new(
+            path,
+            LoadErrorKind::Other(format!(
                 "internal reader error (please report this file): {}",
                 escape_for_error(msg)
-            )))
-        });
-    result.map_err(|kind| LoadError::new(path, kind))
+            )),
+        ))
+    })
 }
 
 type Res<T> = Result<T, LoadErrorKind>;
