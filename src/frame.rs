@@ -74,11 +74,8 @@ impl Frame {
                 }
                 let count = (n * n) as u64;
                 for c in 0..3 {
-                    color.push(if sum[3] == 0 {
-                        0
-                    } else {
-                        ((sum[c] + sum[3] / 2) / sum[3]) as u8
-                    });
+                    let avg = (sum[c] + sum[3] / 2).checked_div(sum[3]).unwrap_or(0);
+                    color.push(avg as u8);
                 }
                 color.push(((sum[3] + count / 2) / count) as u8);
                 let centre = (y * n + n / 2) * sw + x * n + n / 2;

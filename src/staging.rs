@@ -134,13 +134,14 @@ impl Recipe {
     /// middle z plane of the lattice (the middle axial slice of a volume in RAS order).
     pub fn selection_for(&self, field: &TensorField) -> Selection {
         let mut sel = self.selection.clone();
-        if (self.underlay.is_some() || self.middle_slice) && sel.slicing == Slicing::Whole {
-            if let Some(d) = field.lattice_dims() {
-                sel.slicing = Slicing::Planes(vec![Plane {
-                    axis: 2,
-                    index: d[2] / 2,
-                }]);
-            }
+        if (self.underlay.is_some() || self.middle_slice)
+            && sel.slicing == Slicing::Whole
+            && let Some(d) = field.lattice_dims()
+        {
+            sel.slicing = Slicing::Planes(vec![Plane {
+                axis: 2,
+                index: d[2] / 2,
+            }]);
         }
         sel
     }

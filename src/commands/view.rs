@@ -75,7 +75,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
         draw: args.draw.options(cam.method, cam.glyph, depth_correction)?,
         underlay: args.select.underlay.clone(),
         underlay_view: args.select.underlay_view(),
-        ..Settings::default()
     };
     viewer::run(Options {
         source,

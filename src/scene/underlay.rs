@@ -273,7 +273,9 @@ impl Lattice {
                 let p =
                     DVec3::from(field.positions[ijk[0] + dims[0] * (ijk[1] + dims[1] * ijk[2])]);
                 let expect = centre0 + sa * ia as f64 + sb * jb as f64;
-                !((p - expect).length() <= tol)
+                let off = (p - expect).length();
+                // NaN positions count as irregular too.
+                off.is_nan() || off > tol
             })
         });
         if irregular {
