@@ -335,6 +335,19 @@ impl MethodConfig {
     }
 
     /// Declare (or not) conservative depth to the GPU, where the configuration is conservative.
+    /// Draw every glyph from the prepass instead of splatting the small ones (what an image
+    /// too large for the splats' per-pixel buffer gets).
+    pub fn drop_splats(&mut self) {
+        if let MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+            depth: EllipsoidDepth::RayCast { path, .. },
+            ..
+        }) = self
+            && matches!(path, EllipsoidPath::Splat(_))
+        {
+            *path = EllipsoidPath::Prepass;
+        }
+    }
+
     pub fn set_early_depth(&mut self, on: bool) {
         if let MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
             depth:

@@ -137,6 +137,21 @@ impl GpuRenderer {
         SceneBuffers::upload(&self.ctx, &self.layouts.group, &self.underlay, scene, chunk)
     }
 
+    /// `req` as this device can draw it at the camera's size: splats keep a 4- or 8-byte key
+    /// per pixel in one storage binding, so an image with more pixels than that binding holds
+    /// (16.7 M with 64-bit keys on a 128 MiB limit) draws every glyph from the prepass instead.
+    pub fn within_limits(&self, req: &FrameRequest, camera: &Camera) -> FrameRequest {
+        let mut req = *req;
+        let key_bytes = if self.ctx.int64_atomics { 8 } else { 4 };
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        if req.splat_pixels() > 0
+            && pixels.saturating_mul(key_bytes) > self.ctx.limits.max_storage_buffer_binding_size
+        {
+            req.method.drop_splats();
+        }
+        req
+    }
+
     /// Render instances uploaded by [`Self::upload`] (timing upload and frames apart).
     pub fn render_uploaded(
         &self,
@@ -144,6 +159,7 @@ impl GpuRenderer {
         camera: &Camera,
         req: &FrameRequest,
     ) -> Result<Frame, RenderError> {
+        let req = &self.within_limits(req, camera);
         let ctx = &self.ctx;
         let targets = Targets::new(ctx, camera.width, camera.height, req.aux)?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -169,6 +185,7 @@ impl GpuRenderer {
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), RenderError> {
+        let req = &self.within_limits(req, camera);
         let drawer = self.drawer(req.method.method(), req.glyph())?;
         buffers.write_uniforms(&self.ctx.queue, camera, req);
         let frame = FrameRecording {

@@ -462,7 +462,9 @@ impl PrepassBuffers {
         splats: bool,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
-        let pixels = self.pixels_for(size);
+        // Without splats no pixel is keyed: a one-pixel buffer keeps the bindings valid (an
+        // image-sized one could exceed the binding limit for nothing).
+        let pixels = self.pixels_for(if splats { size } else { (1, 1) });
         let pixels = pixels.as_ref().expect("made above");
         encoder.clear_buffer(&self.args, 0, None);
         if splats {
