@@ -6,6 +6,7 @@ pub mod fsl_eigen;
 pub mod input;
 pub mod nifti;
 pub mod nrrd;
+pub(crate) mod number;
 pub mod order;
 pub mod scalar;
 pub mod synthetic;

@@ -37,6 +37,7 @@ use super::frame::{
     FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
     smallest_spacing, tensor_rotation,
 };
+use super::number::Scalar;
 use super::scalar::{self, ScalarVolume};
 use super::vtk::ReadOptions;
 use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
@@ -194,7 +195,8 @@ impl Header {
             start: offset as usize,
             width: shape.width,
             voxels: shape.voxels,
-            value: shape.read,
+            ty: shape.ty,
+            big: h.endianness == nifti::Endianness::Big,
             slope,
             inter,
         })
@@ -208,7 +210,8 @@ pub(crate) struct Voxels<'a> {
     start: usize,
     width: usize,
     voxels: usize,
-    value: ReadNumber,
+    ty: Scalar,
+    big: bool,
     slope: f64,
     inter: f64,
 }
@@ -217,7 +220,7 @@ impl Voxels<'_> {
     /// Value `c` of voxel `v`, scaled by `scl_slope` and `scl_inter`.
     pub(crate) fn get(&self, c: usize, v: usize) -> f64 {
         let at = self.start + (c * self.voxels + v) * self.width;
-        (self.value)(&self.data[at..at + self.width]) * self.slope + self.inter
+        self.ty.read(&self.data[at..at + self.width], self.big) * self.slope + self.inter
     }
 }
 
@@ -322,7 +325,7 @@ struct Shape {
     /// 5-D (`X×Y×Z×1×C`), the NIfTI way of storing vectors and matrices.
     five_d: bool,
     width: usize,
-    read: ReadNumber,
+    ty: Scalar,
 }
 
 impl Shape {
@@ -374,9 +377,9 @@ impl Shape {
         let t = h.datatype;
         let read = match values {
             Values::Tensor if t != DT_FLOAT32 && t != DT_FLOAT64 => None,
-            _ => sample_type(t, h.endianness == nifti::Endianness::Big),
+            _ => sample_type(t),
         };
-        let (width, read) = read.ok_or_else(|| {
+        let ty = read.ok_or_else(|| {
             field(
                 "datatype",
                 format!(
@@ -389,6 +392,7 @@ impl Shape {
                 ),
             )
         })?;
+        let width = ty.size();
         check_bitpix(h, width)?;
         let voxels = dims
             .iter()
@@ -400,7 +404,7 @@ impl Shape {
             components,
             five_d,
             width,
-            read,
+            ty,
         })
     }
 }
@@ -534,36 +538,22 @@ fn affine(h: &NiftiHeader) -> Res<(Matrix4<f64>, &'static str)> {
     Ok((a, "pixdim"))
 }
 
-/// Reads one number from its bytes.
-type ReadNumber = fn(&[u8]) -> f64;
-
-/// Bytes per number of a NIfTI datatype and how to read one, for the integers and the floats
-/// (not complex, RGB or float128). 64-bit integers beyond 2^53 lose their last bits.
-fn sample_type(datatype: i16, big: bool) -> Option<(usize, ReadNumber)> {
-    macro_rules! read {
-        ($t:ty) => {{
-            const W: usize = std::mem::size_of::<$t>();
-            let read: ReadNumber = if big {
-                |b| <$t>::from_be_bytes(b[..W].try_into().unwrap_or_default()) as f64
-            } else {
-                |b| <$t>::from_le_bytes(b[..W].try_into().unwrap_or_default()) as f64
-            };
-            Some((W, read))
-        }};
-    }
-    match datatype {
-        DT_UINT8 => read!(u8),
-        DT_INT8 => read!(i8),
-        DT_INT16 => read!(i16),
-        DT_UINT16 => read!(u16),
-        DT_INT32 => read!(i32),
-        DT_UINT32 => read!(u32),
-        DT_INT64 => read!(i64),
-        DT_UINT64 => read!(u64),
-        DT_FLOAT32 => read!(f32),
-        DT_FLOAT64 => read!(f64),
-        _ => None,
-    }
+/// The element type of a NIfTI datatype, for the integers and the floats (not complex, RGB or
+/// float128).
+fn sample_type(datatype: i16) -> Option<Scalar> {
+    Some(match datatype {
+        DT_UINT8 => Scalar::U8,
+        DT_INT8 => Scalar::I8,
+        DT_INT16 => Scalar::I16,
+        DT_UINT16 => Scalar::U16,
+        DT_INT32 => Scalar::I32,
+        DT_UINT32 => Scalar::U32,
+        DT_INT64 => Scalar::I64,
+        DT_UINT64 => Scalar::U64,
+        DT_FLOAT32 => Scalar::F32,
+        DT_FLOAT64 => Scalar::F64,
+        _ => return None,
+    })
 }
 
 /// `scl_slope` and `scl_inter`; a slope of 0 (or not finite) means "no scaling", per the

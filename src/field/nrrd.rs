@@ -28,6 +28,7 @@ use super::frame::{
     smallest_spacing, tensor_rotation,
 };
 use super::input::{gunzip_prefix, read_regular_file};
+use super::number::Scalar;
 use super::scalar::{self, ScalarVolume};
 use super::vtk::ReadOptions;
 use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
@@ -215,8 +216,8 @@ fn space_to_ras(h: &Header) -> Res<(Vector3<f64>, &'static str)> {
 pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     let h = parse_header(bytes)?;
     let ty = match h.need("type")? {
-        "float" | "float32" => Number::F32,
-        "double" | "float64" => Number::F64,
+        "float" | "float32" => Scalar::F32,
+        "double" | "float64" => Scalar::F64,
         t => {
             return Err(field(
                 "type",
@@ -383,7 +384,7 @@ pub fn parse_scalar(path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
         ));
     }
     let t = h.need("type")?;
-    let ty = Number::named(t).ok_or_else(|| {
+    let ty = Scalar::nrrd_named(t).ok_or_else(|| {
         field(
             "type",
             format!(
@@ -463,7 +464,7 @@ fn encoding(h: &Header) -> Res<Encoding> {
 }
 
 /// Whether binary values are big-endian; single bytes and text need no `endian`.
-fn big_endian(h: &Header, encoding: Encoding, ty: Number) -> Res<bool> {
+fn big_endian(h: &Header, encoding: Encoding, ty: Scalar) -> Res<bool> {
     Ok(match h.get("endian") {
         Some("little") => false,
         Some("big") => true,
@@ -473,7 +474,7 @@ fn big_endian(h: &Header, encoding: Encoding, ty: Number) -> Res<bool> {
                 format!("'{}' is neither little nor big", escape_for_error(e)),
             ));
         }
-        None if encoding == Encoding::Ascii || ty.width() == 1 => false,
+        None if encoding == Encoding::Ascii || ty.size() == 1 => false,
         None => return Err(field("endian", "missing; binary data needs it")),
     })
 }
@@ -572,86 +573,36 @@ fn placement(h: &Header, leading: usize) -> Res<Placement> {
     })
 }
 
-/// A NRRD `type` that is read.
-#[derive(Clone, Copy, PartialEq)]
-enum Number {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    I64,
-    U64,
-    F32,
-    F64,
-}
-
-impl Number {
+impl Scalar {
     /// The type a `type` field names (every spelling the NRRD format allows; not `block`).
-    fn named(t: &str) -> Option<Number> {
+    fn nrrd_named(t: &str) -> Option<Scalar> {
         Some(match t.to_ascii_lowercase().as_str() {
-            "signed char" | "int8" | "int8_t" => Number::I8,
-            "uchar" | "unsigned char" | "uint8" | "uint8_t" => Number::U8,
+            "signed char" | "int8" | "int8_t" => Scalar::I8,
+            "uchar" | "unsigned char" | "uint8" | "uint8_t" => Scalar::U8,
             "short" | "short int" | "signed short" | "signed short int" | "int16" | "int16_t" => {
-                Number::I16
+                Scalar::I16
             }
             "ushort" | "unsigned short" | "unsigned short int" | "uint16" | "uint16_t" => {
-                Number::U16
+                Scalar::U16
             }
-            "int" | "signed int" | "int32" | "int32_t" => Number::I32,
-            "uint" | "unsigned int" | "uint32" | "uint32_t" => Number::U32,
+            "int" | "signed int" | "int32" | "int32_t" => Scalar::I32,
+            "uint" | "unsigned int" | "uint32" | "uint32_t" => Scalar::U32,
             "longlong"
             | "long long"
             | "long long int"
             | "signed long long"
             | "signed long long int"
             | "int64"
-            | "int64_t" => Number::I64,
+            | "int64_t" => Scalar::I64,
             "ulonglong"
             | "unsigned long long"
             | "unsigned long long int"
             | "uint64"
-            | "uint64_t" => Number::U64,
-            "float" | "float32" => Number::F32,
-            "double" | "float64" => Number::F64,
+            | "uint64_t" => Scalar::U64,
+            "float" | "float32" => Scalar::F32,
+            "double" | "float64" => Scalar::F64,
             _ => return None,
         })
-    }
-
-    fn width(self) -> usize {
-        match self {
-            Number::I8 | Number::U8 => 1,
-            Number::I16 | Number::U16 => 2,
-            Number::I32 | Number::U32 | Number::F32 => 4,
-            Number::I64 | Number::U64 | Number::F64 => 8,
-        }
-    }
-
-    /// One value from its `width()` bytes.
-    fn read(self, b: &[u8], big: bool) -> f64 {
-        macro_rules! conv {
-            ($t:ty) => {{
-                let a = b.try_into().unwrap_or_default();
-                (if big {
-                    <$t>::from_be_bytes(a)
-                } else {
-                    <$t>::from_le_bytes(a)
-                }) as f64
-            }};
-        }
-        match self {
-            Number::I8 => conv!(i8),
-            Number::U8 => conv!(u8),
-            Number::I16 => conv!(i16),
-            Number::U16 => conv!(u16),
-            Number::I32 => conv!(i32),
-            Number::U32 => conv!(u32),
-            Number::I64 => conv!(i64),
-            Number::U64 => conv!(u64),
-            Number::F32 => conv!(f32),
-            Number::F64 => conv!(f64),
-        }
     }
 }
 
@@ -700,12 +651,12 @@ fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], Sta
 fn decode(
     data: &[u8],
     enc: Encoding,
-    ty: Number,
+    ty: Scalar,
     big: bool,
     count: usize,
     start: Start,
 ) -> Res<Vec<f64>> {
-    let width = ty.width();
+    let width = ty.size();
     let short = |have: usize, what: &str| {
         field(
             "sizes",

@@ -175,13 +175,7 @@ pub fn glyph_pipeline(
             cull_mode: input.cull_mode,
             ..Default::default()
         },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
+        depth_stencil: Some(depth_test()),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState {
             module,
@@ -192,4 +186,15 @@ pub fn glyph_pipeline(
         multiview_mask: None,
         cache: None,
     })
+}
+
+/// The depth test every pass drawing into the targets uses: nearer wins, and is written.
+pub(crate) fn depth_test() -> wgpu::DepthStencilState {
+    wgpu::DepthStencilState {
+        format: DEPTH_FORMAT,
+        depth_write_enabled: Some(true),
+        depth_compare: Some(wgpu::CompareFunction::Less),
+        stencil: Default::default(),
+        bias: Default::default(),
+    }
 }

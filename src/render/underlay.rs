@@ -11,7 +11,7 @@ use glam::DVec3;
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
-use crate::render::targets::{COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT, TargetViews};
+use crate::render::targets::{COLOR_FORMAT, ID_FORMAT, TargetViews};
 use crate::request::UnderlayView;
 use crate::scene::underlay::{PlaneGeometry, Underlay};
 
@@ -106,13 +106,7 @@ impl UnderlayPipeline {
                     topology: wgpu::PrimitiveTopology::TriangleStrip,
                     ..Default::default()
                 },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
+                depth_stencil: Some(crate::render::pipeline::depth_test()),
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,

@@ -3,31 +3,9 @@
 use super::{Res, malformed};
 use crate::error::escape_for_error as esc;
 
-/// A numeric element type.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Scalar {
-    I8,
-    U8,
-    I16,
-    U16,
-    I32,
-    U32,
-    I64,
-    U64,
-    F32,
-    F64,
-}
+pub(crate) use crate::field::number::{Scalar, decode_into};
 
 impl Scalar {
-    pub fn size(self) -> usize {
-        match self {
-            Scalar::I8 | Scalar::U8 => 1,
-            Scalar::I16 | Scalar::U16 => 2,
-            Scalar::I32 | Scalar::U32 | Scalar::F32 => 4,
-            Scalar::I64 | Scalar::U64 | Scalar::F64 => 8,
-        }
-    }
-
     /// XML `type` attribute (VTK ≥ 5 names and the old `Int`/`Float` ones are not used by VTK).
     pub fn from_xml(s: &str) -> Option<Scalar> {
         Some(match s {
@@ -51,34 +29,6 @@ impl Scalar {
             Scalar::F32 => v as f32 as f64,
             _ => v,
         }
-    }
-}
-
-/// Append the values in `bytes` (a whole number of elements) to `out`, converting to f64.
-pub(crate) fn decode_into(bytes: &[u8], ty: Scalar, big_endian: bool, out: &mut Vec<f64>) {
-    macro_rules! go {
-        ($t:ty, $n:expr) => {
-            out.extend(bytes.chunks_exact($n).map(|c| {
-                let a: [u8; $n] = c.try_into().expect("chunk size");
-                (if big_endian {
-                    <$t>::from_be_bytes(a)
-                } else {
-                    <$t>::from_le_bytes(a)
-                }) as f64
-            }))
-        };
-    }
-    match ty {
-        Scalar::I8 => out.extend(bytes.iter().map(|&b| b as i8 as f64)),
-        Scalar::U8 => out.extend(bytes.iter().map(|&b| b as f64)),
-        Scalar::I16 => go!(i16, 2),
-        Scalar::U16 => go!(u16, 2),
-        Scalar::I32 => go!(i32, 4),
-        Scalar::U32 => go!(u32, 4),
-        Scalar::I64 => go!(i64, 8),
-        Scalar::U64 => go!(u64, 8),
-        Scalar::F32 => go!(f32, 4),
-        Scalar::F64 => go!(f64, 8),
     }
 }
 
