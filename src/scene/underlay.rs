@@ -1,10 +1,10 @@
 //! A greyscale scalar image under the glyphs: FA or MD of the tensors, or any scalar volume,
 //! on each lattice plane the selection shows (`--underlay`).
 //!
-//! The image lies on its plane but is drawn [`UnderlayPlane::behind`] further from the camera:
+//! The image lies on its plane but is drawn [`PlaneGeometry::behind`] further from the camera:
 //! the largest extent of that plane's glyphs along its normal. The glyphs of the plane then stay
 //! whole and in front of it from either side, without a depth bias that would differ between
-//! the GPU and the reference: both place the image with [`UnderlayPlane::placed_corner`].
+//! the GPU and the reference: both place the image with [`PlaneGeometry::placed_corner`].
 //! Texels are shown nearest-neighbour (one texel per tensor voxel for FA and MD), so the voxel
 //! grid the tensors came from stays visible, as in mrview or FSLeyes.
 
