@@ -46,9 +46,9 @@ impl Frame {
     /// background adds no colour to the edges) and rounded; its id and aux are its centre
     /// sample's (the sample at (n/2, n/2): the pixel centre exactly for odd n), so picking and
     /// the metrics see single rays. Timings and counts are kept.
-    pub fn downsample(&self, n: u32) -> Frame {
+    pub fn downsample(self, n: u32) -> Frame {
         if n <= 1 {
-            return self.clone();
+            return self;
         }
         let (w, h) = (self.width / n, self.height / n);
         let (n, sw) = (n as usize, self.width as usize);
@@ -91,16 +91,9 @@ impl Frame {
             color,
             ids,
             aux,
-            ..self.clone_timings()
-        }
-    }
-
-    fn clone_timings(&self) -> Frame {
-        Frame {
-            frame_ms: self.frame_ms.clone(),
+            frame_ms: self.frame_ms,
             fragments: self.fragments,
             vertices: self.vertices,
-            ..Frame::default()
         }
     }
 }

@@ -14,7 +14,6 @@ use tensorglyph::camera::Camera;
 use tensorglyph::defaults::DataKind;
 use tensorglyph::frame::Frame;
 use tensorglyph::image_out::{write_png, write_png_dpi};
-use tensorglyph::legend::legend;
 use tensorglyph::legend::raster::{Caption, burn};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
 use tensorglyph::reference::ReferenceScene;
@@ -267,7 +266,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         ),
         None => (None, None),
     };
-    let frame: Frame = backend
+    let mut frame: Frame = backend
         .render(&scene, &camera, &req, &mut timings, &progress)?
         .downsample(ssaa);
 
@@ -283,20 +282,18 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     } else {
         None
     };
-    let mut rgba = frame.color.clone();
     if image.legend {
-        let caption = caption(
+        let caption = Caption::of_frame(
             &staged.style,
-            &report_scale(&scene_args.style(&defaults)?),
             staged.glyphs_clamped,
             &scene,
             &req,
             &camera,
             DataKind::of(src) == DataKind::Diffusion,
         );
-        burn(&mut rgba, w, h, &frame.ids, &caption, req.background);
+        burn(&mut frame.color, w, h, &frame.ids, &caption, req.background);
     }
-    write_png_dpi(output, &inputs, w, h, &rgba, image.dpi)
+    write_png_dpi(output, &inputs, w, h, &frame.color, image.dpi)
         .with_context(|| format!("{}: cannot write", output.display()))?;
 
     let Visibility {
@@ -357,38 +354,4 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         }
     }
     Ok(())
-}
-
-/// How `--scale` and `--size-by` were asked for, in words.
-fn report_scale(style: &tensorglyph::glyph::GlyphStyle) -> String {
-    match style.scale {
-        tensorglyph::glyph::Scale::Auto => "scale auto".to_string(),
-        tensorglyph::glyph::Scale::Factor(f) => format!("radius = {f} × size"),
-    }
-}
-
-/// The legend of a frame: the scheme's key, the scale in effect, the underlay, the axes.
-fn caption(
-    style: &tensorglyph::glyph::ResolvedStyle,
-    scale: &str,
-    clamped: usize,
-    scene: &tensorglyph::scene::Scene,
-    req: &FrameRequest,
-    camera: &Camera,
-    anatomical: bool,
-) -> Caption {
-    let mut lines = vec![format!("{scale}, size by {}", style.size_by)];
-    if clamped > 0 {
-        lines.push(format!("{clamped} largest shown at the 98th percentile"));
-    }
-    if let (Some(u), true) = (&scene.underlay, req.underlay.shown) {
-        let [lo, hi] = req.underlay.window.unwrap_or(u.window);
-        lines.push(format!("under: {} {lo:.3} – {hi:.3}", u.label));
-    }
-    Caption {
-        legend: legend(style.color, style.md_range),
-        lines,
-        axes: Some((camera.forward(), camera.up, anatomical)),
-        class_threshold: style.class_threshold,
-    }
 }

@@ -8,8 +8,12 @@
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
 use glam::DVec3;
 
+use crate::camera::Camera;
+use crate::glyph::ResolvedStyle;
 use crate::glyph::colormap::{diverging, viridis};
-use crate::legend::{Legend, axis_labels, screen_axes};
+use crate::legend::{Legend, axis_labels, legend, screen_axes};
+use crate::request::FrameRequest;
+use crate::scene::Scene;
 use crate::tensor::shape::{ShapeClass, classify};
 
 /// What a legend shows.
@@ -22,6 +26,40 @@ pub struct Caption {
     pub axes: Option<(DVec3, DVec3, bool)>,
     /// The shape classes' threshold τ (for the Westin triangle of `shape`).
     pub class_threshold: f64,
+}
+
+impl Caption {
+    /// The legend of a rendered frame: the scheme's key, the scale in effect (`auto`, whose
+    /// largest radius is capped, or a factor) and the glyphs it clamped, the underlay and its
+    /// window when shown, and the camera's axes.
+    pub fn of_frame(
+        style: &ResolvedStyle,
+        clamped: usize,
+        scene: &Scene,
+        req: &FrameRequest,
+        camera: &Camera,
+        anatomical: bool,
+    ) -> Self {
+        let scale = if style.cap.is_finite() {
+            "scale auto".to_string()
+        } else {
+            format!("radius = {} × size", style.k)
+        };
+        let mut lines = vec![format!("{scale}, size by {}", style.size_by)];
+        if clamped > 0 {
+            lines.push(format!("{clamped} largest shown at the 98th percentile"));
+        }
+        if let (Some(u), true) = (&scene.underlay, req.underlay.shown) {
+            let [lo, hi] = req.underlay.window.unwrap_or(u.window);
+            lines.push(format!("under: {} {lo:.3} – {hi:.3}", u.label));
+        }
+        Caption {
+            legend: legend(style.color, style.md_range),
+            lines,
+            axes: Some((camera.forward(), camera.up, anatomical)),
+            class_threshold: style.class_threshold,
+        }
+    }
 }
 
 /// Where a legend was drawn: (x, y, width, height) in pixels.
