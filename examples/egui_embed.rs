@@ -58,7 +58,11 @@ impl eframe::App for App {
                 ((rect.height() * ppp) as u32).max(1),
             );
             let mut renderer = self.render_state.renderer.write();
-            if self.view.resize(&self.gpu, &mut renderer, w, h).is_err() {
+            if self
+                .view
+                .resize(&self.gpu, &mut renderer, (w, h), false, false)
+                .is_err()
+            {
                 return;
             }
             drop(renderer);

@@ -19,7 +19,8 @@ struct Camera {
     // Clip planes (left, right, bottom, top, near, far): inward unit normal and offset, relative
     // to the scene origin (Camera::frustum_planes).
     frustum: array<vec4<f32>, 6>,
-    // x: pixels per world unit at view distance 1 (orthographic: at any distance).
+    // x: pixels per world unit at view distance 1 (orthographic: at any distance); w: 1 when
+    // shading is deferred (the colour target gets the unlit base colour, see composite.wgsl).
     pixels: vec4<f32>,
 }
 
@@ -225,6 +226,9 @@ fn skip_glyph(c: vec3<f32>, r: f32) -> bool {
 // Blinn-Phong with a headlight: the light sits at the eye, so L = H = direction to the eye.
 // Mirrored in f64 by src/reference/shading.rs.
 fn shade(base: vec3<f32>, n_view: vec3<f32>, p_view: vec3<f32>) -> vec3<f32> {
+    if camera.pixels.w > 0.5 {
+        return base;
+    }
     var l = vec3<f32>(0.0, 0.0, 1.0);
     if !is_ortho() {
         l = normalize(-p_view);

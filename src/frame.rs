@@ -14,6 +14,9 @@ pub struct Frame {
     /// View-space normal and the view z of the hit relative to its glyph's centre, per pixel
     /// (where `ids` is non-zero).
     pub aux: Option<Vec<[f32; 4]>>,
+    /// With effects and aux: per pixel how lit it is by the key light (1 lit, 0 in shadow; 1
+    /// without shadows) and its outline state (1 on an outline), for the accuracy check.
+    pub effects: Option<Vec<[f32; 2]>>,
     /// Wall-clock time of each frame, submit to completion.
     pub frame_ms: Vec<f64>,
     /// Fragment-shader invocations of one frame (pipeline statistics), where available.
@@ -58,6 +61,10 @@ impl Frame {
             .aux
             .as_ref()
             .map(|_| Vec::with_capacity(ids.capacity()));
+        let mut effects = self
+            .effects
+            .as_ref()
+            .map(|_| Vec::with_capacity(ids.capacity()));
         for y in 0..h as usize {
             for x in 0..w as usize {
                 let mut sum = [0u64; 4];
@@ -83,6 +90,9 @@ impl Frame {
                 if let (Some(out), Some(src)) = (&mut aux, &self.aux) {
                     out.push(src[centre]);
                 }
+                if let (Some(out), Some(src)) = (&mut effects, &self.effects) {
+                    out.push(src[centre]);
+                }
             }
         }
         Frame {
@@ -91,6 +101,7 @@ impl Frame {
             color,
             ids,
             aux,
+            effects,
             frame_ms: self.frame_ms,
             fragments: self.fragments,
             vertices: self.vertices,

@@ -29,6 +29,7 @@
 
 // Below everything: shared vocabulary.
 pub mod camera;
+pub mod effects;
 pub mod error;
 pub mod frame;
 mod names;

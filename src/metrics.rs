@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use crate::effects::Effects;
 use crate::frame::Frame;
 use crate::scene::Scene;
 
@@ -24,6 +25,13 @@ pub struct Accuracy {
     pub color_psnr_db: f64,
     /// Pixels compared for depth and normal.
     pub same_glyph_pixels: usize,
+    /// With outlines: fraction of all pixels whose outline state differs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub outline_mismatch: Option<f64>,
+    /// With shadows: fraction of pixels covered in both whose lit fraction differs from the
+    /// exact hard shadow by more than 0.5 (a penumbra's softness is not counted as error).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shadow_mismatch: Option<f64>,
 }
 
 /// Compare `frame` with `reference` (same size; both need aux data for depth and normal).
@@ -86,6 +94,35 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         normal_err_deg_max: normal_max,
         color_psnr_db: psnr(&frame.color, &reference.color),
         same_glyph_pixels: same,
+        outline_mismatch: None,
+        shadow_mismatch: None,
+    }
+}
+
+impl Accuracy {
+    /// The mismatches of the `effects` that are on, where both frames carry their per-pixel
+    /// effects (rendered with aux).
+    pub fn with_effects(self, frame: &Frame, reference: &Frame, effects: &Effects) -> Self {
+        let (Some(a), Some(b)) = (&frame.effects, &reference.effects) else {
+            return self;
+        };
+        let n = a.len().min(b.len());
+        let outlined = |e: &[f32; 2]| e[1] > 0.5;
+        let outline = (0..n)
+            .filter(|&k| outlined(&a[k]) != outlined(&b[k]))
+            .count();
+        let covered: Vec<usize> = (0..n)
+            .filter(|&k| frame.ids[k] != 0 && reference.ids[k] != 0)
+            .collect();
+        let shadow = covered
+            .iter()
+            .filter(|&&k| (a[k][0] - b[k][0]).abs() > 0.5)
+            .count();
+        Self {
+            outline_mismatch: effects.outlines.map(|_| ratio(outline, n)),
+            shadow_mismatch: effects.shadows.map(|_| ratio(shadow, covered.len())),
+            ..self
+        }
     }
 }
 

@@ -6,6 +6,7 @@ use std::fmt;
 use std::num::NonZeroU32;
 use std::str::FromStr;
 
+use crate::effects::Effects;
 use crate::frame::Lighting;
 
 /// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
@@ -598,6 +599,8 @@ pub struct FrameRequest {
     pub min_pixel_radius: f32,
     /// How the scene's underlay, if it has one, is shown.
     pub underlay: UnderlayView,
+    /// Deferred shading, outlines and shadows.
+    pub effects: Effects,
 }
 
 /// How a scene's underlay is shown: a frame-time choice, so the viewer's toggle and window do
@@ -672,6 +675,12 @@ impl FrameRequest {
     pub fn splat_pixels(&self) -> u32 {
         self.method.splat_pixels()
     }
+
+    /// Whether the method's shaders write the aux target: for the accuracy check, or as the
+    /// normals of deferred shading.
+    pub fn writes_aux(&self) -> bool {
+        self.aux || self.effects.deferred()
+    }
 }
 
 impl Default for FrameRequest {
@@ -693,6 +702,7 @@ impl Default for FrameRequest {
             cull: false,
             min_pixel_radius: 0.0,
             underlay: UnderlayView::default(),
+            effects: Effects::default(),
         }
     }
 }

@@ -4,6 +4,7 @@
 
 pub mod brain;
 pub mod chart;
+pub mod effects;
 pub mod report;
 
 use glam::DVec3;

@@ -11,6 +11,7 @@ use clap::builder::{PossibleValuesParser, TypedValueParser};
 
 use tensorglyph::camera::{Framing, ViewPreset};
 use tensorglyph::defaults::Defaults;
+use tensorglyph::effects::{Effects, Outlines, Shading, Shadows, light};
 use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
 pub use tensorglyph::frame::parse_size;
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
@@ -418,4 +419,92 @@ pub fn parse_color(s: &str) -> Result<[f64; 4], String> {
         [parts[0], parts[1], parts[2]]
     };
     Ok([rgb[0], rgb[1], rgb[2], 1.0])
+}
+
+/// Figure effects (`render`, `demo`, `view`): deferred shading, outlines and shadows.
+#[derive(Args, Debug, Clone, Default)]
+pub struct EffectArgs {
+    /// Where glyphs are lit: in each method's shaders (direct), or once per pixel after all
+    /// glyphs are drawn (deferred; picked by --outlines and --shadows).
+    #[arg(long, value_parser = one_of::<Shading>(Shading::NAMES))]
+    pub shading: Option<Shading>,
+    /// Outline silhouettes, touching glyphs and creases (Sobel over depth, normal and glyph id);
+    /// STRENGTH in [0, 1] is how dark (default 0.85).
+    #[arg(long, value_name = "STRENGTH", num_args = 0..=1,
+          default_missing_value = "0.85")]
+    pub outlines: Option<f32>,
+    /// Outline width in output pixels (it scales with --ssaa).
+    #[arg(long, value_name = "PX", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=16))]
+    pub outline_width: u32,
+    /// Soft shadows from a key light (a shadow map of the ray-cast glyphs, filtered with
+    /// percentage-closer filtering).
+    #[arg(long)]
+    pub shadows: bool,
+    /// Direction towards the key light in view space, X,Y,Z (x right, y up, z towards the
+    /// viewer); default above-left of the camera, -0.5,0.8,0.35.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_light)]
+    pub light: Option<[f64; 3]>,
+    /// Shadow map side in texels (default: the power of two at or above the image's longer
+    /// side in samples, 512 to 4096).
+    #[arg(long, value_name = "N",
+          value_parser = clap::value_parser!(u32).range(64..=8192))]
+    pub shadow_map: Option<u32>,
+    /// Shadow softness: the percentage-closer filter's radius in shadow map texels (a
+    /// (2R+1)² kernel; 0: hard shadows).
+    #[arg(long, value_name = "R", default_value_t = Shadows::default().pcf_radius,
+          value_parser = clap::value_parser!(u32).range(0..=8))]
+    pub pcf_radius: u32,
+}
+
+impl EffectArgs {
+    /// The effects asked for an image of `size` output pixels with `ssaa`×`ssaa` samples each
+    /// (outlines `ssaa` samples wide per output pixel).
+    pub fn effects(&self, size: (u32, u32), ssaa: u32) -> Result<Effects> {
+        if let Some(s) = self.outlines {
+            ensure!(
+                s.is_finite() && (0.0..=1.0).contains(&s),
+                "--outlines takes a strength between 0 and 1, got {s}"
+            );
+        }
+        if self.light.is_some() && !self.shadows {
+            bail!("--light places the shadows' key light: add --shadows");
+        }
+        let effects = Effects {
+            shading: self.shading.unwrap_or_default(),
+            outlines: self.outlines.map(|strength| Outlines {
+                strength,
+                width: self.outline_width,
+                ..Outlines::default()
+            }),
+            shadows: self.shadows.then(|| Shadows {
+                light: self.light.unwrap_or(Shadows::DEFAULT_LIGHT),
+                map_size: self.shadow_map.unwrap_or_else(|| {
+                    Shadows::map_for(size.0.saturating_mul(ssaa), size.1.saturating_mul(ssaa))
+                }),
+                pcf_radius: self.pcf_radius,
+                ..Shadows::default()
+            }),
+        };
+        if self.shading == Some(Shading::Direct) && effects.any() {
+            bail!(
+                "--outlines and --shadows are drawn with deferred shading: drop --shading direct"
+            );
+        }
+        Ok(effects.resolved().supersampled(ssaa))
+    }
+}
+
+fn parse_light(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("light direction '{s}' is not X,Y,Z"))?;
+    match parts[..] {
+        [x, y, z] if light::view_direction([x, y, z]).is_some() => Ok([x, y, z]),
+        _ => Err(format!(
+            "light direction '{s}' needs three finite numbers, not all zero"
+        )),
+    }
 }

@@ -53,6 +53,11 @@ pub struct BenchArgs {
     /// axial slice, DTI defaults); in report.md and brain_volume.csv.
     #[arg(long)]
     pub brain: bool,
+    /// Also measure what the figure effects cost, as Sigg et al.'s Table 1 (direct vs deferred
+    /// Phong, + outlines, + shadows, + both, adaptive PCF on and off, on the first scene's
+    /// whole and close views of ellipsoids): effects_cost.csv and a table in report.md.
+    #[arg(long)]
+    pub effects: bool,
     #[command(flatten)]
     pub scene: SceneArgs,
 }
@@ -338,6 +343,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     let (w, h) = args.size;
     let mut rows: Vec<Row> = Vec::new();
+    let mut effects_rows = None;
     for name in &scenes {
         let source = match name.parse::<Demo>() {
             Ok(d) => Source::Demo(d),
@@ -360,9 +366,29 @@ pub fn run(args: BenchArgs) -> Result<()> {
         };
         rows.extend(bench::run(&gpu, name, &views, &opts, &report_progress));
         progress.end();
+        if args.effects && effects_rows.is_none() {
+            let ellipsoids = match views.iter().find(|(g, _)| *g == GlyphKind::Ellipsoid) {
+                Some((_, v)) => v.clone(),
+                None => bench::standard_views(
+                    &Scene::build(&set, &resolved, GlyphKind::Ellipsoid),
+                    w,
+                    h,
+                ),
+            };
+            let chosen: Vec<bench::View> = ellipsoids
+                .into_iter()
+                .filter(|v| v.name == "default" || v.name == "close")
+                .collect();
+            effects_rows = Some(bench::effects::run(&gpu, &chosen, args.frames)?);
+        }
+    }
+    if let Some(rows) = &effects_rows {
+        let path = args.out.join("effects_cost.csv");
+        report::write_atomic(&path, bench::effects::csv(rows).as_bytes())
+            .with_context(|| format!("{}: cannot write", path.display()))?;
     }
     let runs: Vec<&Large> = staged_runs.iter().map(|(_, l)| l).collect();
-    write_outputs(&args, &rows, &adapter, &runs)
+    write_outputs(&args, &rows, &adapter, &runs, effects_rows.as_deref())
 }
 
 fn chart_name(scene_index: usize, scene: &str, view: &str) -> String {
@@ -387,6 +413,7 @@ fn write_outputs(
     rows: &[Row],
     adapter: &str,
     staged_runs: &[&Large],
+    effects: Option<&[bench::effects::EffectsRow]>,
 ) -> Result<()> {
     let csv_path = args.out.join("speed_accuracy.csv");
     report::write_atomic(&csv_path, report::csv(rows).as_bytes())
@@ -428,6 +455,13 @@ fn write_outputs(
     }
     for l in staged_runs {
         let _ = writeln!(md, "{}", large_markdown(l));
+    }
+    if let Some(e) = effects {
+        let _ = writeln!(
+            md,
+            "## What the figure effects cost (Sigg et al. 2006, Table 1)\n\n{}",
+            bench::effects::markdown(e)
+        );
     }
     let _ = writeln!(md, "## What this shows\n\n{}", report::findings(rows));
     let md_path = args.out.join("report.md");

@@ -7,7 +7,9 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use serde::Serialize;
 
-use super::args::{CameraArgs, DrawArgs, SceneArgs, SelectArgs, parse_color, parse_size, source};
+use super::args::{
+    CameraArgs, DrawArgs, EffectArgs, SceneArgs, SelectArgs, parse_color, parse_size, source,
+};
 use super::progress::Terminal;
 use tensorglyph::backend::Backend;
 use tensorglyph::camera::Camera;
@@ -71,6 +73,8 @@ pub struct FrameArgs {
     #[command(flatten)]
     pub draw: DrawArgs,
     #[command(flatten)]
+    pub effects: EffectArgs,
+    #[command(flatten)]
     pub scene: SceneArgs,
     #[command(flatten)]
     pub select: SelectArgs,
@@ -108,6 +112,8 @@ pub struct DemoArgs {
 struct RenderReport {
     method: Method,
     glyph: GlyphKind,
+    /// Shading and the effects on, e.g. "deferred+outlines+shadows".
+    effects: String,
     adapter: Option<String>,
     backend: Option<String>,
     width: u32,
@@ -186,6 +192,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         image,
         camera: cam,
         draw,
+        effects,
         scene: scene_args,
         select,
     } = args;
@@ -215,6 +222,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let (w, h) = image.size;
     tensorglyph::frame::check_size(w.saturating_mul(ssaa), h.saturating_mul(ssaa))
         .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?;
+    let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
     let options = draw.options(cam.method, cam.glyph, depth_correction)?;
     let recipe = Recipe {
@@ -253,6 +261,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             },
             frames: image.frames.max(1),
             underlay: select.underlay_view(),
+            effects,
             ..FrameRequest::with_options(cam.method, cam.glyph, depth_correction, &options)
         },
         &scene,
@@ -278,7 +287,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
                 .with_context(|| format!("{}: cannot write", d.display()))?;
         }
-        Some(compare(&frame, &reference, &scene))
+        Some(compare(&frame, &reference, &scene).with_effects(&frame, &reference, &req.effects))
     } else {
         None
     };
@@ -306,6 +315,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let report = RenderReport {
         method,
         glyph: cam.glyph,
+        effects: req.effects.to_string(),
         adapter,
         backend: backend_name,
         width: w,

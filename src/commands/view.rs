@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 
-use super::args::{CameraArgs, DrawArgs, SceneArgs, SelectArgs, parse_size};
+use super::args::{CameraArgs, DrawArgs, EffectArgs, SceneArgs, SelectArgs, parse_size};
 use tensorglyph::defaults::DataKind;
 use tensorglyph::staging::{Demo, Source};
 use tensorglyph::viewer::{self, Options, state::Settings};
@@ -32,6 +32,13 @@ pub struct ViewArgs {
     /// How frames are drawn, to start with.
     #[command(flatten)]
     pub draw: DrawArgs,
+    /// The figure effects to start with.
+    #[command(flatten)]
+    pub effects: EffectArgs,
+    /// Anti-aliasing of the view: 2×2 samples per pixel (1 or 2).
+    #[arg(long, value_name = "N", default_value_t = 1,
+          value_parser = clap::value_parser!(u32).range(1..=2))]
+    pub ssaa: u32,
     #[command(flatten)]
     pub scene: SceneArgs,
     /// The panel's starting selection.
@@ -75,6 +82,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
         draw: args.draw.options(cam.method, cam.glyph, depth_correction)?,
         underlay: args.select.underlay.clone(),
         underlay_view: args.select.underlay_view(),
+        // Unscaled: the viewer scales the outline width with its own sampling.
+        effects: args.effects.effects(args.size, 1)?,
+        ssaa: args.ssaa,
     };
     viewer::run(Options {
         source,

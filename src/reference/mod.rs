@@ -13,6 +13,9 @@ use glam::{DMat3, DMat4, DVec3};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
+use crate::effects::light;
+use crate::effects::outline::{Sample, outline_mask};
+use crate::effects::shade::{Key, composite};
 use crate::frame::Frame;
 use crate::request::{FrameRequest, GlyphKind};
 use crate::scene::rules::{EYE_INSIDE_E2, drawable_radii};
@@ -22,14 +25,27 @@ use crate::twin::common::{shade, to_unorm8};
 use bvh::{Aabb, Bvh};
 use intersect::{Cylinder, RayHit};
 
-/// One image row: colour, ids, aux.
-type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>);
+/// One image row: colour, ids, aux, and the geometry deferred shading needs.
+type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>, Vec<Option<Surface>>);
+
+/// What a pixel's ray found, for deferred shading: the exact f64 geometry buffer.
+#[derive(Debug, Clone, Copy)]
+struct Surface {
+    base: DVec3,
+    n_view: DVec3,
+    p_view: DVec3,
+    /// World point (relative to the scene origin) and unit normal, for shadow rays.
+    point: DVec3,
+    normal: DVec3,
+}
 
 /// One glyph prepared for ray casting (all relative to the scene origin).
 struct Prepared {
     shape: Shape,
     base: DVec3,
     drawn: bool,
+    /// Drawable: casts shadows whether or not the eye is inside it.
+    casts: bool,
 }
 
 enum Shape {
@@ -117,6 +133,7 @@ impl<'a> ReferenceScene<'a> {
                         shape,
                         base: DVec3::new(f64::from(r), f64::from(gg), f64::from(b)) / 255.0,
                         drawn: (ortho || !eye_inside) && drawable,
+                        casts: drawable,
                     },
                     Aabb {
                         lo: geo.centre - h,
@@ -216,6 +233,7 @@ impl<'a> ReferenceScene<'a> {
             .as_ref()
             .filter(|_| req.underlay.shown)
             .map(|u| req.underlay.window.unwrap_or(u.window));
+        let deferred = req.effects.deferred();
         let start = std::time::Instant::now();
         let rows: Vec<Row> = (0..h)
             .into_par_iter()
@@ -223,6 +241,7 @@ impl<'a> ReferenceScene<'a> {
                 let mut color = Vec::with_capacity(w * 4);
                 let mut ids = Vec::with_capacity(w);
                 let mut aux = Vec::with_capacity(w);
+                let mut surfaces = Vec::with_capacity(if deferred { w } else { 0 });
                 for i in 0..w {
                     let (x, y) = self.camera.pixel_to_ndc(i as f64 + 0.5, j as f64 + 0.5);
                     let hit = self.trace_ndc(x, y);
@@ -230,6 +249,9 @@ impl<'a> ReferenceScene<'a> {
                     let under = window
                         .and_then(|w| self.trace_underlay(x, y, w))
                         .filter(|(t, _)| hit.is_none_or(|h| *t < h.t));
+                    if deferred {
+                        surfaces.push(None);
+                    }
                     if let Some((_, g)) = under {
                         let g = to_unorm8(f64::from(g));
                         color.extend_from_slice(&[g, g, g, 255]);
@@ -249,6 +271,15 @@ impl<'a> ReferenceScene<'a> {
                             let c_view = self.view.transform_point3(g.shape.centre());
                             let n_view = self.view.transform_vector3(hit.normal).normalize();
                             let c = shade(&req.lighting, ortho, g.base, n_view, p_view);
+                            if let Some(last) = surfaces.last_mut() {
+                                *last = Some(Surface {
+                                    base: g.base,
+                                    n_view,
+                                    p_view,
+                                    point: hit.point,
+                                    normal: hit.normal,
+                                });
+                            }
                             color.extend_from_slice(&[
                                 to_unorm8(c.x),
                                 to_unorm8(c.y),
@@ -265,23 +296,123 @@ impl<'a> ReferenceScene<'a> {
                         }
                     }
                 }
-                (color, ids, aux)
+                (color, ids, aux, surfaces)
             })
             .collect();
-        let elapsed = start.elapsed().as_secs_f64() * 1e3;
         let mut frame = Frame {
             width: self.camera.width,
             height: self.camera.height,
-            frame_ms: vec![elapsed],
             ..Frame::default()
         };
         let mut aux = Vec::with_capacity(w * h);
-        for (c, i, a) in rows {
+        let mut surfaces = Vec::with_capacity(if deferred { w * h } else { 0 });
+        for (c, i, a, g) in rows {
             frame.color.extend(c);
             frame.ids.extend(i);
             aux.extend(a);
+            surfaces.extend(g);
+        }
+        if deferred {
+            self.apply_effects(req, &surfaces, &mut frame);
         }
         frame.aux = req.aux.then_some(aux);
+        frame.frame_ms = vec![start.elapsed().as_secs_f64() * 1e3];
         frame
+    }
+
+    /// Deferred shading of a rendered frame from its exact geometry: the outline filter over
+    /// the f64 buffers, hard shadows from exact shadow rays, and the shading of
+    /// [`crate::effects::shade::composite`]. Pixels without a surface (background, underlay)
+    /// keep their colour.
+    fn apply_effects(&self, req: &FrameRequest, surfaces: &[Option<Surface>], frame: &mut Frame) {
+        let fx = &req.effects;
+        let ortho = self.camera.is_ortho();
+        let (w, h) = (frame.width, frame.height);
+        let outlines = fx.outlines.map(|o| {
+            let samples: Vec<Sample> = surfaces
+                .iter()
+                .zip(&frame.ids)
+                .map(|(s, &id)| match s {
+                    Some(s) => Sample {
+                        id,
+                        normal: s.n_view,
+                        distance: -s.p_view.z,
+                    },
+                    None => Sample {
+                        id: 0,
+                        normal: DVec3::ZERO,
+                        distance: 0.0,
+                    },
+                })
+                .collect();
+            (o, outline_mask(&samples, w, h, o.width))
+        });
+        let key = fx.shadows.map(|s| {
+            (
+                light::view_direction(s.light).unwrap_or(DVec3::Z),
+                light::world_direction(&self.camera, &s),
+            )
+        });
+        let shaded: Vec<([u8; 4], [f32; 2])> = surfaces
+            .par_iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let old = &frame.color[4 * k..4 * k + 4];
+                let Some(s) = s else {
+                    return ([old[0], old[1], old[2], old[3]], [1.0, 0.0]);
+                };
+                // A surface facing away from the light is in its own (attached) shadow.
+                let lit = key.map(|(l_view, l_world)| Key {
+                    light: l_view,
+                    lit: if s.n_view.dot(l_view) <= 0.0
+                        || self.in_shadow(s.point, s.normal, l_world)
+                    {
+                        0.0
+                    } else {
+                        1.0
+                    },
+                });
+                let edge = outlines.as_ref().filter(|(_, m)| m[k]).map(|(o, _)| o);
+                let c = composite(&req.lighting, ortho, s.base, s.n_view, s.p_view, lit, edge);
+                (
+                    [to_unorm8(c.x), to_unorm8(c.y), to_unorm8(c.z), 255],
+                    [
+                        lit.map_or(1.0, |k| k.lit as f32),
+                        if edge.is_some() { 1.0 } else { 0.0 },
+                    ],
+                )
+            })
+            .collect();
+        let mut effects = Vec::with_capacity(shaded.len());
+        for (k, (c, e)) in shaded.into_iter().enumerate() {
+            frame.color[4 * k..4 * k + 4].copy_from_slice(&c);
+            effects.push(e);
+        }
+        frame.effects = (req.aux && fx.any()).then_some(effects);
+    }
+
+    /// Whether a glyph lies between the surface point `point` (normal `normal`, both relative to
+    /// the scene origin) and a directional light towards `to_light`: the exact hard shadow.
+    /// The ray starts a hair off the surface, so that it leaves the glyph it starts on where the
+    /// surface faces the light and enters it where it faces away.
+    fn in_shadow(&self, point: DVec3, normal: DVec3, to_light: DVec3) -> bool {
+        let scale = point.abs().max_element().max(self.scene.radius).max(1e-300);
+        let origin = point + normal * (scale * 1e-9);
+        let mut hit = false;
+        self.bvh.traverse(origin, to_light, |i| {
+            if hit {
+                return Some(0.0);
+            }
+            let g = &self.glyphs[i as usize];
+            if !g.casts {
+                return None;
+            }
+            let t = g.shape.intersect(origin, to_light)?.t;
+            (t > 0.0).then(|| {
+                hit = true;
+                0.0
+            })
+        });
+        hit
     }
 }

@@ -159,7 +159,8 @@ pub struct CameraUniform {
     pub light: [f32; 4],
     /// Clip planes (inward unit normal, offset), relative to the scene origin, for culling.
     pub frustum: [[f32; 4]; 6],
-    /// x: pixels per world unit at view distance 1 (orthographic: at any distance).
+    /// x: pixels per world unit at view distance 1 (orthographic: at any distance); w: 1 when
+    /// shading is deferred (the methods write the unlit base colour).
     pub pixels: [f32; 4],
 }
 

@@ -4,6 +4,7 @@
 
 pub mod context;
 pub mod drawer;
+pub mod effects;
 pub mod gpu_data;
 pub mod gumhold;
 pub mod mesh;

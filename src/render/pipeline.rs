@@ -47,7 +47,7 @@ impl Variant {
     pub fn of(req: &crate::request::FrameRequest) -> Self {
         Self {
             depth_correction: req.depth_correction(),
-            aux: req.aux,
+            aux: req.writes_aux(),
         }
     }
 

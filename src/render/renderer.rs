@@ -12,6 +12,7 @@ use crate::error::RenderError;
 use crate::frame::Frame;
 use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording};
+use crate::render::effects::{EffectsPipeline, EffectsTextures};
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
 use crate::render::gumhold::GumholdRenderer;
 use crate::render::mesh::MeshRenderer;
@@ -32,6 +33,7 @@ pub struct GpuRenderer {
     layouts: GlyphLayouts,
     drawers: Mutex<HashMap<DrawerKey, Arc<dyn Drawer>>>,
     underlay: UnderlayPipeline,
+    effects: EffectsPipeline,
 }
 
 impl GpuRenderer {
@@ -39,6 +41,7 @@ impl GpuRenderer {
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let layouts = GlyphLayouts::new(&ctx);
         let underlay = UnderlayPipeline::new(&ctx);
+        let effects = EffectsPipeline::new(&ctx);
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Gpu(format!(
                 "creating the pipeline layout: {e}"
@@ -49,6 +52,7 @@ impl GpuRenderer {
             layouts,
             drawers: Mutex::new(HashMap::new()),
             underlay,
+            effects,
         })
     }
 
@@ -161,7 +165,7 @@ impl GpuRenderer {
     ) -> Result<Frame, RenderError> {
         let req = &self.within_limits(req, camera);
         let ctx = &self.ctx;
-        let targets = Targets::new(ctx, camera.width, camera.height, req.aux)?;
+        let targets = Targets::new(ctx, camera.width, camera.height, req.writes_aux())?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let result = self.render_into(buffers, camera, req, &targets);
@@ -198,7 +202,26 @@ impl GpuRenderer {
         };
         drawer.record(&frame, encoder);
         self.record_underlay(buffers, req, views, encoder);
+        self.record_effects(buffers, drawer.as_ref(), camera, req, views, encoder)?;
         Ok(())
+    }
+
+    /// Deferred shading and its effects, after the method's and the underlay's passes.
+    fn record_effects(
+        &self,
+        buffers: &SceneBuffers,
+        drawer: &dyn Drawer,
+        camera: &Camera,
+        req: &FrameRequest,
+        views: &TargetViews,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<Option<Arc<EffectsTextures>>, RenderError> {
+        if !req.effects.deferred() {
+            return Ok(None);
+        }
+        self.effects
+            .record(&self.ctx, buffers, drawer, camera, req, views, encoder)
+            .map(Some)
     }
 
     /// The underlay's pass, after the method's, when the scene has one and it is shown.
@@ -256,6 +279,8 @@ impl GpuRenderer {
             };
             drawer.record(&recording, &mut encoder);
             self.record_underlay(buffers, req, &views, &mut encoder);
+            let effects =
+                self.record_effects(buffers, drawer.as_ref(), camera, req, &views, &mut encoder)?;
             if let (Some(s), true) = (&stats, f == 0) {
                 s.resolve(&mut encoder);
             }
@@ -266,7 +291,11 @@ impl GpuRenderer {
                     targets
                         .aux
                         .as_ref()
+                        .filter(|_| req.aux)
                         .map(|t| Readback::record(ctx, &mut encoder, t, 16)),
+                    effects
+                        .filter(|_| req.aux && req.effects.any())
+                        .map(|e| Readback::record(ctx, &mut encoder, &e.out, 4)),
                 ));
             }
             let start = Instant::now();
@@ -277,11 +306,20 @@ impl GpuRenderer {
                 counts = Some(s.read(ctx)?);
             }
         }
-        let (color_rb, id_rb, aux_rb) = readbacks.expect("at least one frame");
+        let (color_rb, id_rb, aux_rb, effects_rb) = readbacks.expect("at least one frame");
         let color = color_rb.read(ctx)?;
         let ids: Vec<u32> = bytemuck::pod_collect_to_vec(&id_rb.read(ctx)?);
         let aux = match aux_rb {
             Some(rb) => Some(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&rb.read(ctx)?)),
+            None => None,
+        };
+        let effects = match effects_rb {
+            Some(rb) => Some(
+                rb.read(ctx)?
+                    .chunks_exact(4)
+                    .map(|p| [f32::from(p[0]) / 255.0, f32::from(p[1]) / 255.0])
+                    .collect(),
+            ),
             None => None,
         };
         Ok(Frame {
@@ -290,6 +328,7 @@ impl GpuRenderer {
             color,
             ids,
             aux,
+            effects,
             frame_ms,
             fragments: counts
                 .as_ref()

@@ -18,8 +18,12 @@ use crate::scene::{GlyphInstance, Scene};
 /// A scene's instances and camera uniform on the GPU, bound for drawing.
 pub struct SceneBuffers {
     origin: glam::DVec3,
+    /// The scene's box (centre, half extents): the key light's shadow map covers it.
+    bounds: (glam::DVec3, glam::DVec3),
     count: u32,
     camera_buffer: wgpu::Buffer,
+    /// The key light's camera, for drawing the shadow map (bound in each chunk's light group).
+    light_buffer: wgpu::Buffer,
     pub(crate) chunks: Vec<ChunkBuffers>,
     /// The scene's underlay images, if it has any.
     pub(crate) underlay: Option<UnderlayBuffers>,
@@ -34,6 +38,8 @@ pub(crate) struct ChunkBuffers {
     _glyphs: wgpu::Buffer,
     uniform: wgpu::Buffer,
     pub(crate) bind_group: wgpu::BindGroup,
+    /// The same chunk seen by the key light's camera (the shadow map's pass).
+    pub(crate) light_bind_group: wgpu::BindGroup,
 }
 
 impl SceneBuffers {
@@ -58,12 +64,16 @@ impl SceneBuffers {
         }
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let camera_buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("camera"),
-            size: std::mem::size_of::<CameraUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let camera_uniform = |label| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: std::mem::size_of::<CameraUniform>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        let camera_buffer = camera_uniform("camera");
+        let light_buffer = camera_uniform("light camera");
         // A binding may not be empty: an empty scene gets one chunk with an unused instance.
         let pieces: Vec<&[GlyphInstance]> = if scene.instances.is_empty() {
             vec![&[]]
@@ -78,7 +88,7 @@ impl SceneBuffers {
                 layout,
                 piece,
                 base,
-                &camera_buffer,
+                [&camera_buffer, &light_buffer],
             )?);
             base += piece.len() as u32;
         }
@@ -96,8 +106,10 @@ impl SceneBuffers {
         }
         Ok(Self {
             origin: scene.origin,
+            bounds: (scene.centre, scene.half),
             count: base,
             camera_buffer,
+            light_buffer,
             chunks,
             underlay,
             method_state: Mutex::new(HashMap::new()),
@@ -117,7 +129,8 @@ impl SceneBuffers {
     /// Write the camera and chunk uniforms of a frame (through the queue: they take effect at
     /// the next submit).
     pub(crate) fn write_uniforms(&self, queue: &wgpu::Queue, camera: &Camera, req: &FrameRequest) {
-        let uniform = CameraUniform::new(camera, self.origin, &req.lighting);
+        let mut uniform = CameraUniform::new(camera, self.origin, &req.lighting);
+        uniform.pixels[3] = if req.effects.deferred() { 1.0 } else { 0.0 };
         queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&uniform));
         for c in &self.chunks {
             let u = ChunkUniform {
@@ -131,6 +144,27 @@ impl SceneBuffers {
         if let Some(u) = &self.underlay {
             u.write_uniforms(queue, camera, self.origin, &req.underlay);
         }
+    }
+
+    /// Write the key light's camera, which the chunks' light groups bind.
+    pub(crate) fn write_light_uniform(
+        &self,
+        queue: &wgpu::Queue,
+        light: &Camera,
+        req: &FrameRequest,
+    ) {
+        let uniform = CameraUniform::new(light, self.origin, &req.lighting);
+        queue.write_buffer(&self.light_buffer, 0, bytemuck::bytes_of(&uniform));
+    }
+
+    /// The scene's box: centre and half extents (world).
+    pub(crate) fn bounds(&self) -> (glam::DVec3, glam::DVec3) {
+        self.bounds
+    }
+
+    /// The scene origin every uniform is relative to.
+    pub(crate) fn origin(&self) -> glam::DVec3 {
+        self.origin
     }
 
     /// The state of type `T` a method keeps for this scene, made by `make` on first use.
@@ -153,7 +187,7 @@ impl ChunkBuffers {
         layout: &wgpu::BindGroupLayout,
         piece: &[GlyphInstance],
         base: u32,
-        camera_buffer: &wgpu::Buffer,
+        [camera_buffer, light_buffer]: [&wgpu::Buffer; 2],
     ) -> Result<Self, RenderError> {
         use rayon::prelude::*;
         let device = &ctx.device;
@@ -188,30 +222,33 @@ impl ChunkBuffers {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("glyphs"),
-            layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: camera_buffer.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: glyphs.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: uniform.as_entire_binding(),
-                },
-            ],
-        });
+        let group = |camera: &wgpu::Buffer| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("glyphs"),
+                layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: camera.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: glyphs.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: uniform.as_entire_binding(),
+                    },
+                ],
+            })
+        };
         Ok(Self {
             base,
             count: piece.len() as u32,
+            bind_group: group(camera_buffer),
+            light_bind_group: group(light_buffer),
             _glyphs: glyphs,
             uniform,
-            bind_group,
         })
     }
 }

@@ -176,10 +176,12 @@ impl Readback {
 pub struct TargetViews {
     /// Width and height in pixels.
     pub(crate) size: (u32, u32),
+    /// The colour texture itself: deferred shading copies the unlit colours out of it.
+    pub(crate) color_texture: wgpu::Texture,
     color: wgpu::TextureView,
-    id: wgpu::TextureView,
-    aux: Option<wgpu::TextureView>,
-    depth: wgpu::TextureView,
+    pub(crate) id: wgpu::TextureView,
+    pub(crate) aux: Option<wgpu::TextureView>,
+    pub(crate) depth: wgpu::TextureView,
 }
 
 impl TargetViews {
@@ -187,6 +189,7 @@ impl TargetViews {
         let v = |t: &wgpu::Texture| t.create_view(&Default::default());
         Self {
             size: (t.width, t.height),
+            color_texture: t.color.clone(),
             color: v(&t.color),
             id: v(&t.id),
             aux: t.aux.as_ref().map(v),
@@ -247,6 +250,11 @@ impl TargetViews {
             occlusion_query_set: None,
             multiview_mask: None,
         })
+    }
+
+    /// The colour target, kept as it is (the full-screen pass of deferred shading).
+    pub(crate) fn color_view(&self) -> &wgpu::TextureView {
+        &self.color
     }
 
     /// A pass drawing over the colour, id and depth targets as they are (the underlay, after

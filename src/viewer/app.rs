@@ -345,14 +345,15 @@ impl ViewerApp {
             return;
         };
         let path = PathBuf::from(self.panel.screenshot_path.trim());
+        let ssaa = self.panel.figure_ssaa.clamp(1, 4);
         let camera = nav.camera(size.0, size.1);
         self.status = Some(
             match save_view(
                 &self.gpu,
                 &built.scene,
                 &camera,
-                &self.settings.request(),
-                size,
+                &self.settings.request(ssaa),
+                (size, ssaa),
                 &path,
             ) {
                 Ok(()) => format!("saved {} ({}x{})", path.display(), size.0, size.1),
@@ -409,7 +410,9 @@ impl ViewerApp {
             self.built.as_ref()?,
             self.data.as_ref()?,
         );
-        let id = read_id(&self.gpu.ctx, targets, x, y).ok()?;
+        // The targets hold n×n samples per window pixel: read the pixel's centre sample.
+        let n = self.settings.ssaa.max(1);
+        let id = read_id(&self.gpu.ctx, targets, x * n + n / 2, y * n + n / 2).ok()?;
         PickInfo::of(
             id,
             &built.selected,
@@ -423,20 +426,26 @@ impl ViewerApp {
         let (Some(nav), Some(built)) = (&self.nav, &self.built) else {
             return false;
         };
+        let n = self.settings.ssaa.max(1);
+        let samples = (pixels.0 * n, pixels.1 * n);
+        let request = self.settings.request(n);
         let mut renderer = self.render_state.renderer.write();
-        if let Err(e) = self
-            .view
-            .resize(&self.gpu, &mut renderer, pixels.0, pixels.1)
-        {
+        if let Err(e) = self.view.resize(
+            &self.gpu,
+            &mut renderer,
+            samples,
+            request.writes_aux(),
+            n > 1,
+        ) {
             self.error = Some(e.to_string());
             return false;
         }
         drop(renderer);
-        let camera = nav.camera(pixels.0, pixels.1);
+        let camera = nav.camera(samples.0, samples.1);
         let key = RenderKey {
             scene: built.generation,
             camera,
-            request: self.settings.request(),
+            request,
         };
         if self.last_render.as_ref() == Some(&key) {
             return false;

@@ -10,20 +10,23 @@ use crate::render::GpuRenderer;
 use crate::request::FrameRequest;
 use crate::scene::Scene;
 
-/// Render `scene` with `camera` resized to `width` × `height` and write it as a PNG.
+/// Render `scene` with `camera` resized to `size`, with `ssaa`×`ssaa` samples per pixel as
+/// `render --ssaa` takes them (`req` has its effects scaled for them), and write it as a PNG.
 pub fn save_view(
     gpu: &GpuRenderer,
     scene: &Scene,
     camera: &Camera,
     req: &FrameRequest,
-    size: (u32, u32),
+    (size, ssaa): ((u32, u32), u32),
     path: &Path,
 ) -> Result<(), RenderError> {
+    let n = ssaa.max(1);
+    crate::frame::check_size(size.0.saturating_mul(n), size.1.saturating_mul(n))?;
     let mut cam = *camera;
-    cam.width = size.0;
-    cam.height = size.1;
+    cam.width = size.0 * n;
+    cam.height = size.1 * n;
     let req = FrameRequest { frames: 1, ..*req };
-    let frame = gpu.render(scene, &cam, &req)?;
+    let frame = gpu.render(scene, &cam, &req)?.downsample(n);
     write_png(path, frame.width, frame.height, &frame.color)
 }
 

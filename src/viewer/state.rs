@@ -6,6 +6,7 @@
 //! last one drawn, so an idle viewer costs nothing on lavapipe.
 
 use crate::camera::Camera;
+use crate::effects::Effects;
 use crate::glyph::GlyphStyle;
 use crate::request::{DrawOptions, FrameRequest, GlyphKind, Method, UnderlayView};
 use crate::scene::UnderlaySource;
@@ -27,6 +28,11 @@ pub struct Settings {
     /// The scalar image under the slices (`--underlay`), and how it is shown.
     pub underlay: Option<UnderlaySource>,
     pub underlay_view: UnderlayView,
+    /// Deferred shading, outlines and shadows (outline widths in window pixels).
+    pub effects: Effects,
+    /// Samples per pixel across of the view (1, or 2: the 2×2 box filter is the texture's
+    /// bilinear filter at the pixel centre).
+    pub ssaa: u32,
 }
 
 impl Default for Settings {
@@ -41,6 +47,8 @@ impl Default for Settings {
             draw: DrawOptions::default(),
             underlay: None,
             underlay_view: UnderlayView::default(),
+            effects: Effects::default(),
+            ssaa: 1,
         }
     }
 }
@@ -74,14 +82,15 @@ impl Settings {
         }
     }
 
-    /// The request `render` would get for these settings.
-    pub fn request(&self) -> FrameRequest {
+    /// The request `render --ssaa ssaa` would get for these settings.
+    pub fn request(&self, ssaa: u32) -> FrameRequest {
         let [r, g, b] = self.background.map(f64::from);
         // Declaring early depth needs a check over the scene per camera: the viewer does
         // without (conservative placement alone is still correct).
         FrameRequest {
             background: [r, g, b, 1.0],
             underlay: self.underlay_view,
+            effects: self.effects.resolved().supersampled(ssaa),
             ..FrameRequest::with_options(self.method, self.glyph, self.depth_correction, &self.draw)
         }
     }
@@ -128,7 +137,7 @@ mod tests {
         t.depth_correction = false;
         t.method = Method::Box;
         assert_eq!(s.build_key(1), t.build_key(1));
-        assert_ne!(s.request(), t.request());
+        assert_ne!(s.request(1), t.request(1));
         let mut p = s.clone();
         p.draw.proxy = ProxyShape::Octagon;
         p.draw.cull = false;
@@ -136,11 +145,11 @@ mod tests {
         p.draw.splat = 0;
         p.draw.prepass = true;
         assert_eq!(s.build_key(1), p.build_key(1), "proxy options only redraw");
-        let req = p.request();
+        let req = p.request(1);
         assert_eq!(req.proxy().shape, ProxyShape::Octagon);
         assert!(!req.cull && req.proxy().conservative && !req.proxy().early_depth);
         assert!(req.uses_prepass() && req.splat_pixels() == 0);
-        let d = s.request();
+        let d = s.request(1);
         assert!(
             d.cull && d.splat_pixels() == crate::request::DEFAULT_SPLAT,
             "render's defaults"

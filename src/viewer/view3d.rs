@@ -28,6 +28,8 @@ pub struct View3d {
     buffers: Option<SceneBuffers>,
     timer: Option<GpuTimer>,
     pub last_frame: Option<FrameTime>,
+    /// The targets' aux target and the texture's filter, as last made.
+    made: (bool, bool),
 }
 
 impl View3d {
@@ -41,38 +43,40 @@ impl View3d {
         self.targets.as_ref().map(|t| (t.width, t.height))
     }
 
-    /// Make the targets `width` × `height` (if they are not) and show them as an egui texture.
+    /// Make the targets `size` (if they are not), with the aux target if `aux` (deferred
+    /// shading's normals), and show them as an egui texture, filtered linearly if `smooth`: a
+    /// texture of 2×2 samples per pixel is then shown box filtered.
     pub fn resize(
         &mut self,
         gpu: &GpuRenderer,
         egui_renderer: &mut eframe::egui_wgpu::Renderer,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        aux: bool,
+        smooth: bool,
     ) -> Result<(), RenderError> {
-        if self.size() == Some((width, height)) {
+        if self.size() == Some((width, height)) && self.made == (aux, smooth) {
             return Ok(());
         }
-        let targets = Targets::new(&gpu.ctx, width, height, false)?;
+        let targets = Targets::new(&gpu.ctx, width, height, aux)?;
+        let filter = if smooth {
+            wgpu::FilterMode::Linear
+        } else {
+            wgpu::FilterMode::Nearest
+        };
         let view = targets.color.create_view(&wgpu::TextureViewDescriptor {
             format: Some(COLOR_VIEW_SRGB),
             ..Default::default()
         });
         let device = &gpu.ctx.device;
         match self.texture {
-            Some(id) => egui_renderer.update_egui_texture_from_wgpu_texture(
-                device,
-                &view,
-                wgpu::FilterMode::Nearest,
-                id,
-            ),
+            Some(id) => {
+                egui_renderer.update_egui_texture_from_wgpu_texture(device, &view, filter, id)
+            }
             None => {
-                self.texture = Some(egui_renderer.register_native_texture(
-                    device,
-                    &view,
-                    wgpu::FilterMode::Nearest,
-                ))
+                self.texture = Some(egui_renderer.register_native_texture(device, &view, filter))
             }
         }
+        self.made = (aux, smooth);
         self.views = Some(TargetViews::new(&targets));
         self.targets = Some(targets);
         Ok(())

@@ -2,6 +2,7 @@
 //! camera buttons, screenshot and stats. It edits [`Settings`] and the [`Navigation`] in place and
 //! returns what the app must do beyond that as [`Action`]s.
 
+mod figure;
 mod selection;
 mod style;
 #[cfg(test)]
@@ -18,6 +19,7 @@ use crate::viewer::loader::Loaded;
 use crate::viewer::navigation::Navigation;
 use crate::viewer::state::Settings;
 use crate::viewer::view3d::FrameTime;
+use figure::figure_section;
 use selection::selection_section;
 pub use selection::{order_roi, set_roi_enabled};
 use style::style_section;
@@ -40,6 +42,8 @@ pub struct PanelState {
     /// Screenshot at the window's size, else at `screenshot_size`.
     pub screenshot_window_size: bool,
     pub screenshot_size: String,
+    /// Samples per pixel across (N×N) of a saved figure.
+    pub figure_ssaa: u32,
     /// The text of the scale field (`auto` or a factor).
     pub scale_text: String,
 }
@@ -51,6 +55,7 @@ impl Default for PanelState {
             screenshot_path: "tensorglyph.png".into(),
             screenshot_window_size: true,
             screenshot_size: "1920x1080".into(),
+            figure_ssaa: 2,
             scale_text: "auto".into(),
         }
     }
@@ -95,6 +100,8 @@ pub fn show(
         selection_section(ui, settings, info);
         ui.separator();
         underlay_section(ui, settings, info);
+        ui.separator();
+        figure_section(ui, settings);
         ui.separator();
         camera_section(ui, nav, &mut actions);
         ui.separator();
@@ -313,7 +320,7 @@ fn camera_section(ui: &mut Ui, nav: Option<&mut Navigation>, actions: &mut Vec<A
 }
 
 fn screenshot_section(ui: &mut Ui, state: &mut PanelState, actions: &mut Vec<Action>) {
-    ui.heading("Screenshot");
+    ui.heading("Save figure");
     ui.horizontal(|ui| {
         ui.label("file");
         ui.add(egui::TextEdit::singleline(&mut state.screenshot_path).desired_width(170.0));
@@ -326,7 +333,8 @@ fn screenshot_section(ui: &mut Ui, state: &mut PanelState, actions: &mut Vec<Act
             egui::TextEdit::singleline(&mut state.screenshot_size).desired_width(80.0),
         );
     });
-    if ui.button("Save PNG (S)").clicked() {
+    ui.add(egui::Slider::new(&mut state.figure_ssaa, 1..=4).text("anti-aliasing N×N"));
+    if ui.button("Save figure (S)").clicked() {
         actions.push(Action::Screenshot);
     }
 }

@@ -1,0 +1,182 @@
+// Deferred shading with outlines and shadows (Sigg et al. 2006, §4), one full-screen pass over the
+// geometry buffer the glyph methods wrote: base colour (a copy of the colour target, written
+// unlit), glyph id, aux (view normal) and depth. The f64 twins: src/effects/shade.rs (shading),
+// src/effects/outline.rs (the edge filter), the reference's shadow rays.
+// Keep `Effects` in sync with EffectsUniform in src/render/effects.rs.
+
+struct Effects {
+    // View space from the eye's clip space.
+    inv_proj: mat4x4<f32>,
+    // The shadow map's clip space from the eye's view space.
+    view_to_light: mat4x4<f32>,
+    // xyz: unit direction towards the key light (view space); w: its share of the diffuse
+    // light (src/effects/shade.rs KEY_SHARE).
+    key: vec4<f32>,
+    // x: ambient, y: diffuse, z: specular, w: shininess.
+    lighting: vec4<f32>,
+    // rgb: outline colour; a: strength.
+    outline: vec4<f32>,
+    // x: NORMAL_EDGE, y: DEPTH_EDGE (src/effects/outline.rs), z: the normal offset of shadow
+    // lookups (view units), w: the depth bias (shadow map depth units).
+    edges: vec4<f32>,
+    // x, y: image size in pixels.
+    viewport: vec4<f32>,
+    // x: outline reach in samples, y: shadow map side, z: PCF radius, w: flags (FLAG_*).
+    params: vec4<u32>,
+}
+
+const FLAG_ORTHO: u32 = 1u;
+const FLAG_ADAPTIVE: u32 = 2u;
+const FLAG_OUTLINES: u32 = 4u;
+const FLAG_SHADOWS: u32 = 8u;
+
+@group(0) @binding(0) var<uniform> fx: Effects;
+@group(0) @binding(1) var albedo: texture_2d<f32>;
+@group(0) @binding(2) var ids: texture_2d<u32>;
+@group(0) @binding(3) var aux: texture_2d<f32>;
+@group(0) @binding(4) var depth: texture_depth_2d;
+@group(0) @binding(5) var shadow_map: texture_depth_2d;
+
+@vertex
+fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
+    // One triangle covering the viewport.
+    let x = f32((i << 1u) & 2u);
+    let y = f32(i & 2u);
+    return vec4<f32>(x * 2.0 - 1.0, 1.0 - y * 2.0, 0.0, 1.0);
+}
+
+fn has(flag: u32) -> bool {
+    return (fx.params.w & flag) != 0u;
+}
+
+// The view-space point a pixel's depth puts on its ray.
+fn view_position(px: vec2<i32>) -> vec3<f32> {
+    let d = textureLoad(depth, px, 0);
+    let ndc = vec2<f32>(
+        (f32(px.x) + 0.5) * 2.0 / fx.viewport.x - 1.0,
+        1.0 - (f32(px.y) + 0.5) * 2.0 / fx.viewport.y,
+    );
+    let v = fx.inv_proj * vec4<f32>(ndc, d, 1.0);
+    return v.xyz / v.w;
+}
+
+fn clamp_px(p: vec2<i32>) -> vec2<i32> {
+    return clamp(p, vec2<i32>(0), vec2<i32>(fx.viewport.xy) - 1);
+}
+
+// The outline filter of src/effects/outline.rs: another glyph (or none) among the 3×3 samples
+// `reach` apart, else the Sobel gradient of the normal or of the relative view distance.
+fn is_outline(px: vec2<i32>, id: u32, distance: f32) -> bool {
+    let k = i32(max(fx.params.x, 1u));
+    var gx_n = vec3<f32>(0.0);
+    var gy_n = vec3<f32>(0.0);
+    var gx_d = 0.0;
+    var gy_d = 0.0;
+    for (var j = -1; j <= 1; j++) {
+        for (var i = -1; i <= 1; i++) {
+            let q = clamp_px(px + vec2<i32>(i, j) * k);
+            if textureLoad(ids, q, 0).r != id {
+                return true;
+            }
+            // Sobel: the x weight is i times 2 on the centre row, 1 off it.
+            let wx = f32(i) * f32(2 - abs(j));
+            let wy = f32(j) * f32(2 - abs(i));
+            let n = textureLoad(aux, q, 0).xyz;
+            let s = -view_position(q).z;
+            gx_n += n * wx;
+            gy_n += n * wy;
+            gx_d += s * wx;
+            gy_d += s * wy;
+        }
+    }
+    let g_n = sqrt(dot(gx_n, gx_n) + dot(gy_n, gy_n));
+    let g_d = sqrt(gx_d * gx_d + gy_d * gy_d) / max(abs(distance), 1e-30);
+    return g_n > fx.edges.x || g_d > fx.edges.y;
+}
+
+// 1 where the shadow map sees the point (offset along its normal), else 0.
+fn tap(texel: vec2<i32>, offset: vec2<i32>, z: f32) -> f32 {
+    let size = i32(fx.params.y);
+    let q = clamp(texel + offset, vec2<i32>(0), vec2<i32>(size - 1));
+    return select(0.0, 1.0, z <= textureLoad(shadow_map, q, 0));
+}
+
+// How lit the key light leaves a point: percentage-closer filtering over (2r+1)² texels placed
+// at the point's exact position in the map (the kernel's edge texels weighted by their
+// overlap, bilinearly), or, with the adaptive test, over the kernel's corners and centre where
+// those agree.
+fn lit_fraction(p_view: vec3<f32>, n_view: vec3<f32>, nk: f32) -> f32 {
+    let q = fx.view_to_light * vec4<f32>(p_view + n_view * fx.edges.z, 1.0);
+    let c = q.xyz / q.w;
+    let uv = vec2<f32>(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5);
+    if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) || c.z > 1.0 {
+        return 1.0;
+    }
+    let f = uv * f32(fx.params.y) - 0.5;
+    let texel = vec2<i32>(floor(f));
+    let t = f - floor(f);
+    let r = i32(fx.params.z);
+    // The kernel reaches r + 1 texels: a surface at angle θ to the light rises tan θ per texel
+    // across it, which must not shadow the point itself.
+    let tan_theta = min(sqrt(max(1.0 - nk * nk, 0.0)) / max(nk, 1e-6), 8.0);
+    let z = c.z - fx.edges.w * (1.0 + f32(r + 1) * tan_theta);
+    if has(FLAG_ADAPTIVE) {
+        let probe = tap(texel, vec2<i32>(-r, -r), z) + tap(texel, vec2<i32>(r + 1, -r), z)
+            + tap(texel, vec2<i32>(-r, r + 1), z) + tap(texel, vec2<i32>(r + 1, r + 1), z)
+            + tap(texel, vec2<i32>(0, 0), z);
+        if probe == 0.0 || probe == 5.0 {
+            return probe / 5.0;
+        }
+    }
+    var sum = 0.0;
+    for (var j = -r; j <= r + 1; j++) {
+        let wy = select(select(1.0, t.y, j == r + 1), 1.0 - t.y, j == -r);
+        for (var i = -r; i <= r + 1; i++) {
+            let wx = select(select(1.0, t.x, i == r + 1), 1.0 - t.x, i == -r);
+            sum += wx * wy * tap(texel, vec2<i32>(i, j), z);
+        }
+    }
+    let side = f32(2 * r + 1);
+    return sum / (side * side);
+}
+
+struct Out {
+    @location(0) color: vec4<f32>,
+    // r: lit fraction, g: outline state (read back for the accuracy check).
+    @location(1) effects: vec4<f32>,
+}
+
+@fragment
+fn fs_composite(@builtin(position) pos: vec4<f32>) -> Out {
+    let px = vec2<i32>(floor(pos.xy));
+    let id = textureLoad(ids, px, 0).r;
+    if id == 0u {
+        discard;
+    }
+    let base = textureLoad(albedo, px, 0);
+    let n = normalize(textureLoad(aux, px, 0).xyz);
+    let p = view_position(px);
+    var l = vec3<f32>(0.0, 0.0, 1.0);
+    if !has(FLAG_ORTHO) {
+        l = normalize(-p);
+    }
+    let nl = max(dot(n, l), 0.0);
+    var lit = 1.0;
+    var diffuse = nl;
+    if has(FLAG_SHADOWS) {
+        let nk = max(dot(n, fx.key.xyz), 0.0);
+        // A surface facing away from the light is in its own (attached) shadow.
+        lit = select(0.0, lit_fraction(p, n, nk), nk > 0.0);
+        diffuse = (1.0 - fx.key.w) * nl + fx.key.w * lit * nk;
+    }
+    let spec = pow(nl, fx.lighting.w);
+    var c = clamp(base.rgb * (fx.lighting.x + fx.lighting.y * diffuse) + vec3<f32>(fx.lighting.z * spec), vec3<f32>(0.0), vec3<f32>(1.0));
+    var edge = false;
+    if has(FLAG_OUTLINES) {
+        edge = is_outline(px, id, -p.z);
+        if edge {
+            c = mix(c, fx.outline.rgb, fx.outline.a);
+        }
+    }
+    return Out(vec4<f32>(c, base.a), vec4<f32>(lit, select(0.0, 1.0, edge), 0.0, 1.0));
+}

@@ -1,0 +1,156 @@
+//! Figure effects after Sigg et al. (2006, §4): deferred shading, silhouette and crease outlines,
+//! and soft shadows from a key light. The options a [`crate::request::FrameRequest`] carries,
+//! and what both back ends apply the same way: the outline filter ([`outline`]), the key light's
+//! direction and shadow camera ([`light`]) and the shading that combines them ([`shade`]). The
+//! GPU runs them in one full-screen pass over its geometry buffer (`shaders/composite.wgsl`); the
+//! reference over its exact f64 buffers, with exact shadow rays.
+
+pub mod light;
+pub mod outline;
+pub mod shade;
+
+use std::fmt;
+
+/// Where glyphs are lit: in each method's fragment shader, or once per pixel after all glyphs
+/// are drawn (the geometry buffer keeps base colour, normal, depth and id).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Shading {
+    #[default]
+    Direct,
+    Deferred,
+}
+
+crate::names::named_values!(Shading {
+    Direct => "direct",
+    Deferred => "deferred",
+});
+
+/// Dark lines where the glyph under a pixel changes (silhouettes, touching glyphs of one
+/// colour) and at creases of the surface ([`outline`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outlines {
+    /// How far the outline colour replaces the shaded colour, in [0, 1].
+    pub strength: f32,
+    /// The filter's reach in samples: the outline width in pixels times the supersampling.
+    pub width: u32,
+    /// Linear RGB in [0, 1].
+    pub color: [f32; 3],
+}
+
+impl Outlines {
+    /// `--outlines` without a value.
+    pub const DEFAULT_STRENGTH: f32 = 0.85;
+}
+
+impl Default for Outlines {
+    fn default() -> Self {
+        Self {
+            strength: Self::DEFAULT_STRENGTH,
+            width: 1,
+            color: [0.0; 3],
+        }
+    }
+}
+
+/// Shadows cast by a directional key light, from a shadow map filtered by percentage-closer
+/// filtering (PCF).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shadows {
+    /// Direction towards the key light in view space (x right, y up, z towards the viewer);
+    /// any length above zero.
+    pub light: [f64; 3],
+    /// Shadow map side in texels.
+    pub map_size: u32,
+    /// PCF kernel radius in texels (a (2r+1)² kernel).
+    pub pcf_radius: u32,
+    /// Sigg's adaptive test: the kernel's four corners and centre decide whether a pixel is in
+    /// a penumbra, and only there is the whole kernel read.
+    pub adaptive: bool,
+}
+
+impl Shadows {
+    /// Above-left of the camera, a little towards the viewer.
+    pub const DEFAULT_LIGHT: [f64; 3] = [-0.5, 0.8, 0.35];
+
+    /// The shadow map side for an image of `width`×`height` samples: the power of two at or
+    /// above twice the longer side, 1024 to 4096. On grid40 at 1024x768 this keeps the shadows
+    /// within about 2 % of the exact ones (README, "Figures"); a finer map costs more to draw
+    /// than it shows.
+    pub fn map_for(width: u32, height: u32) -> u32 {
+        width
+            .max(height)
+            .saturating_mul(2)
+            .clamp(1024, 4096)
+            .next_power_of_two()
+    }
+}
+
+impl Default for Shadows {
+    fn default() -> Self {
+        Self {
+            light: Self::DEFAULT_LIGHT,
+            map_size: 2048,
+            pcf_radius: 1,
+            adaptive: true,
+        }
+    }
+}
+
+/// The effects a frame is drawn with. Any effect implies deferred shading.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Effects {
+    pub shading: Shading,
+    pub outlines: Option<Outlines>,
+    pub shadows: Option<Shadows>,
+}
+
+impl Effects {
+    /// Whether the frame is shaded in the full-screen pass.
+    pub fn deferred(&self) -> bool {
+        self.shading == Shading::Deferred || self.outlines.is_some() || self.shadows.is_some()
+    }
+
+    /// Whether an effect is on (beyond deferred shading itself).
+    pub fn any(&self) -> bool {
+        self.outlines.is_some() || self.shadows.is_some()
+    }
+
+    /// `self` with deferred shading wherever an effect needs it.
+    pub fn resolved(self) -> Self {
+        Self {
+            shading: if self.deferred() {
+                Shading::Deferred
+            } else {
+                Shading::Direct
+            },
+            ..self
+        }
+    }
+
+    /// The outline reach scaled for `n`×`n` supersampling (outlines keep their width in output
+    /// pixels).
+    pub fn supersampled(self, n: u32) -> Self {
+        Self {
+            outlines: self.outlines.map(|o| Outlines {
+                width: o.width.saturating_mul(n.max(1)),
+                ..o
+            }),
+            ..self
+        }
+    }
+}
+
+impl fmt::Display for Effects {
+    /// `deferred+outlines+shadows`, `direct`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let mut s = self.resolved().shading.to_string();
+        if self.outlines.is_some() {
+            s.push_str("+outlines");
+        }
+        if self.shadows.is_some() {
+            s.push_str("+shadows");
+        }
+        f.pad(&s)
+    }
+}

@@ -1,0 +1,445 @@
+//! Figure effects on the GPU (Sigg et al. 2006, §4): the glyph methods write the geometry buffer
+//! (unlit base colour, id, view normal in the aux target, exact ray-cast depth), and after them
+//! and the underlay
+//! 1. with shadows, the method draws the scene again from the key light into a shadow map, with
+//!    the same fragment shaders, so the map holds the glyphs' ray-cast depth and not their
+//!    proxies';
+//! 2. the colour target is copied out as the base colour;
+//! 3. one full-screen pass (`shaders/composite.wgsl`) shades every covered pixel once, with the
+//!    outline filter and percentage-closer filtered shadows, and writes each pixel's lit
+//!    fraction and outline state to a small target the accuracy check reads back.
+//!
+//! The per-size textures are kept between frames (the viewer draws many at one size).
+
+use std::sync::{Arc, Mutex, OnceLock};
+
+use bytemuck::{Pod, Zeroable};
+
+use crate::camera::{Camera, Projection};
+use crate::effects::{Effects, light, outline, shade::KEY_SHARE};
+use crate::error::RenderError;
+use crate::render::context::GpuContext;
+use crate::render::drawer::Drawer;
+use crate::render::pipeline::Variant;
+use crate::render::scene_buffers::SceneBuffers;
+use crate::render::targets::{COLOR_FORMAT, TargetViews, Targets};
+use crate::request::{FrameRequest, Proxy};
+
+pub const SHADER: &str = include_str!("../../shaders/composite.wgsl");
+
+/// Each pixel's lit fraction (r) and outline state (g).
+pub const EFFECTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+/// The full-screen pass's uniform. Keep in sync with `Effects` in shaders/composite.wgsl.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct EffectsUniform {
+    pub inv_proj: [[f32; 4]; 4],
+    pub view_to_light: [[f32; 4]; 4],
+    pub key: [f32; 4],
+    pub lighting: [f32; 4],
+    pub outline: [f32; 4],
+    pub edges: [f32; 4],
+    pub viewport: [f32; 4],
+    pub params: [u32; 4],
+}
+
+pub const EFFECTS_UNIFORM_SIZE: usize = 224;
+const _: () = assert!(std::mem::size_of::<EffectsUniform>() == EFFECTS_UNIFORM_SIZE);
+
+const FLAG_ORTHO: u32 = 1;
+const FLAG_ADAPTIVE: u32 = 2;
+const FLAG_OUTLINES: u32 = 4;
+const FLAG_SHADOWS: u32 = 8;
+
+/// Shadow lookups start this many shadow-map texels out along the surface normal, and compare
+/// one texel's depth nearer (more where the surface slopes away from the light, see
+/// composite.wgsl): enough that lit surfaces do not shadow themselves at the map's resolution,
+/// small against a glyph.
+const NORMAL_OFFSET_TEXELS: f64 = 1.5;
+const DEPTH_BIAS_TEXELS: f64 = 1.0;
+
+impl EffectsUniform {
+    /// The uniform of a frame of `camera` (and the key light's `light` camera, with shadows).
+    pub fn new(
+        camera: &Camera,
+        light: Option<&Camera>,
+        origin: glam::DVec3,
+        req: &FrameRequest,
+    ) -> Self {
+        let fx = &req.effects;
+        let m = |m: glam::DMat4| m.as_mat4().to_cols_array_2d();
+        let mut flags = 0;
+        if camera.is_ortho() {
+            flags |= FLAG_ORTHO;
+        }
+        let mut key = [0.0; 4];
+        let mut edges = [
+            outline::NORMAL_EDGE as f32,
+            outline::DEPTH_EDGE as f32,
+            0.0,
+            0.0,
+        ];
+        let mut params = [0, 1, 0, 0];
+        let mut view_to_light = [[0.0; 4]; 4];
+        if let (Some(s), Some(light)) = (&fx.shadows, light) {
+            flags |= FLAG_SHADOWS;
+            if s.adaptive {
+                flags |= FLAG_ADAPTIVE;
+            }
+            let l = light::view_direction(s.light).unwrap_or(glam::DVec3::Z);
+            key = [l.x as f32, l.y as f32, l.z as f32, KEY_SHARE as f32];
+            let extent = match light.projection {
+                Projection::Orthographic { height } => height,
+                Projection::Perspective { .. } => 0.0,
+            };
+            let texel = extent / f64::from(light.height.max(1));
+            edges[2] = (NORMAL_OFFSET_TEXELS * texel) as f32;
+            edges[3] = (DEPTH_BIAS_TEXELS * texel / (light.far - light.near).max(1e-30)) as f32;
+            params[1] = light.width;
+            params[2] = s.pcf_radius;
+            view_to_light = m(light::view_to_light_clip(camera, light, origin));
+        }
+        let mut outline = [0.0; 4];
+        if let Some(o) = &fx.outlines {
+            flags |= FLAG_OUTLINES;
+            outline = [
+                o.color[0],
+                o.color[1],
+                o.color[2],
+                o.strength.clamp(0.0, 1.0),
+            ];
+            params[0] = o.width.max(1);
+        }
+        params[3] = flags;
+        let l = &req.lighting;
+        Self {
+            inv_proj: m(camera.projection_matrix().inverse()),
+            view_to_light,
+            key,
+            lighting: [l.ambient, l.diffuse, l.specular, l.shininess],
+            outline,
+            edges,
+            viewport: [
+                camera.width as f32,
+                camera.height as f32,
+                1.0 / camera.width as f32,
+                1.0 / camera.height as f32,
+            ],
+            params,
+        }
+    }
+}
+
+/// The textures of one image size and shadow map size, kept between frames.
+pub(crate) struct EffectsTextures {
+    size: (u32, u32),
+    map_size: Option<u32>,
+    albedo: wgpu::Texture,
+    albedo_view: wgpu::TextureView,
+    /// Each pixel's lit fraction and outline state.
+    pub(crate) out: wgpu::Texture,
+    out_view: wgpu::TextureView,
+    shadow: Option<(Targets, TargetViews)>,
+    uniform: wgpu::Buffer,
+}
+
+/// The composite pipeline and the textures of the last size drawn; long-lived in the renderer.
+pub struct EffectsPipeline {
+    layout: wgpu::BindGroupLayout,
+    pipeline: OnceLock<wgpu::RenderPipeline>,
+    textures: Mutex<Option<Arc<EffectsTextures>>>,
+}
+
+fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
+impl EffectsPipeline {
+    pub fn new(ctx: &GpuContext) -> Self {
+        use wgpu::TextureSampleType as T;
+        let layout = ctx
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("composite"),
+                entries: &[
+                    crate::render::pipeline::buffer_entry(
+                        0,
+                        wgpu::ShaderStages::FRAGMENT,
+                        wgpu::BufferBindingType::Uniform,
+                    ),
+                    texture_entry(1, T::Float { filterable: false }),
+                    texture_entry(2, T::Uint),
+                    texture_entry(3, T::Float { filterable: false }),
+                    texture_entry(4, T::Depth),
+                    texture_entry(5, T::Depth),
+                ],
+            });
+        Self {
+            layout,
+            pipeline: OnceLock::new(),
+            textures: Mutex::new(None),
+        }
+    }
+
+    fn pipeline(&self, ctx: &GpuContext) -> &wgpu::RenderPipeline {
+        self.pipeline.get_or_init(|| {
+            let device = &ctx.device;
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("composite.wgsl"),
+                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+            });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("composite"),
+                bind_group_layouts: &[Some(&self.layout)],
+                immediate_size: 0,
+            });
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("composite"),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs_full"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: Default::default(),
+                depth_stencil: None,
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some("fs_composite"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(COLOR_FORMAT.into()), Some(EFFECTS_FORMAT.into())],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+    }
+
+    /// The textures for `size` and `map_size`, made anew when either changed.
+    fn textures(
+        &self,
+        ctx: &GpuContext,
+        size: (u32, u32),
+        map_size: Option<u32>,
+    ) -> Result<Arc<EffectsTextures>, RenderError> {
+        let mut slot = self.textures.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(t) = slot
+            .as_ref()
+            .filter(|t| t.size == size && t.map_size == map_size)
+        {
+            return Ok(Arc::clone(t));
+        }
+        let make = |label, usage| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: COLOR_FORMAT,
+                usage,
+                view_formats: &[],
+            })
+        };
+        use wgpu::TextureUsages as U;
+        let albedo = make("base colour", U::COPY_DST | U::TEXTURE_BINDING);
+        let out = make("effects", U::RENDER_ATTACHMENT | U::COPY_SRC);
+        let shadow = match map_size {
+            Some(s) => {
+                let t = Targets::new(ctx, s, s, false)?;
+                let v = TargetViews::new(&t);
+                Some((t, v))
+            }
+            None => None,
+        };
+        let uniform = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("effects"),
+            size: EFFECTS_UNIFORM_SIZE as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let t = Arc::new(EffectsTextures {
+            size,
+            map_size,
+            albedo_view: albedo.create_view(&Default::default()),
+            albedo,
+            out_view: out.create_view(&Default::default()),
+            out,
+            shadow,
+            uniform,
+        });
+        *slot = Some(Arc::clone(&t));
+        Ok(t)
+    }
+
+    /// Record the shadow map (if asked), the copy of the base colours and the full-screen pass
+    /// over what the method and the underlay drew into `views`. Returns the textures, whose
+    /// `out` holds the per-pixel effects once the work is done.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn record(
+        &self,
+        ctx: &GpuContext,
+        buffers: &SceneBuffers,
+        drawer: &dyn Drawer,
+        camera: &Camera,
+        req: &FrameRequest,
+        views: &TargetViews,
+        encoder: &mut wgpu::CommandEncoder,
+    ) -> Result<Arc<EffectsTextures>, RenderError> {
+        let Some(aux) = views.aux.as_ref() else {
+            return Err(RenderError::Gpu(
+                "deferred shading needs the aux target for its normals".into(),
+            ));
+        };
+        let fx: &Effects = &req.effects;
+        let textures = self.textures(ctx, views.size, fx.shadows.map(|s| s.map_size))?;
+        let light = fx.shadows.as_ref().map(|s| {
+            let (centre, half) = buffers.bounds();
+            light::shadow_camera(camera, centre, half, s)
+        });
+        if let (Some(light), Some((_, shadow_views))) = (&light, &textures.shadow) {
+            buffers.write_light_uniform(&ctx.queue, light, req);
+            let mut pass = shadow_views.begin_pass(encoder, [0.0; 4], true, None);
+            let variant = Variant {
+                depth_correction: req.depth_correction(),
+                aux: false,
+            };
+            // Early depth tests were vetted for the eye's camera only.
+            let proxy = Proxy {
+                early_depth: false,
+                ..req.proxy()
+            };
+            for c in buffers.chunks.iter().filter(|c| c.count > 0) {
+                pass.set_bind_group(0, &c.light_bind_group, &[]);
+                drawer.draw(&mut pass, variant, proxy, c.base..c.base + c.count);
+            }
+        }
+        let uniform = EffectsUniform::new(camera, light.as_ref(), buffers.origin(), req);
+        ctx.queue
+            .write_buffer(&textures.uniform, 0, bytemuck::bytes_of(&uniform));
+        let (w, h) = views.size;
+        encoder.copy_texture_to_texture(
+            views.color_texture.as_image_copy(),
+            textures.albedo.as_image_copy(),
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        let shadow_depth = match &textures.shadow {
+            Some((_, v)) => &v.depth,
+            // Not read without shadows; any depth texture fills the binding.
+            None => &views.depth,
+        };
+        let entry = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        let group = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("composite"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: textures.uniform.as_entire_binding(),
+                },
+                entry(1, &textures.albedo_view),
+                entry(2, &views.id),
+                entry(3, aux),
+                entry(4, &views.depth),
+                entry(5, shadow_depth),
+            ],
+        });
+        let attach = |view, load| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("composite"),
+            color_attachments: &[
+                attach(views.color_view(), wgpu::LoadOp::Load),
+                attach(
+                    &textures.out_view,
+                    wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 1.0,
+                        g: 0.0,
+                        b: 0.0,
+                        a: 0.0,
+                    }),
+                ),
+            ],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(self.pipeline(ctx));
+        pass.set_bind_group(0, &group, &[]);
+        pass.draw(0..3, 0..1);
+        drop(pass);
+        Ok(textures)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shader_validates_and_its_uniform_matches() {
+        if let Err(e) = crate::render::shaders::validate(SHADER) {
+            panic!("composite.wgsl does not validate:\n{e}");
+        }
+        let module = crate::render::shaders::parse(SHADER).expect("parses");
+        let (_, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Effects"))
+            .expect("struct Effects");
+        let wgpu::naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("Effects is not a struct");
+        };
+        use std::mem::offset_of;
+        let rust = [
+            ("inv_proj", offset_of!(EffectsUniform, inv_proj)),
+            ("view_to_light", offset_of!(EffectsUniform, view_to_light)),
+            ("key", offset_of!(EffectsUniform, key)),
+            ("lighting", offset_of!(EffectsUniform, lighting)),
+            ("outline", offset_of!(EffectsUniform, outline)),
+            ("edges", offset_of!(EffectsUniform, edges)),
+            ("viewport", offset_of!(EffectsUniform, viewport)),
+            ("params", offset_of!(EffectsUniform, params)),
+        ];
+        let wgsl: Vec<(String, usize)> = members
+            .iter()
+            .map(|m| (m.name.clone().unwrap_or_default(), m.offset as usize))
+            .collect();
+        let rust: Vec<(String, usize)> = rust.iter().map(|(n, o)| (n.to_string(), *o)).collect();
+        assert_eq!(wgsl, rust);
+        assert_eq!(*span as usize, EFFECTS_UNIFORM_SIZE);
+    }
+}
