@@ -19,7 +19,8 @@ struct Camera {
     // Clip planes (left, right, bottom, top, near, far): inward unit normal and offset, relative
     // to the scene origin (Camera::frustum_planes).
     frustum: array<vec4<f32>, 6>,
-    // x: pixels per world unit at view distance 1 (orthographic: at any distance).
+    // x: pixels per world unit at view distance 1 (orthographic: at any distance); y, z: the
+    // whole image's centre (the principal point) in this viewport's pixels, off-centre for a tile.
     pixels: vec4<f32>,
 }
 
