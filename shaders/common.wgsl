@@ -19,8 +19,10 @@ struct Camera {
     // Clip planes (left, right, bottom, top, near, far): inward unit normal and offset, relative
     // to the scene origin (Camera::frustum_planes).
     frustum: array<vec4<f32>, 6>,
-    // x: pixels per world unit at view distance 1 (orthographic: at any distance); w: 1 when
-    // shading is deferred (the colour target gets the unlit base colour, see composite.wgsl).
+    // x: pixels per world unit at view distance 1 (orthographic: at any distance); y, z: the
+    // whole image's centre (the principal point) in this viewport's pixels, off-centre for a tile;
+    // w: 1 when shading is deferred (the colour target gets the unlit base colour, see
+    // composite.wgsl).
     pixels: vec4<f32>,
 }
 

@@ -502,7 +502,7 @@ fn splat_setup(f: GlyphFrame) -> SplatSetup {
 
 // The pixel's view-space offset xy(px) (see SplatSetup).
 fn splat_xy(px: vec2<f32>) -> vec2<f32> {
-    return vec2<f32>(px.x - 0.5 * camera.viewport.x, 0.5 * camera.viewport.y - px.y) / camera.pixels.x;
+    return vec2<f32>(px.x - camera.pixels.y, camera.pixels.z - px.y) / camera.pixels.x;
 }
 
 // q~ at pixel centre `px` (framebuffer coordinates).

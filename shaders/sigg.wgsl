@@ -3,7 +3,8 @@
 // ray rebuilt from @builtin(position) and the camera, solved in parameter space with a
 // glyph-near origin. Math: shared/math/sigg-quadric.md §2, §4, §7. The box is mirrored in f64
 // by src/render/sigg_math.rs. Composed as common.wgsl + this + sigg_<glyph>.wgsl + outputs.wgsl.
-// The fragment stage works in view space and assumes a symmetric projection (as Camera builds).
+// The fragment stage works in view space, its rays taken from the whole image's centre and
+// pixel scale (a tile's projection is off-centre).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -141,17 +142,16 @@ struct ParamRay {
 }
 
 fn pixel_ray(in: VsOut) -> ParamRay {
-    let ndc = vec2<f32>(2.0 * in.position.x * camera.viewport.z - 1.0, 1.0 - 2.0 * in.position.y * camera.viewport.w);
-    // P00 and P11 (rows 0 and 1 of P View are P00 and P11 times unit rows of View).
-    let vp = camera.view_proj;
-    let p = vec2<f32>(length(vec3<f32>(vp[0].x, vp[1].x, vp[2].x)), length(vec3<f32>(vp[0].y, vp[1].y, vp[2].y)));
+    // The pixel's view-space offset from the image centre (at unit distance when perspective):
+    // measured from the whole image's centre, so a tile's off-centre pixels get their own rays.
+    let xy = vec2<f32>(in.position.x - camera.pixels.y, camera.pixels.z - in.position.y) / camera.pixels.x;
     var r: ParamRay;
     if is_ortho() {
-        r.off = vec3<f32>(ndc / p - in.c_view.xy, 0.0);
+        r.off = vec3<f32>(xy - in.c_view.xy, 0.0);
         r.d = vec3<f32>(0.0, 0.0, -1.0);
         r.t0 = -in.c_view.z;
     } else {
-        let dv = vec3<f32>(ndc / p, -1.0);
+        let dv = vec3<f32>(xy, -1.0);
         let len = length(dv);
         r.off = vec3<f32>(-in.c_view.z * dv.xy - in.c_view.xy, 0.0);
         r.d = dv / len;

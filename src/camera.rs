@@ -28,6 +28,19 @@ pub struct Camera {
     pub far: f64,
     pub width: u32,
     pub height: u32,
+    /// `Some`: the camera renders only a `width`×`height` window of a larger image (a tile),
+    /// with that image's projection; see [`Camera::cropped`].
+    pub crop: Option<Crop>,
+}
+
+/// Where a cropped camera's pixels lie in the whole image: its pixel (i, j) is the image's
+/// pixel (`x` + i, `y` + j), and it casts the very same ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Crop {
+    pub x: u32,
+    pub y: u32,
+    pub full_width: u32,
+    pub full_height: u32,
 }
 
 /// A pixel's viewing ray in world space (unit direction).
@@ -164,6 +177,7 @@ impl Camera {
             far: 0.0,
             width,
             height,
+            crop: None,
         };
         cam.fit_depth_range(centre, radius);
         cam
@@ -249,8 +263,62 @@ impl Camera {
         (self.target - self.eye).normalize()
     }
 
+    /// Width over height of the whole image (a crop keeps the image's projection).
     pub fn aspect(&self) -> f64 {
-        f64::from(self.width.max(1)) / f64::from(self.height.max(1))
+        let (w, h) = self.full_size();
+        f64::from(w.max(1)) / f64::from(h.max(1))
+    }
+
+    /// The size of the whole image: the camera's own, or the one it is a crop of.
+    pub fn full_size(&self) -> (u32, u32) {
+        match self.crop {
+            Some(c) => (c.full_width, c.full_height),
+            None => (self.width, self.height),
+        }
+    }
+
+    /// The camera of the whole image this one is a crop of (itself when it is not cropped).
+    pub fn full(&self) -> Camera {
+        let (width, height) = self.full_size();
+        Camera {
+            width,
+            height,
+            crop: None,
+            ..*self
+        }
+    }
+
+    /// The `width`×`height` window at pixel (`x`, `y`) of this camera's whole image, as a camera
+    /// of its own: same eye and projection, so its pixel (i, j) sees exactly what pixel
+    /// (`x` + i, `y` + j) of the whole image sees. The window is clamped to the image (at least
+    /// one pixel).
+    pub fn cropped(&self, x: u32, y: u32, width: u32, height: u32) -> Camera {
+        let (full_width, full_height) = self.full_size();
+        let x = x.min(full_width.saturating_sub(1));
+        let y = y.min(full_height.saturating_sub(1));
+        Camera {
+            width: width.clamp(1, (full_width - x).max(1)),
+            height: height.clamp(1, (full_height - y).max(1)),
+            crop: Some(Crop {
+                x,
+                y,
+                full_width,
+                full_height,
+            }),
+            ..*self
+        }
+    }
+
+    /// Where the whole image's centre (its principal point) lies in this camera's pixels: the
+    /// viewport's centre unless cropped.
+    pub fn image_centre_px(&self) -> (f64, f64) {
+        match self.crop {
+            Some(c) => (
+                0.5 * f64::from(c.full_width) - f64::from(c.x),
+                0.5 * f64::from(c.full_height) - f64::from(c.y),
+            ),
+            None => (0.5 * f64::from(self.width), 0.5 * f64::from(self.height)),
+        }
     }
 
     pub fn is_ortho(&self) -> bool {
@@ -274,7 +342,8 @@ impl Camera {
     /// Pixels per world unit of a length across the view at view distance 1 (perspective), or
     /// at any distance (orthographic).
     pub fn pixels_per_unit(&self) -> f64 {
-        self.projection_matrix().y_axis.y * 0.5 * f64::from(self.height)
+        let full = self.full();
+        full.projection_matrix().y_axis.y * 0.5 * f64::from(full.height)
     }
 
     /// Projected radius in pixels of a sphere of radius `r` whose centre is `c` (world).
@@ -287,7 +356,31 @@ impl Camera {
         r * self.pixels_per_unit() / w
     }
 
+    /// Clip space of this camera's own viewport: a crop's is the whole image's followed by the
+    /// affine map that takes the window's NDC rectangle to [−1, 1]² (an off-centre frustum).
     pub fn projection_matrix(&self) -> DMat4 {
+        let full = self.full_projection();
+        let Some(c) = self.crop else {
+            return full;
+        };
+        // Window NDC x' = (W x + W − w − 2 x0) / w of the image's NDC x; y likewise, downwards.
+        let (fw, fh) = (f64::from(c.full_width), f64::from(c.full_height));
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let sx = fw / w;
+        let sy = fh / h;
+        let tx = (fw - w - 2.0 * f64::from(c.x)) / w;
+        let ty = -(fh - h - 2.0 * f64::from(c.y)) / h;
+        let window = DMat4::from_cols(
+            glam::DVec4::new(sx, 0.0, 0.0, 0.0),
+            glam::DVec4::new(0.0, sy, 0.0, 0.0),
+            glam::DVec4::new(0.0, 0.0, 1.0, 0.0),
+            glam::DVec4::new(tx, ty, 0.0, 1.0),
+        );
+        window * full
+    }
+
+    /// The whole image's (symmetric) projection.
+    fn full_projection(&self) -> DMat4 {
         match self.projection {
             Projection::Perspective { fov_y } => {
                 proj::perspective(fov_y, self.aspect(), self.near, self.far)
@@ -300,7 +393,7 @@ impl Camera {
         }
     }
 
-    /// NDC of a framebuffer position (pixel centres at +0.5).
+    /// NDC of a position in this camera's viewport (pixel centres at +0.5).
     pub fn pixel_to_ndc(&self, px: f64, py: f64) -> (f64, f64) {
         (
             2.0 * px / f64::from(self.width) - 1.0,
@@ -308,8 +401,20 @@ impl Camera {
         )
     }
 
-    /// The ray through NDC (x, y), in world space.
+    /// The ray through NDC (x, y) of this camera's viewport, in world space.
     pub fn ray_ndc(&self, x: f64, y: f64) -> Ray {
+        let (x, y) = match self.crop {
+            // Through the whole image's pixel coordinates, as its own pixel_to_ndc forms them.
+            Some(c) => {
+                let px = f64::from(c.x) + (x + 1.0) * 0.5 * f64::from(self.width);
+                let py = f64::from(c.y) + (1.0 - y) * 0.5 * f64::from(self.height);
+                (
+                    2.0 * px / f64::from(c.full_width) - 1.0,
+                    1.0 - 2.0 * py / f64::from(c.full_height),
+                )
+            }
+            None => (x, y),
+        };
         let f = self.forward();
         let s = f.cross(self.up).normalize();
         let u = s.cross(f);
@@ -392,6 +497,7 @@ mod tests {
             far: c["far"].as_f64().unwrap(),
             width,
             height,
+            crop: None,
         }
     }
 
@@ -426,6 +532,75 @@ mod tests {
             let err = (ray.dir - v3(&e["ray"]["dir"])).length();
             // 1e-9: the vectors build rays from (P View)⁻¹, which near = 1e-6 conditions badly.
             assert!(err < 1e-9, "{id}: dir error {err}");
+        }
+    }
+
+    #[test]
+    fn a_crop_casts_the_rays_of_the_whole_images_pixels() {
+        for ortho in [false, true] {
+            let framing = Framing {
+                ortho,
+                azimuth: 30.0,
+                elevation: 20.0,
+                ..Framing::default()
+            };
+            let full = Camera::frame(&framing, DVec3::new(30.0, -10.0, 20.0), 1.5, 200, 150);
+            let scale = 1.0 + full.eye.length();
+            let vp_full = full.projection_matrix() * full.view(DVec3::ZERO);
+            let mid = 0.5 * (full.near + full.far);
+            // A point at mid depth on the ray through the whole image's position (px, py).
+            let at = |px: f64, py: f64| {
+                let (x, y) = full.pixel_to_ndc(px, py);
+                let r = full.ray_ndc(x, y);
+                r.origin + r.dir * (mid / r.dir.dot(full.forward()))
+            };
+            for (x, y, w, h) in [
+                (0, 0, 200, 150),
+                (37, 21, 50, 40),
+                (136, 86, 64, 64),
+                (0, 149, 200, 1),
+            ] {
+                let tile = full.cropped(x, y, w, h);
+                assert_eq!((tile.width, tile.height), (w, h));
+                assert_eq!(tile.full(), full);
+                assert_eq!(tile.pixels_per_unit(), full.pixels_per_unit());
+                for j in 0..h {
+                    for i in 0..w {
+                        let (a, b) = (tile.pixel_ray(i, j), full.pixel_ray(x + i, y + j));
+                        let (eo, ed) = ((a.origin - b.origin).length(), (a.dir - b.dir).length());
+                        assert!(
+                            eo <= 1e-13 * scale && ed <= 1e-14,
+                            "{ortho} ({i}, {j}) {eo} {ed}"
+                        );
+                    }
+                }
+                // The tile's clip space: a point lands on the same pixel position, offset by
+                // (x, y), at the same depth.
+                let vp_tile = tile.projection_matrix() * tile.view(DVec3::ZERO);
+                for (px, py) in [
+                    (x as f64 + 0.3, y as f64 + 0.7),
+                    (120.25, 80.5),
+                    (-3.0, 160.0),
+                ] {
+                    let p = at(px, py).extend(1.0);
+                    let (cf, ct) = (vp_full * p, vp_tile * p);
+                    let (nf, nt) = (cf.truncate() / cf.w, ct.truncate() / ct.w);
+                    let tile_px = (nt.x + 1.0) * 0.5 * f64::from(w) + f64::from(x);
+                    let tile_py = (1.0 - nt.y) * 0.5 * f64::from(h) + f64::from(y);
+                    assert!((tile_px - px).abs() < 1e-9 && (tile_py - py).abs() < 1e-9);
+                    assert!((nt.z - nf.z).abs() < 1e-12);
+                }
+                // Its frustum holds its own pixels and not its neighbours'.
+                let planes = tile.frustum_planes(DVec3::ZERO);
+                let inside = |p: DVec3| planes.iter().all(|q| q.truncate().dot(p) + q.w >= 0.0);
+                let (x0, y0) = (f64::from(x), f64::from(y));
+                let (x1, y1) = (x0 + f64::from(w), y0 + f64::from(h));
+                assert!(inside(at(x0 + 0.01, y0 + 0.01)) && inside(at(x1 - 0.01, y1 - 0.01)));
+                assert!(!inside(at(x0 - 0.01, y0 + 0.5)) && !inside(at(x1 + 0.01, y0 + 0.5)));
+                assert!(!inside(at(x0 + 0.5, y0 - 0.01)) && !inside(at(x0 + 0.5, y1 + 0.01)));
+                let (cx, cy) = tile.image_centre_px();
+                assert_eq!((cx + x0, cy + y0), (100.0, 75.0));
+            }
         }
     }
 

@@ -50,6 +50,7 @@ pub mod backend;
 pub mod metrics;
 pub mod reference;
 pub mod render;
+pub mod tiles;
 pub mod twin;
 
 // What the front ends share.

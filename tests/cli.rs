@@ -106,8 +106,16 @@ fn bad_options_exit_2_with_a_clear_message() {
             "zero",
         ),
         (
-            &["render", "--demo", "grid40", "-o", o, "--size", "100000x10"],
-            "limit",
+            &[
+                "render",
+                "--demo",
+                "grid40",
+                "-o",
+                o,
+                "--size",
+                "100000x1000",
+            ],
+            "8192×8192",
         ),
         (
             &["render", "--demo", "grid40", "-o", o, "--method", "voodoo"],

@@ -18,11 +18,11 @@ use tensorglyph::frame::Frame;
 use tensorglyph::image_out::{write_png, write_png_dpi};
 use tensorglyph::legend::raster::{Caption, burn};
 use tensorglyph::metrics::{Accuracy, compare, diff_image};
-use tensorglyph::reference::ReferenceScene;
 use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::UnderlaySource;
 use tensorglyph::scene::Visibility;
 use tensorglyph::staging::{Demo, Recipe, Source, Timings, stage};
+use tensorglyph::tiles::Tiling;
 
 /// Image and output options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
@@ -220,8 +220,6 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     }
     let ssaa = image.ssaa;
     let (w, h) = image.size;
-    tensorglyph::frame::check_size(w.saturating_mul(ssaa), h.saturating_mul(ssaa))
-        .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?;
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
     let options = draw.options(cam.method, cam.glyph, depth_correction)?;
@@ -275,14 +273,35 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         ),
         None => (None, None),
     };
-    let mut frame: Frame = backend
-        .render(&scene, &camera, &req, &mut timings, &progress)?
-        .downsample(ssaa);
+    // Beyond one render target (or the pixel cap) the samples are rendered in tiles, whose
+    // margins hold the outline filter's reach so that outlines run on across their seams.
+    let reach = req
+        .effects
+        .outlines
+        .map_or(0, |o| o.width.div_ceil(ssaa) + 1);
+    let tiling = Tiling {
+        margin: Tiling::new(&backend, ssaa).margin.max(reach),
+        ..Tiling::new(&backend, ssaa)
+    };
+    tiling
+        .plan(w, h)
+        .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?;
+    let mut frame: Frame =
+        tiling.render(&backend, &scene, &camera, &req, &mut timings, &progress)?;
 
     let accuracy = if image.reference_check {
-        let reference = ReferenceScene::new(&scene, &camera, req.glyph())
-            .render(&req)
-            .downsample(ssaa);
+        let reference = Tiling {
+            margin: tiling.margin,
+            ..Tiling::new(&Backend::Reference, ssaa)
+        }
+        .render(
+            &Backend::Reference,
+            &scene,
+            &camera,
+            &FrameRequest { frames: 1, ..req },
+            &mut Timings::default(),
+            &tensorglyph::progress::Silent,
+        )?;
         if let Some(d) = &image.diff {
             write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
                 .with_context(|| format!("{}: cannot write", d.display()))?;

@@ -159,7 +159,8 @@ pub struct CameraUniform {
     pub light: [f32; 4],
     /// Clip planes (inward unit normal, offset), relative to the scene origin, for culling.
     pub frustum: [[f32; 4]; 6],
-    /// x: pixels per world unit at view distance 1 (orthographic: at any distance); w: 1 when
+    /// x: pixels per world unit at view distance 1 (orthographic: at any distance); y, z: the
+    /// whole image's centre in this viewport's pixels (off-centre for a tile); w: 1 when
     /// shading is deferred (the methods write the unlit base colour).
     pub pixels: [f32; 4],
 }
@@ -207,7 +208,10 @@ impl CameraUniform {
             frustum: camera
                 .frustum_planes(origin)
                 .map(|p| p.as_vec4().to_array()),
-            pixels: [camera.pixels_per_unit() as f32, 0.0, 0.0, 0.0],
+            pixels: {
+                let (cx, cy) = camera.image_centre_px();
+                [camera.pixels_per_unit() as f32, cx as f32, cy as f32, 0.0]
+            },
         }
     }
 }

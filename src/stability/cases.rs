@@ -76,6 +76,7 @@ fn look(scene: &Scene, eye: DVec3, target: DVec3, fov_deg: f64) -> Camera {
         far: 0.0,
         width: W,
         height: H,
+        crop: None,
     };
     cam.fit_depth_range(scene.centre, scene.radius);
     cam
@@ -91,6 +92,7 @@ fn ortho(scene: &Scene, dir: DVec3, up: DVec3, height: f64) -> Camera {
         far: 0.0,
         width: W,
         height: H,
+        crop: None,
     };
     cam.fit_depth_range(scene.centre, scene.radius);
     cam
@@ -179,6 +181,7 @@ pub fn grazing(quick: bool) -> Vec<Probe> {
             far: 0.0,
             width: W,
             height: H,
+            crop: None,
         };
         cam.fit_depth_range(scene.centre, scene.radius);
         let mut p = probe(
@@ -383,6 +386,7 @@ pub fn sub_pixel(quick: bool) -> Vec<Probe> {
                 far: 0.0,
                 width: W,
                 height: H,
+                crop: None,
             };
             cam.fit_depth_range(scene.centre, scene.radius);
             probe("8-sub-pixel", "projected size px", s, scene, cam)

@@ -87,6 +87,7 @@ pub fn mu_form(quick: bool) -> Vec<Row> {
             far: d + 2.0,
             width: cases::W,
             height: cases::H,
+            crop: None,
         };
         let view64 = cam.view(DVec3::ZERO);
         let view: Mat4 = view64.as_mat4();

@@ -160,6 +160,7 @@ impl Navigation {
             far: 0.0,
             width: width.max(1),
             height: height.max(1),
+            crop: None,
         };
         // Depth range around everything that can be drawn: the scene and the target.
         let reach = self.scene_radius + (self.target - self.scene_centre).length();
