@@ -50,8 +50,22 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 }
 
 fn ray_cast(in: VsOut) -> Hit {
-    let r = pixel_ray(in);
+    var r = pixel_ray(in);
     let h = in.shape;
+    // pixel_ray's origin is the ray point nearest the centre, which for a long capsule can lie
+    // k = h + 1 radii from where the ray passes the axis: there |o~.yz|² − 1 loses the 1 in f32.
+    // Slide it to the point nearest the axis (β ≈ 0 for the side), kept within the balls' reach.
+    let a = dot(r.v_t.yz, r.v_t.yz);
+    if a > 0.0 {
+        var s = -dot(r.o_t.yz, r.v_t.yz) / a;
+        let x = r.o_t.x + s * r.v_t.x;
+        if abs(x) > h + 1.0 && r.v_t.x != 0.0 {
+            s = (clamp(x, -h - 1.0, h + 1.0) - r.o_t.x) / r.v_t.x;
+        }
+        r.off += s * r.d;
+        r.t0 += s;
+        r.o_t += s * r.v_t;
+    }
     let span = capsule_span(r.o_t, r.v_t, h);
     // The entry if it lies in front of the ray's start, else (orthographic start inside the
     // glyph) the exit, as the reference does.

@@ -157,9 +157,22 @@ impl Capsule {
     /// well-conditioned origin), so nothing cancels for distant glyphs.
     pub fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
         let n = self.axis;
-        let t0 = (self.c - o).dot(d);
+        let mut t0 = (self.c - o).dot(d);
         // The origin relative to the centre; a, b relative to the origin.
-        let o_c = (o - self.c) + d * t0;
+        let mut o_c = (o - self.c) + d * t0;
+        // Then the ray point nearest the axis (within the balls' reach along it): nearest the
+        // centre can be far from the glyph's surface for a long, thin capsule.
+        let across = d - n * d.dot(n);
+        if across.length_squared() > 0.0 {
+            let mut s = -(o_c - n * o_c.dot(n)).dot(across) / across.length_squared();
+            let x = (o_c + d * s).dot(n);
+            let reach = self.h + self.r;
+            if x.abs() > reach && d.dot(n) != 0.0 {
+                s += (x.clamp(-reach, reach) - x) / d.dot(n);
+            }
+            t0 += s;
+            o_c += d * s;
+        }
         let a = -n * self.h - o_c;
         let length = 2.0 * self.h;
         let alpha = a.dot(n);

@@ -43,7 +43,7 @@ fn crossing(o: DVec3, v: DVec3, h: f64, t: f64, entry: bool) -> Option<f64> {
     let ok = o - DVec3::new(if s > 0.0 { h } else { -h }, 0.0, 0.0);
     let (a, b, c) = (v.dot(v), ok.dot(v), ok.dot(ok) - 1.0);
     let disc = b * b - a * c;
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         return None;
     }
     let (near, far) = roots(a, b, c, disc);
@@ -59,7 +59,7 @@ pub fn span(o: DVec3, v: DVec3, h: f64) -> Option<(f64, f64)> {
     );
     let side = if a > 0.0 {
         let disc = b * b - a * c;
-        if !(disc >= 0.0) {
+        if disc.is_nan() || disc < 0.0 {
             return None;
         }
         roots(a, b, c, disc)
