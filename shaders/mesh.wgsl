@@ -1,8 +1,8 @@
 // Triangle-mesh baselines (`mesh:N`, `box`): one shared unit mesh, instanced per glyph. A unit
 // point p maps to c + O diag(r) p, a unit normal n to O diag(1/r) n (the inverse transpose);
 // the fragment shades the interpolated, renormalised normal per pixel. Depth is the rasterised
-// depth of the triangles. Composed as common.wgsl + this + outputs.wgsl; the CPU side is
-// src/render/mesh.rs.
+// depth of the triangles. Composed as common.wgsl + capsule.wgsl + this + outputs.wgsl; the CPU
+// side is src/render/mesh.rs.
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -18,6 +18,10 @@ struct VsOut {
 
 // Which glyph the mesh approximates; MeshRenderer sets it to true for cylinders.
 override MESH_CYLINDER: bool = false;
+// Capsules (MeshRenderer): 1 for the unit capsule, whose point p is its end (x = ±1) plus the
+// unit normal n, placed at h sign(p.x) x + R n with the glyph's capsule_of (h, R); 2 for the
+// capsule's box, [−1, 1]³ scaled to (h + R, R, R).
+override MESH_CAPSULE: u32 = 0u;
 // reference::EYE_INSIDE_E2.
 const MESH_EYE_INSIDE_E2: f32 = 1.00001;
 
@@ -36,22 +40,35 @@ fn vs_main(
     }
     // The eye inside or on the true glyph: not drawn, as by the impostors and the reference
     // (the inscribed polytope alone would still show it from just inside the surface).
+    let cap = capsule_of(g.radii);
     if !is_ortho() {
         let e_p = (transpose(o) * (camera.eye.xyz - g.centre)) / g.radii;
         let inside_cylinder = abs(e_p.x) <= 1.0 && dot(e_p.yz, e_p.yz) <= 1.0;
         let inside_ellipsoid = !(dot(e_p, e_p) > MESH_EYE_INSIDE_E2);
-        if select(inside_ellipsoid, inside_cylinder, MESH_CYLINDER) {
+        let inside_capsule = capsule_contains((transpose(o) * (camera.eye.xyz - g.centre)) / cap.y, cap.x);
+        if select(select(inside_ellipsoid, inside_cylinder, MESH_CYLINDER), inside_capsule, MESH_CAPSULE != 0u) {
             out.position = CULLED_POSITION;
             return out;
         }
     }
-    let v = g.centre + o * (p * g.radii);
+    // The point and normal in the glyph's frame.
+    var local = p * g.radii;
+    var n_local = n / g.radii;
+    if MESH_CAPSULE == 1u {
+        local = vec3<f32>(sign(p.x) * cap.x * cap.y, 0.0, 0.0) + cap.y * n;
+        n_local = n;
+    } else if MESH_CAPSULE == 2u {
+        let b = vec3<f32>((cap.x + 1.0) * cap.y, cap.y, cap.y);
+        local = p * b;
+        n_local = n / b;
+    }
+    let v = g.centre + o * local;
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
     out.position = camera.view_proj * vec4<f32>(v, 1.0);
     out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
-    out.z_rel = dot(vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z), o * (p * g.radii));
+    out.z_rel = dot(vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z), o * local);
     // Normalised per vertex so that thin glyphs (tiny radii) interpolate in a sane range.
-    out.n_view = normalize(rv * (o * (n / g.radii)));
+    out.n_view = normalize(rv * (o * n_local));
     out.id = ii + 1u;
     out.color = g.color;
     return out;

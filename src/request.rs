@@ -99,11 +99,16 @@ pub enum GlyphKind {
     Ellipsoid,
     /// Capped elliptic cylinder along the principal axis (or along e3 for planar tensors).
     Cylinder,
+    /// The cylinder's axis with rounded ends: a segment swept by a ball of radius R = the mean
+    /// of the cross-section's semi-axes, total half-length max(axis half-length, R); an
+    /// isotropic tensor gives a sphere ([`crate::scene::capsule_of`]).
+    Capsule,
 }
 
 crate::names::named_values!(GlyphKind {
     Ellipsoid => "ellipsoid",
     Cylinder => "cylinder",
+    Capsule => "capsule",
 });
 
 /// The polygon around the unit circle that Gumhold's proxy is made of (gumhold-ellipsoid.md §10).
@@ -207,6 +212,11 @@ pub enum GumholdConfig {
         shape: ProxyShape,
         depth_correction: bool,
     },
+    /// Capsules use the quad of the bounding ellipsoid of their circumscribed cylinder.
+    Capsule {
+        shape: ProxyShape,
+        depth_correction: bool,
+    },
 }
 
 /// A method with the options it takes, and only those: a request for Sigg's method with splats,
@@ -260,6 +270,7 @@ impl MethodConfig {
         match self {
             MethodConfig::Gumhold(GumholdConfig::Ellipsoid { .. }) => GlyphKind::Ellipsoid,
             MethodConfig::Gumhold(GumholdConfig::Cylinder { .. }) => GlyphKind::Cylinder,
+            MethodConfig::Gumhold(GumholdConfig::Capsule { .. }) => GlyphKind::Capsule,
             MethodConfig::Sigg { glyph, .. }
             | MethodConfig::Mesh { glyph, .. }
             | MethodConfig::Reference { glyph } => *glyph,
@@ -274,6 +285,9 @@ impl MethodConfig {
                 matches!(depth, EllipsoidDepth::RayCast { .. })
             }
             MethodConfig::Gumhold(GumholdConfig::Cylinder {
+                depth_correction, ..
+            })
+            | MethodConfig::Gumhold(GumholdConfig::Capsule {
                 depth_correction, ..
             })
             | MethodConfig::Sigg {
@@ -301,7 +315,9 @@ impl MethodConfig {
                     early_depth: *early_depth,
                 },
             },
-            MethodConfig::Gumhold(GumholdConfig::Cylinder { shape, .. }) => Proxy {
+            MethodConfig::Gumhold(
+                GumholdConfig::Cylinder { shape, .. } | GumholdConfig::Capsule { shape, .. },
+            ) => Proxy {
                 shape: *shape,
                 ..Proxy::BASELINE
             },
@@ -417,6 +433,10 @@ impl DrawOptions {
                     },
                 },
                 GlyphKind::Cylinder => GumholdConfig::Cylinder {
+                    shape: self.proxy,
+                    depth_correction,
+                },
+                GlyphKind::Capsule => GumholdConfig::Capsule {
                     shape: self.proxy,
                     depth_correction,
                 },

@@ -70,6 +70,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
     for (method, glyph) in [
         (Method::Gumhold, GlyphKind::Ellipsoid),
         (Method::Gumhold, GlyphKind::Cylinder),
+        (Method::Gumhold, GlyphKind::Capsule),
         (Method::Sigg, GlyphKind::Ellipsoid),
     ] {
         let scene = grid_scene(12, glyph);
@@ -176,7 +177,11 @@ fn front_to_back_order_draws_the_same_glyphs() {
 #[test]
 fn other_proxies_and_conservative_depth_match_the_reference() {
     let Some(gpu) = common::gpu() else { return };
-    for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+    for glyph in [
+        GlyphKind::Ellipsoid,
+        GlyphKind::Cylinder,
+        GlyphKind::Capsule,
+    ] {
         let scene = grid_scene(8, glyph);
         for (ortho, zoom) in [(false, 1.0), (false, 2.5), (true, 1.0)] {
             let mut cam = camera(&scene, zoom, 400, 300);
@@ -263,17 +268,18 @@ fn every_proxy_shape_covers_the_view_from_near_a_cylinder_cap() {
     // The eye inside the cylinder's bounding ellipsoid: the proxy is the whole near plane, made
     // of the same polygon as the glyph proxies.
     let (scene, cam) = common::scenes::near_a_cap();
-    for shape in [ProxyShape::Quad, ProxyShape::Octagon, ProxyShape::Triangle] {
-        let proxy = Proxy {
-            shape,
-            ..Proxy::BASELINE
-        };
-        let req = common::proxy_request(GlyphKind::Cylinder, proxy);
-        let Some((_, acc)) =
-            common::check_request(&format!("near cap {shape:?}"), &scene, &cam, &req)
-        else {
-            return;
-        };
-        common::assert_tight(&format!("near cap {shape:?}"), &acc);
+    for glyph in [GlyphKind::Cylinder, GlyphKind::Capsule] {
+        for shape in [ProxyShape::Quad, ProxyShape::Octagon, ProxyShape::Triangle] {
+            let proxy = Proxy {
+                shape,
+                ..Proxy::BASELINE
+            };
+            let req = common::proxy_request(glyph, proxy);
+            let label = format!("near cap {glyph} {shape:?}");
+            let Some((_, acc)) = common::check_request(&label, &scene, &cam, &req) else {
+                return;
+            };
+            common::assert_tight(&label, &acc);
+        }
     }
 }

@@ -31,6 +31,7 @@ fn gumhold_fragments_match_the_quads() {
         ("cigar", scenes::cigar(), GlyphKind::Ellipsoid),
         ("intersecting", scenes::intersecting(), GlyphKind::Ellipsoid),
         ("cylinders", scenes::cylinders(), GlyphKind::Cylinder),
+        ("capsules", scenes::cylinders(), GlyphKind::Capsule),
     ] {
         let mut cam = scenes::framed(&scene, Framing::default());
         (cam.width, cam.height) = (512, 384);

@@ -153,6 +153,11 @@ fn cylinder_improves_with_level() {
 }
 
 #[test]
+fn capsule_improves_with_level() {
+    improves_with_level("capsule", &cylinder(), GlyphKind::Capsule);
+}
+
+#[test]
 fn box_covers_the_glyph() {
     let Some(gpu) = common::gpu() else {
         return;
@@ -161,6 +166,7 @@ fn box_covers_the_glyph() {
         ("sphere", sphere(), GlyphKind::Ellipsoid),
         ("cigar", scenes::cigar(), GlyphKind::Ellipsoid),
         ("cylinder", cylinder(), GlyphKind::Cylinder),
+        ("capsule", cylinder(), GlyphKind::Capsule),
     ] {
         let (_, frame, reference) = check(&gpu, name, &scene, Method::Box, glyph);
         let missed = frame
@@ -277,7 +283,11 @@ fn eye_inside_a_glyph_draws_nothing() {
     cam.target = scene.centre + DVec3::new(1.0, 0.0, 0.0);
     cam.up = DVec3::Z;
     cam.near = 1e-3;
-    for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+    for glyph in [
+        GlyphKind::Ellipsoid,
+        GlyphKind::Cylinder,
+        GlyphKind::Capsule,
+    ] {
         for method in [Method::Mesh(2), Method::Box] {
             let req = FrameRequest::new(method, glyph);
             let frame = gpu.render(&scene, &cam, &req).expect("GPU frame");

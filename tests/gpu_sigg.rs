@@ -192,7 +192,11 @@ fn ellipsoid_crossing_the_camera_plane() {
 fn orthographic_camera_plane_inside_glyphs() {
     // The orthographic camera plane passes through the glyph (no eye to cull around): where the
     // entry lies behind the camera plane, the reference shows the exit (inner) surface.
-    for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+    for glyph in [
+        GlyphKind::Ellipsoid,
+        GlyphKind::Cylinder,
+        GlyphKind::Capsule,
+    ] {
         let scene = Scene::from_specs(&[spec(
             [0.0; 3],
             [0.3, 0.2, 1.0],
@@ -285,6 +289,48 @@ fn eye_inside_a_grid_of_cylinders() {
 }
 
 #[test]
+fn eye_inside_a_grid_of_capsules() {
+    eye_inside_a_grid(GlyphKind::Capsule);
+}
+
+#[test]
+fn capsules_side_on_end_on_and_oblique() {
+    let scene = scenes::cylinders();
+    for (name, framing) in scenes::cylinder_framings() {
+        let cam = framed(&scene, framing);
+        tight(name, &scene, &cam, GlyphKind::Capsule);
+    }
+}
+
+#[test]
+fn capsule_seen_end_on_along_its_axis() {
+    let scene = scenes::end_on_cylinder();
+    for ortho in [false, true] {
+        let cam = framed(
+            &scene,
+            Framing {
+                view: ViewPreset::NegZ,
+                ortho,
+                ..Framing::default()
+            },
+        );
+        tight("end-on", &scene, &cam, GlyphKind::Capsule);
+    }
+}
+
+#[test]
+fn eye_near_a_capsule_end() {
+    // Just outside the +x ball; both balls lie in front of the camera plane, so their boxes
+    // (huge, viewport-clamped) stand.
+    let (scene, cam) = scenes::near_a_cap();
+    assert!(matches!(
+        scene_proxy(&scene, &cam, 0, GlyphKind::Capsule),
+        Proxy::Box(_)
+    ));
+    tight("near end", &scene, &cam, GlyphKind::Capsule);
+}
+
+#[test]
 fn cylinders_side_on_end_on_and_oblique() {
     let scene = scenes::cylinders();
     for (name, framing) in scenes::cylinder_framings() {
@@ -347,6 +393,12 @@ fn cylinder_crossing_the_camera_plane() {
         Proxy::Viewport
     );
     tight("cylinder crossing", &scene, &cam, GlyphKind::Cylinder);
+    // As a capsule (R = 0.3, the eye 0.33 off the axis): the camera plane cuts the balls' hull.
+    assert_eq!(
+        scene_proxy(&scene, &cam, 0, GlyphKind::Capsule),
+        Proxy::Viewport
+    );
+    tight("capsule crossing", &scene, &cam, GlyphKind::Capsule);
 }
 
 /// Renders `scene` with Sigg's method and returns (fragment invocations, box pixels predicted by
@@ -404,6 +456,7 @@ fn fragments_match_the_predicted_box() {
     let scene = scenes::cylinder();
     let cam = framed(&scene, Framing::default());
     fragments_and_box_pixels("cylinder", &scene, &cam, GlyphKind::Cylinder);
+    fragments_and_box_pixels("capsule", &scene, &cam, GlyphKind::Capsule);
     // One glyph whose box is ~220 px across (512x384): fragments within 10 % of its pixels.
     let scene = scenes::sphere();
     let cam = Camera::frame(&Framing::default(), scene.centre, scene.radius, 512, 384);

@@ -114,6 +114,46 @@ fn cylinder_seen_end_on_along_its_axis() {
 }
 
 #[test]
+fn capsules_side_on_end_on_and_oblique() {
+    // The cylinders' glyphs as capsules (R the mean of the cross-section's semi-axes): the
+    // same bounds, though a capsule has no crease (side and balls meet tangentially).
+    let scene = scenes::cylinders();
+    for (name, framing) in scenes::cylinder_framings() {
+        let cam = framed(&scene, framing);
+        tight(name, &scene, &cam, GlyphKind::Capsule);
+    }
+}
+
+#[test]
+fn capsule_seen_end_on_along_its_axis() {
+    // Axis along the view direction: the ball in front hides the rest; the silhouette is a circle.
+    let scene = scenes::end_on_cylinder();
+    for ortho in [false, true] {
+        let cam = framed(
+            &scene,
+            Framing {
+                view: ViewPreset::NegZ,
+                ortho,
+                ..Framing::default()
+            },
+        );
+        tight("end-on", &scene, &cam, GlyphKind::Capsule);
+    }
+}
+
+#[test]
+fn eye_near_a_capsule_end() {
+    // Outside the capsule (0.06 beyond the +x ball) but inside its bounding ellipsoid: the
+    // proxy becomes the near plane, and the ball fills most of the view.
+    let (scene, cam) = scenes::near_a_cap();
+    assert_eq!(
+        tensorglyph::twin::gumhold_ellipsoid::proxy_shape(&scene, &cam, 0, GlyphKind::Capsule),
+        tensorglyph::twin::gumhold_ellipsoid::ProxyShape::Viewport
+    );
+    tight("near end", &scene, &cam, GlyphKind::Capsule);
+}
+
+#[test]
 fn eye_near_a_cylinder_cap() {
     // The eye sits 5 % of the half-length above a cap, inside the bounding ellipsoid: the proxy
     // becomes the near plane and the cap fills most of the view.

@@ -26,7 +26,11 @@ fn quick_suite_has_no_failures() {
     };
     let opts = Options {
         methods: vec![Method::Gumhold, Method::Sigg, Method::Mesh(2), Method::Box],
-        glyphs: vec![GlyphKind::Ellipsoid, GlyphKind::Cylinder],
+        glyphs: vec![
+            GlyphKind::Ellipsoid,
+            GlyphKind::Cylinder,
+            GlyphKind::Capsule,
+        ],
         quick: true,
     };
     let rows = stability::run(Some(&gpu), &opts, |_| {});

@@ -149,7 +149,7 @@ pub fn findings(rows: &[Row]) -> String {
         let _ = writeln!(out, "**{scene}.**\n");
         // Gumhold's presets against the baseline measured in the same run.
         for view in ["default", "close", "far"] {
-            for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+            for glyph in GlyphKind::VALUES.iter().copied() {
                 let path_row = |path: &str| {
                     rows.iter().filter(measured).find(|r| {
                         r.scene == scene
@@ -189,7 +189,7 @@ pub fn findings(rows: &[Row]) -> String {
                 let _ = writeln!(out);
             }
         }
-        for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        for glyph in GlyphKind::VALUES.iter().copied() {
             let Some(g) = fastest(pick("default", glyph, &|r| {
                 r.method == crate::request::Method::Gumhold
             })) else {
@@ -248,7 +248,7 @@ pub fn findings(rows: &[Row]) -> String {
             }
             let _ = writeln!(out);
         }
-        for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        for glyph in GlyphKind::VALUES.iter().copied() {
             let ratio = |view: &str| -> Option<String> {
                 let g = fastest(pick(view, glyph, &|r| {
                     r.method == crate::request::Method::Gumhold

@@ -126,6 +126,110 @@ impl Cylinder {
     }
 }
 
+/// A capsule: the segment from `c − h n` to `c + h n` (`n` unit) swept by a ball of radius `r`
+/// (cylinder-capsule.md §4).
+#[derive(Debug, Clone, Copy)]
+pub struct Capsule {
+    pub c: DVec3,
+    pub axis: DVec3,
+    pub h: f64,
+    pub r: f64,
+}
+
+impl Capsule {
+    /// The point of the segment nearest to `p` (relative to the centre).
+    fn foot(&self, p: DVec3) -> DVec3 {
+        self.axis * p.dot(self.axis).clamp(-self.h, self.h)
+    }
+
+    pub fn contains(&self, p: DVec3) -> bool {
+        let q = p - self.c;
+        (q - self.foot(q)).length_squared() <= self.r * self.r
+    }
+
+    /// Half-extents of its axis-aligned bounding box.
+    pub fn half_extents(&self) -> DVec3 {
+        (self.axis * self.h).abs() + self.r
+    }
+
+    /// First forward crossing of the surface by `o + t d` (`d` unit): §4 of the note for the
+    /// entry and, reversed, for the exit, from the ray point nearest the centre (§5's
+    /// well-conditioned origin), so nothing cancels for distant glyphs.
+    pub fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
+        let n = self.axis;
+        let mut t0 = (self.c - o).dot(d);
+        // The origin relative to the centre; a, b relative to the origin.
+        let mut o_c = (o - self.c) + d * t0;
+        // Then the ray point nearest the axis (within the balls' reach along it): nearest the
+        // centre can be far from the glyph's surface for a long, thin capsule.
+        let across = d - n * d.dot(n);
+        if across.length_squared() > 0.0 {
+            let mut s = -(o_c - n * o_c.dot(n)).dot(across) / across.length_squared();
+            let x = (o_c + d * s).dot(n);
+            let reach = self.h + self.r;
+            if x.abs() > reach && d.dot(n) != 0.0 {
+                s += (x.clamp(-reach, reach) - x) / d.dot(n);
+            }
+            t0 += s;
+            o_c += d * s;
+        }
+        let a = -n * self.h - o_c;
+        let length = 2.0 * self.h;
+        let alpha = a.dot(n);
+        let beta = d.dot(n);
+        // §2's A, B, C from the parts across the axis (1 − β² cancels for rays along it).
+        let a_perp = a - n * alpha;
+        let d_perp = d - n * beta;
+        let qa = d_perp.length_squared();
+        let qb = -a_perp.dot(d_perp);
+        let qc = a_perp.length_squared() - self.r * self.r;
+        let (side_in, side_out) = if qa > 0.0 {
+            let disc = qb * qb - qa * qc;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            stable_roots(qa, qb, qc, disc)
+        } else if qc > 0.0 {
+            return None;
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
+        // The crossing at side root `t` (entry or exit): on the side if its axial coordinate s
+        // is within [0, L], else on the ball at the end it lies beyond.
+        let crossing = |t: f64, entry: bool| -> Option<(f64, DVec3)> {
+            let s = t * beta - alpha;
+            if (0.0..=length).contains(&s) {
+                return Some((t, (d * t - a - n * s) / self.r));
+            }
+            let k = if s < 0.0 { a } else { a + n * length };
+            let delta = k.dot(d);
+            let ck = k.length_squared() - self.r * self.r;
+            let disc = delta * delta - ck;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            let (near, far) = stable_roots(1.0, -delta, ck, disc);
+            let tk = if entry { near } else { far };
+            Some((tk, (d * tk - k) / self.r))
+        };
+        let (t_in, n_in) = crossing(side_in, true)?;
+        let (t, normal) = if t0 + t_in > 0.0 {
+            (t_in, n_in)
+        } else {
+            // From inside, the exit is the only forward crossing.
+            let (t_out, n_out) = crossing(side_out, false)?;
+            if t0 + t_out <= 0.0 {
+                return None;
+            }
+            (t_out, n_out)
+        };
+        Some(RayHit {
+            t: t0 + t,
+            normal: normal.normalize(),
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -209,5 +313,78 @@ mod tests {
             checked += 1;
         }
         assert_eq!(checked, 3);
+    }
+
+    /// With no segment the capsule is the ball: every ray meets it where it meets the sphere.
+    #[test]
+    fn capsule_without_segment_is_the_sphere() {
+        let (c, r) = (DVec3::new(3.0, -1.0, 2.0), 0.7);
+        let ball = Capsule {
+            c,
+            axis: DVec3::new(0.6, 0.0, 0.8),
+            h: 0.0,
+            r,
+        };
+        let t_inv = DMat3::from_diagonal(DVec3::splat(1.0 / r));
+        let mut hits = 0;
+        for k in 0..200 {
+            let a = f64::from(k) * 0.7;
+            let o = c + DVec3::new(a.cos(), (1.3 * a).sin(), 0.5 * a.sin()) * 5.0;
+            let aim = c + DVec3::new((2.1 * a).sin(), a.cos(), (0.9 * a).cos()) * 0.8;
+            let d = (aim - o).normalize();
+            let want = ellipsoid(o, d, c, &t_inv);
+            let got = ball.intersect(o, d);
+            assert_eq!(got.is_some(), want.is_some(), "ray {k}");
+            if let (Some(g), Some((t, p_t))) = (got, want) {
+                assert!((g.t - t).abs() <= 1e-12 * t, "ray {k}: {} vs {t}", g.t);
+                assert!((g.normal - p_t.normalize()).length() <= 1e-12, "ray {k}");
+                hits += 1;
+            }
+        }
+        assert!(hits > 50 && hits < 200, "{hits} hits");
+    }
+
+    /// The capsule vectors: end points a, b and radius R; one side and one ball hit.
+    #[test]
+    fn capsule_hits_match_the_test_vectors() {
+        let mut checked = 0;
+        for case in cases().iter().filter(|c| c["kind"] == "capsule") {
+            let id = case["id"].as_str().unwrap();
+            let g = &case["glyph"];
+            let e = &case["expected"];
+            let (a, b) = (v3(&g["a"]), v3(&g["b"]));
+            let cap = Capsule {
+                c: (a + b) / 2.0,
+                axis: (b - a).normalize(),
+                h: (b - a).length() / 2.0,
+                r: g["R"].as_f64().unwrap(),
+            };
+            let o = v3(&e["ray"]["origin"]);
+            let d = v3(&e["ray"]["dir"]);
+            let hit = cap.intersect(o, d).expect(id);
+            let size = cap.h + cap.r;
+            let p = o + d * hit.t;
+            assert!(
+                (p - v3(&e["point"])).length() <= 1e-9 * size,
+                "{id}: point {p}"
+            );
+            assert!(
+                (hit.normal - v3(&e["normal"])).length() <= 1e-9,
+                "{id}: normal {}",
+                hit.normal
+            );
+            // From inside (the centre), the only forward crossing is the exit: on the surface,
+            // its normal along the ray.
+            let exit = cap.intersect(cap.c, d).expect(id);
+            let q = d * exit.t;
+            assert!(cap.contains(cap.c));
+            assert!(
+                ((q - cap.foot(q)).length() - cap.r).abs() <= 1e-12 * size,
+                "{id}: exit"
+            );
+            assert!(exit.normal.dot(d) > 0.0, "{id}: exit normal");
+            checked += 1;
+        }
+        assert_eq!(checked, 2);
     }
 }

@@ -23,7 +23,7 @@ use crate::scene::underlay::grey;
 use crate::scene::{GlyphGeometry, Scene};
 use crate::twin::common::{shade, to_unorm8};
 use bvh::{Aabb, Bvh};
-use intersect::{Cylinder, RayHit};
+use intersect::{Capsule, Cylinder, RayHit};
 
 /// One image row: colour, ids, aux, and the geometry deferred shading needs.
 type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>, Vec<Option<Surface>>);
@@ -51,6 +51,7 @@ struct Prepared {
 enum Shape {
     Ellipsoid { centre: DVec3, t_inv: DMat3 },
     Cylinder(Cylinder),
+    Capsule(Capsule),
 }
 
 impl Shape {
@@ -58,6 +59,7 @@ impl Shape {
         match self {
             Shape::Ellipsoid { centre, .. } => *centre,
             Shape::Cylinder(c) => c.c,
+            Shape::Capsule(c) => c.c,
         }
     }
 
@@ -70,6 +72,7 @@ impl Shape {
                 })
             }
             Shape::Cylinder(c) => c.intersect(o, d),
+            Shape::Capsule(c) => c.intersect(o, d),
         }
     }
 }
@@ -123,6 +126,16 @@ impl<'a> ReferenceScene<'a> {
                             radii: geo.radii,
                         };
                         (Shape::Cylinder(c), c.half_extents(), c.contains(eye))
+                    }
+                    GlyphKind::Capsule => {
+                        let (h, r) = crate::scene::capsule_of(geo.radii);
+                        let c = Capsule {
+                            c: geo.centre,
+                            axis: geo.frame.x_axis.normalize(),
+                            h,
+                            r,
+                        };
+                        (Shape::Capsule(c), c.half_extents(), c.contains(eye))
                     }
                 };
                 let drawable = drawable_radii(g.radii);

@@ -1,14 +1,19 @@
 //! The triangle-mesh baselines other tools use: `mesh:N` draws one shared unit mesh per scene,
 //! instanced once per glyph (an icosphere subdivided N times for ellipsoids, a prism with 6·2^N
-//! sides and flat caps for cylinders) and `box` the glyph's oriented box, flat shaded. The
-//! vertex shader (shaders/mesh.wgsl) maps a unit-mesh point p to c + O diag(r) p and its normal
-//! n to O diag(1/r) n (the inverse transpose); the fragment shader shades the renormalised,
-//! interpolated normal with the shared `shade()`. Depth is the rasterised depth of the mesh.
+//! sides and flat caps for cylinders, two hemispheres joined by a tube for capsules) and `box`
+//! the glyph's oriented box, flat shaded. The vertex shader (shaders/mesh.wgsl) maps a unit-mesh
+//! point p to c + O diag(r) p and its normal n to O diag(1/r) n (the inverse transpose); the
+//! fragment shader shades the renormalised, interpolated normal with the shared `shade()`. Depth
+//! is the rasterised depth of the mesh.
 //!
 //! Unit meshes live in the glyph's parameter space: the unit sphere for ellipsoids; for
 //! cylinders the axis is x with |x| <= 1 and the cross-section the unit circle in (y, z); the box
-//! is [−1, 1]³ (for a cylinder it encloses it). Vertices lie on the surface (inscribed meshes).
-//! Every triangle winds counter-clockwise seen from outside, so back faces can be culled.
+//! is [−1, 1]³ (for a cylinder it encloses it). A capsule's proportions differ per glyph, so its
+//! unit mesh is the capsule of segment half-length 1 and radius 1, each point the end (x = ±1)
+//! plus the unit normal: the shader places it at c + O (h sign(p.x) x + R n) with the glyph's
+//! `capsule_of` (h, R), and draws the box scaled to (h + R, R, R). Vertices lie on the surface
+//! (inscribed meshes). Every triangle winds counter-clockwise seen from outside, so back faces
+//! can be culled.
 
 use std::collections::HashMap;
 
@@ -188,6 +193,67 @@ pub fn prism(level: u8) -> Mesh {
     mesh
 }
 
+/// Latitude steps per hemisphere of the `mesh:N` capsule: as close to the longitude step (a
+/// quarter of the sides) as whole steps allow.
+pub fn capsule_rings(level: u8) -> u32 {
+    prism_sides(level).div_ceil(4)
+}
+
+/// The unit capsule (segment x ∈ [−1, 1], radius 1) with 6·2^N sides around and M =
+/// [`capsule_rings`] latitude steps per hemisphere, smooth normals throughout (the equators are
+/// shared by the hemisphere and the tube): 2MS + 2 vertices and 4MS triangles for S sides.
+pub fn capsule(level: u8) -> Mesh {
+    let s = prism_sides(level);
+    let m = capsule_rings(level);
+    let mut mesh = Mesh::default();
+    // Ring j of end `x` at polar angle θ = j π / (2M) from that end's pole.
+    let ring_point = |x: f64, j: u32, k: u32| {
+        let theta = std::f64::consts::FRAC_PI_2 * f64::from(j) / f64::from(m);
+        let a = std::f64::consts::TAU * f64::from(k % s) / f64::from(s);
+        let n = [
+            x * theta.cos(),
+            theta.sin() * a.cos(),
+            theta.sin() * a.sin(),
+        ];
+        ([x + n[0], n[1], n[2]], n)
+    };
+    let pole_a = mesh.push([-2.0, 0.0, 0.0], [-1.0, 0.0, 0.0]);
+    // Rings from the −x pole to its equator, then from the +x equator to its pole: 2M rings.
+    let mut rings: Vec<u32> = Vec::new();
+    for (x, js) in [
+        (-1.0, (1..=m).collect::<Vec<_>>()),
+        (1.0, (1..=m).rev().collect()),
+    ] {
+        for j in js {
+            rings.push(mesh.vertices.len() as u32);
+            for k in 0..s {
+                let (p, n) = ring_point(x, j, k);
+                mesh.push(p, n);
+            }
+        }
+    }
+    let pole_b = mesh.push([2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+    // Looking down −x at the −x pole the ring angle a runs clockwise.
+    let first = rings[0];
+    for k in 0..s {
+        mesh.indices
+            .extend([pole_a, first + (k + 1) % s, first + k]);
+    }
+    for pair in rings.windows(2) {
+        let (r0, r1) = (pair[0], pair[1]);
+        for k in 0..s {
+            let k1 = (k + 1) % s;
+            mesh.indices
+                .extend([r0 + k, r0 + k1, r1 + k1, r0 + k, r1 + k1, r1 + k]);
+        }
+    }
+    let last = *rings.last().unwrap();
+    for k in 0..s {
+        mesh.indices.extend([pole_b, last + k, last + (k + 1) % s]);
+    }
+    mesh
+}
+
 /// The cube [−1, 1]³ with flat faces: 24 vertices (4 per face), 12 triangles.
 pub fn cube() -> Mesh {
     let mut mesh = Mesh::default();
@@ -216,6 +282,7 @@ pub fn unit_mesh(method: Method, glyph: GlyphKind) -> Option<Mesh> {
     match (method, glyph) {
         (Method::Mesh(n), GlyphKind::Ellipsoid) => Some(icosphere(n)),
         (Method::Mesh(n), GlyphKind::Cylinder) => Some(prism(n)),
+        (Method::Mesh(n), GlyphKind::Capsule) => Some(capsule(n)),
         (Method::Box, _) => Some(cube()),
         _ => None,
     }
@@ -233,6 +300,10 @@ pub fn mesh_stats(method: Method, glyph: GlyphKind) -> (usize, usize) {
         (Method::Mesh(n), GlyphKind::Cylinder) => {
             let s = prism_sides(n) as usize;
             (4 * s + 2, 4 * s)
+        }
+        (Method::Mesh(n), GlyphKind::Capsule) => {
+            let (s, m) = (prism_sides(n) as usize, capsule_rings(n) as usize);
+            (2 * m * s + 2, 4 * m * s)
         }
         (Method::Box, _) => (24, 12),
         (Method::Gumhold | Method::Sigg, _) => (4, 2),
@@ -296,10 +367,16 @@ impl MeshRenderer {
             attributes: &VERTEX_ATTRIBUTES,
         })];
         let cylinder = f64::from(u8::from(glyph == GlyphKind::Cylinder));
+        // mesh.wgsl's MESH_CAPSULE: 1 for the unit capsule, 2 for the capsule's box.
+        let capsule = match (glyph, method) {
+            (GlyphKind::Capsule, Method::Box) => 2.0,
+            (GlyphKind::Capsule, _) => 1.0,
+            _ => 0.0,
+        };
         let input = PipelineInput {
             buffers: &buffers,
             cull_mode: MESH_CULL_MODE,
-            constants: &[("MESH_CYLINDER", cylinder)],
+            constants: &[("MESH_CYLINDER", cylinder), ("MESH_CAPSULE", capsule)],
             ..Default::default()
         };
         let label = format!("{method} {glyph}");
@@ -405,7 +482,11 @@ mod tests {
 
     #[test]
     fn unit_meshes_are_closed_outward_and_match_their_stats() {
-        for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        for glyph in [
+            GlyphKind::Ellipsoid,
+            GlyphKind::Cylinder,
+            GlyphKind::Capsule,
+        ] {
             let mut methods: Vec<Method> = (0..=Method::MAX_MESH_LEVEL).map(Method::Mesh).collect();
             methods.push(Method::Box);
             for method in methods {
@@ -426,6 +507,7 @@ mod tests {
             (40962, 81920)
         );
         assert_eq!(mesh_stats(Method::Mesh(0), GlyphKind::Cylinder), (26, 24));
+        assert_eq!(mesh_stats(Method::Mesh(0), GlyphKind::Capsule), (26, 48));
         assert!(unit_mesh(Method::Gumhold, GlyphKind::Ellipsoid).is_none());
     }
 
@@ -441,6 +523,20 @@ mod tests {
             let on_side = (x.abs() - 1.0).abs() < 1e-6 && ((y * y + z * z) - 1.0).abs() < 1e-6;
             let on_cap = (x.abs() - 1.0).abs() < 1e-6 && y * y + z * z <= 1.0 + 1e-6;
             assert!(on_side || on_cap, "{v:?}");
+        }
+        for level in 0..=2 {
+            for v in capsule(level).vertices {
+                // The end plus the unit normal, on the outer side of its end.
+                let p = v.position.map(f64::from);
+                let n = v.normal.map(f64::from);
+                let end = p[0].signum();
+                assert!((dot(n, n) - 1.0).abs() < 1e-6, "{v:?}");
+                assert!(
+                    (p[0] - end - n[0]).abs() < 1e-6 && p[1] == n[1] && p[2] == n[2],
+                    "{v:?}"
+                );
+                assert!(n[0] * end >= -1e-7, "{v:?}");
+            }
         }
         for v in cube().vertices {
             assert!(v.position.iter().all(|x| x.abs() == 1.0));

@@ -1,5 +1,6 @@
 //! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
-//! parts it needs (`cylinder_slab.wgsl` for cylinders, `sigg.wgsl` for Sigg's method), its own
+//! parts it needs (`cylinder_slab.wgsl` for cylinders, `capsule.wgsl` for capsules, `sigg.wgsl`
+//! for Sigg's method), its own
 //! file and `outputs.wgsl` (the shared fragment entry points); `tests::all_shaders_validate`
 //! runs naga's validator over each composition.
 //!
@@ -18,6 +19,9 @@ const CYLINDER_SLAB: &str = include_str!("../../shaders/cylinder_slab.wgsl");
 const SIGG: &str = include_str!("../../shaders/sigg.wgsl");
 const SIGG_ELLIPSOID: &str = include_str!("../../shaders/sigg_ellipsoid.wgsl");
 const SIGG_CYLINDER: &str = include_str!("../../shaders/sigg_cylinder.wgsl");
+const CAPSULE: &str = include_str!("../../shaders/capsule.wgsl");
+const GUMHOLD_CAPSULE: &str = include_str!("../../shaders/gumhold_capsule.wgsl");
+const SIGG_CAPSULE: &str = include_str!("../../shaders/sigg_capsule.wgsl");
 const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
 const SPLAT64: &str = include_str!("../../shaders/splat64.wgsl");
 
@@ -28,16 +32,20 @@ pub enum ShaderSource {
     GumholdCylinder,
     SiggEllipsoid,
     SiggCylinder,
+    GumholdCapsule,
+    SiggCapsule,
     /// The triangle-mesh baselines (`mesh:N`, `box`), every glyph shape.
     Mesh,
 }
 
 impl ShaderSource {
-    pub const ALL: [ShaderSource; 5] = [
+    pub const ALL: [ShaderSource; 7] = [
         ShaderSource::GumholdEllipsoid,
         ShaderSource::GumholdCylinder,
         ShaderSource::SiggEllipsoid,
         ShaderSource::SiggCylinder,
+        ShaderSource::GumholdCapsule,
+        ShaderSource::SiggCapsule,
         ShaderSource::Mesh,
     ];
 
@@ -47,6 +55,8 @@ impl ShaderSource {
             ShaderSource::GumholdCylinder => "gumhold_cylinder.wgsl",
             ShaderSource::SiggEllipsoid => "sigg_ellipsoid.wgsl",
             ShaderSource::SiggCylinder => "sigg_cylinder.wgsl",
+            ShaderSource::GumholdCapsule => "gumhold_capsule.wgsl",
+            ShaderSource::SiggCapsule => "sigg_capsule.wgsl",
             ShaderSource::Mesh => "mesh.wgsl",
         }
     }
@@ -55,7 +65,9 @@ impl ShaderSource {
     pub fn has_proxy_constants(self) -> bool {
         matches!(
             self,
-            ShaderSource::GumholdEllipsoid | ShaderSource::GumholdCylinder
+            ShaderSource::GumholdEllipsoid
+                | ShaderSource::GumholdCylinder
+                | ShaderSource::GumholdCapsule
         )
     }
 
@@ -77,7 +89,9 @@ impl ShaderSource {
             ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER],
             ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
             ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
-            ShaderSource::Mesh => &[MESH],
+            ShaderSource::GumholdCapsule => &[CAPSULE, GUMHOLD_CAPSULE],
+            ShaderSource::SiggCapsule => &[CAPSULE, SIGG, SIGG_CAPSULE],
+            ShaderSource::Mesh => &[CAPSULE, MESH],
         };
         let body = parts.join("\n");
         format!("{COMMON}\n{body}\n{OUTPUTS}")

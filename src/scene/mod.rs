@@ -102,9 +102,33 @@ impl GlyphGeometry {
         a.abs() + DVec3::new(u.x.hypot(v.x), u.y.hypot(v.y), u.z.hypot(v.z))
     }
 
+    /// Half-extents of a box holding the glyph drawn as `glyph`: [`Self::glyph_half_extents`]
+    /// for ellipsoids and cylinders, the box of the segment swept by the ball for capsules
+    /// (which may reach beyond the cylinder's: its radius is the cross-section's mean).
+    pub fn half_extents_as(&self, glyph: GlyphKind) -> DVec3 {
+        match glyph {
+            GlyphKind::Ellipsoid | GlyphKind::Cylinder => self.glyph_half_extents(),
+            GlyphKind::Capsule => {
+                let (h, r) = capsule_of(self.radii);
+                (self.frame.x_axis * h).abs() + r
+            }
+        }
+    }
+
     pub fn max_radius(&self) -> f64 {
         self.radii.max_element()
     }
+}
+
+/// The capsule drawn for an instance's radii `r` (axis along the frame's first column, as the
+/// cylinder's; cylinder-capsule.md §4, §6): `(h, R)` with the ball's radius R = (r2 + r3)/2, the
+/// circular cross-section between the cylinder's semi-axes, and the straight segment's half-length
+/// h = max(r1 − R, 0). The capsule reaches r1 along its axis when r1 ≥ R, so an isotropic tensor
+/// (r1 = r2 = r3) is a sphere of that radius; when R > r1 (planar tensors, whose cylinder axis is
+/// e3) it is the sphere of radius R. Mirrored by `capsule_of` in shaders/capsule.wgsl.
+pub fn capsule_of(r: DVec3) -> (f64, f64) {
+    let radius = 0.5 * (r.y + r.z);
+    ((r.x - radius).max(0.0), radius)
 }
 
 /// The same formula as `quat_to_mat3` in common.wgsl.
@@ -165,11 +189,21 @@ impl Scene {
     /// Wrap ready instances; computes the bounding sphere (holding the glyphs as ellipsoids or
     /// as cylinders, so framing and the far plane never cut a glyph).
     pub fn from_instances(origin: DVec3, instances: Vec<GlyphInstance>) -> Self {
+        Self::from_instances_as(origin, instances, GlyphKind::Cylinder)
+    }
+
+    /// [`Self::from_instances`] with bounds holding the glyphs drawn as `glyph`
+    /// ([`GlyphGeometry::half_extents_as`]).
+    pub fn from_instances_as(
+        origin: DVec3,
+        instances: Vec<GlyphInstance>,
+        glyph: GlyphKind,
+    ) -> Self {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for g in &instances {
             let geo = GlyphGeometry::of(g);
-            let h = geo.glyph_half_extents();
+            let h = geo.half_extents_as(glyph);
             lo = lo.min(geo.centre - h);
             hi = hi.max(geo.centre + h);
         }
@@ -227,7 +261,7 @@ impl Scene {
             })
             .collect();
         progress.advance((n % PROGRESS_STEP) as u64);
-        Self::from_instances(origin, instances)
+        Self::from_instances_as(origin, instances, glyph)
     }
 
     /// The bounding box (centre, half extents) that [`Self::build`] would give the scene of
@@ -250,7 +284,7 @@ impl Scene {
             .enumerate()
             .fold(empty, |(lo, hi), (k, g)| {
                 let geo = GlyphGeometry::of(&instance(g, k, origin, style, glyph));
-                let h = geo.glyph_half_extents();
+                let h = geo.half_extents_as(glyph);
                 (lo.min(geo.centre - h), hi.max(geo.centre + h))
             })
             .reduce(empty, |a, b| (a.0.min(b.0), a.1.max(b.1)));
@@ -323,7 +357,7 @@ fn instance(
     let c = DVec3::from(g.centre) - origin;
     let (rotation, radii) = match glyph {
         GlyphKind::Ellipsoid => (g.rotation, style.radii(g)),
-        GlyphKind::Cylinder => cylinder_frame(g.rotation, style.radii(g)),
+        GlyphKind::Cylinder | GlyphKind::Capsule => cylinder_frame(g.rotation, style.radii(g)),
     };
     GlyphInstance {
         centre: [c.x as f32, c.y as f32, c.z as f32],
@@ -449,12 +483,58 @@ mod tests {
     use crate::staging::field_spacing;
     use std::sync::atomic::{AtomicU64, Ordering};
 
+    /// The capsule reaches the cylinder's half-length along the axis, with the cross-section's
+    /// mean as radius: isotropic radii give the sphere, planar ones (R > r1) the ball of R.
+    #[test]
+    fn capsule_of_gives_spheres_for_isotropic_radii() {
+        assert_eq!(capsule_of(DVec3::splat(0.8)), (0.0, 0.8));
+        let (h, r) = capsule_of(DVec3::new(1.0, 0.35, 0.25));
+        assert!((r - 0.3).abs() < 1e-15 && (h + r - 1.0).abs() < 1e-15);
+        assert_eq!(capsule_of(DVec3::new(0.1, 1.0, 0.6)), (0.0, 0.8));
+        // The box holds every point of the capsule and is reached on each face.
+        let geo = GlyphGeometry {
+            centre: DVec3::new(1.0, 2.0, 3.0),
+            frame: DMat3::from_quat(DQuat::from_axis_angle(
+                DVec3::new(0.3, 0.5, 0.8).normalize(),
+                0.9,
+            )),
+            radii: DVec3::new(1.0, 0.35, 0.25),
+        };
+        let half = geo.half_extents_as(GlyphKind::Capsule);
+        let mut reach = DVec3::ZERO;
+        for i in 0..=20 {
+            let along = geo.frame.x_axis * (h * (f64::from(i) / 10.0 - 1.0));
+            for j in 0..2000 {
+                let (a, b) = (f64::from(j) * 2.399963, 1.0 - f64::from(j) / 999.5);
+                let dir = DVec3::new(
+                    b,
+                    (1.0 - b * b).max(0.0).sqrt() * a.cos(),
+                    (1.0 - b * b).max(0.0).sqrt() * a.sin(),
+                );
+                let p = along + dir * r;
+                assert!(
+                    (p.abs() - half).max_element() <= 1e-12,
+                    "{p} outside {half}"
+                );
+                reach = reach.max(p.abs());
+            }
+        }
+        assert!(
+            (half - reach).max_element() <= 2e-3 * r,
+            "{reach} vs {half}"
+        );
+    }
+
     #[test]
     fn bounding_box_is_the_built_scenes() {
         let field = crate::field::synthetic::grid(7);
         let set = derive_glyphs(&field, &crate::progress::Silent);
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
-        for glyph in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        for glyph in [
+            GlyphKind::Ellipsoid,
+            GlyphKind::Cylinder,
+            GlyphKind::Capsule,
+        ] {
             let scene = Scene::build(&set, &style, glyph);
             let (c, half) = Scene::bounding_box(&set, &style, glyph);
             assert!((half - scene.half).length() <= 1e-9 * scene.radius);

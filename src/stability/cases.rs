@@ -19,7 +19,8 @@ pub struct Probe {
     pub scene: Scene,
     pub camera: Camera,
     pub depth_correction: bool,
-    /// Cylinders add nothing to this case (e.g. it is about ellipsoid parameter space).
+    /// Cylinders and capsules add nothing to this case (e.g. it is about ellipsoid parameter
+    /// space).
     pub ellipsoid_only: bool,
 }
 

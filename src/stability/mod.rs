@@ -135,7 +135,11 @@ impl Default for Options {
     fn default() -> Self {
         Self {
             methods: Method::gpu_methods(),
-            glyphs: vec![GlyphKind::Ellipsoid, GlyphKind::Cylinder],
+            glyphs: vec![
+                GlyphKind::Ellipsoid,
+                GlyphKind::Cylinder,
+                GlyphKind::Capsule,
+            ],
             quick: false,
         }
     }

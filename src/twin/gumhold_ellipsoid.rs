@@ -324,8 +324,8 @@ pub fn tile_invocations(tris: &[[DVec2; 3]], width: u32, height: u32, block: u32
 
 /// The proxy Gumhold's vertex stage draws for instance `i` (the fragments it shades, since
 /// writing depth disables early rejection). Ellipsoids use their own quad, cylinders the quad
-/// of their bounding ellipsoid (√3 along the axis, √(3/2) across) or the whole viewport when
-/// the eye is inside that ellipsoid.
+/// of their bounding ellipsoid (√3 along the axis, √(3/2) across), capsules that of their
+/// circumscribed cylinder's, or the whole viewport when the eye is inside that ellipsoid.
 pub fn proxy_shape(
     scene: &crate::scene::Scene,
     camera: &crate::camera::Camera,
@@ -348,6 +348,15 @@ pub fn proxy_shape(
             }
             geo.radii * DVec3::new(3f64.sqrt(), 1.5f64.sqrt(), 1.5f64.sqrt())
         }
+        GlyphKind::Capsule => {
+            use crate::twin::capsule;
+            let (h, r) = capsule::capsule_of(geo.radii);
+            let local = (geo.frame.transpose() * (eye - geo.centre)) / r;
+            if !camera.is_ortho() && capsule::contains(local, h) {
+                return ProxyShape::None;
+            }
+            capsule::bound(h) * r
+        }
     };
     // The ellipsoid shader works with the symmetric T; the cylinder shader in the glyph's local
     // frame (A = O diag(r), so its quad is a different, equally valid square).
@@ -356,7 +365,7 @@ pub fn proxy_shape(
             geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose(),
             geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
         ),
-        GlyphKind::Cylinder => (
+        GlyphKind::Cylinder | GlyphKind::Capsule => (
             geo.frame * DMat3::from_diagonal(radii),
             DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
         ),
@@ -367,7 +376,7 @@ pub fn proxy_shape(
         match setup_perspective(&t_inv, geo.centre, eye) {
             Some(s) => s,
             // Ellipsoid: culled. Cylinder: the near-plane proxy covers the viewport.
-            None if glyph == GlyphKind::Cylinder => return ProxyShape::Viewport,
+            None if glyph != GlyphKind::Ellipsoid => return ProxyShape::Viewport,
             None => return ProxyShape::None,
         }
     };

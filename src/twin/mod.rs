@@ -3,6 +3,7 @@
 //! `shared/math/test-vectors.json` without a GPU, and so the reference and the tests can
 //! predict what a shader does (its proxies, its fragment counts, its shading).
 
+pub mod capsule;
 pub mod common;
 pub mod gumhold_ellipsoid;
 pub mod sigg;

@@ -224,7 +224,7 @@ impl Proxy {
     }
 }
 
-/// The vertex stage of sigg_ellipsoid.wgsl / sigg_cylinder.wgsl for one glyph (`eye` and
+/// The vertex stage of sigg_ellipsoid.wgsl / sigg_cylinder.wgsl / sigg_capsule.wgsl for one glyph (`eye` and
 /// `view_proj` relative to the scene origin, like the glyph's centre).
 pub fn glyph_proxy(
     view_proj: &DMat4,
@@ -270,6 +270,32 @@ pub fn glyph_proxy(
                 Some(b) => Proxy::Box(b),
                 None if behind(&caps[0]) && behind(&caps[1]) => Proxy::Culled,
                 None => Proxy::Viewport,
+            }
+        }
+        GlyphKind::Capsule => {
+            // sigg_capsule.wgsl: the two end balls' boxes, in capsule space for the eye.
+            let (h, r) = crate::twin::capsule::capsule_of(geo.radii);
+            let e_c = (geo.frame.transpose() * (eye - geo.centre)) / r;
+            if !ortho && crate::twin::capsule::contains(e_c, h) {
+                return Proxy::Culled;
+            }
+            let (x, y, z) = (
+                geo.frame.x_axis * r,
+                geo.frame.y_axis * r,
+                geo.frame.z_axis * r,
+            );
+            let balls = [
+                quadric_box(view_proj, x, y, z, geo.centre - x * h),
+                quadric_box(view_proj, x, y, z, geo.centre + x * h),
+            ];
+            if (0..6).any(|k| balls[0].reach[k].max(balls[1].reach[k]) < 0.0) {
+                return Proxy::Culled;
+            }
+            let behind = |q: &QuadricBox| q.r4dr4 < 0.0 && q.w_centre <= 0.0;
+            match (balls[0].bbox, balls[1].bbox) {
+                (Some(a), Some(b)) => Proxy::Box(a.union(b)),
+                _ if behind(&balls[0]) && behind(&balls[1]) => Proxy::Culled,
+                _ => Proxy::Viewport,
             }
         }
     }
@@ -396,7 +422,11 @@ mod tests {
             radii: DVec3::splat(0.5),
         };
         let proxy = |c: DVec3, kind| glyph_proxy(&vp, &sphere(c), DVec3::ZERO, false, kind);
-        for kind in [GlyphKind::Ellipsoid, GlyphKind::Cylinder] {
+        for kind in [
+            GlyphKind::Ellipsoid,
+            GlyphKind::Cylinder,
+            GlyphKind::Capsule,
+        ] {
             // In front: a box around the projected centre.
             let Proxy::Box(b) = proxy(DVec3::new(0.0, 0.0, -5.0), kind) else {
                 panic!("{kind}: no box in front");

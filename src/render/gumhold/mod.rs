@@ -2,7 +2,8 @@
 //! (quad), 8-vertex (octagon) or 3-vertex (triangle) strip per glyph instance, with no vertex
 //! buffer. Ellipsoids use the glyph's own silhouette quad (optionally moved to its nearest plane:
 //! conservative depth, and optionally built once per glyph by the compute prepass, with splats:
-//! [`prepass`]); cylinders the quad of their bounding ellipsoid. The f64 twin of the shader is
+//! [`prepass`]); cylinders the quad of their bounding ellipsoid, capsules that of their
+//! circumscribed cylinder. The f64 twin of the shader is
 //! [`crate::twin::gumhold_ellipsoid`].
 
 pub mod prepass;
@@ -40,6 +41,10 @@ impl GumholdRenderer {
                 strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdCylinder, None),
                 prepass: None,
             },
+            GlyphKind::Capsule => Self {
+                strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdCapsule, None),
+                prepass: None,
+            },
         }
     }
 
@@ -74,7 +79,7 @@ impl Drawer for GumholdRenderer {
         proxy: Proxy,
         instances: Range<u32>,
     ) {
-        // The request's configuration gives cylinders no conservative proxy.
+        // The request's configuration gives cylinders and capsules no conservative proxy.
         self.strips.draw(pass, variant, proxy, instances);
     }
 

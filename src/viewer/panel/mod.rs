@@ -210,6 +210,7 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
         ui.label("glyph");
         ui.selectable_value(&mut settings.glyph, GlyphKind::Ellipsoid, "ellipsoid");
         ui.selectable_value(&mut settings.glyph, GlyphKind::Cylinder, "cylinder");
+        ui.selectable_value(&mut settings.glyph, GlyphKind::Capsule, "capsule");
     });
     ui.checkbox(&mut settings.depth_correction, "depth correction");
     // The presets of `render --preset` and the bench's paths; the controls below fine-tune.
