@@ -16,8 +16,8 @@ struct Effects {
     lighting: vec4<f32>,
     // rgb: outline colour; a: strength.
     outline: vec4<f32>,
-    // x: NORMAL_EDGE, y: DEPTH_EDGE (src/effects/outline.rs), z: the normal offset of shadow
-    // lookups (view units), w: the depth bias (shadow map depth units).
+    // x: NORMAL_EDGE, y: DEPTH_EDGE (src/effects/outline.rs), z: unused, w: the depth bias of
+    // shadow lookups (shadow map depth units).
     edges: vec4<f32>,
     // x, y: image size in pixels.
     viewport: vec4<f32>,
@@ -36,6 +36,8 @@ const FLAG_SHADOWS: u32 = 8u;
 @group(0) @binding(3) var aux: texture_2d<f32>;
 @group(0) @binding(4) var depth: texture_depth_2d;
 @group(0) @binding(5) var shadow_map: texture_depth_2d;
+// The glyph (instance + 1) nearest the light in each texel.
+@group(0) @binding(6) var shadow_ids: texture_2d<u32>;
 
 @vertex
 fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -94,19 +96,22 @@ fn is_outline(px: vec2<i32>, id: u32, distance: f32) -> bool {
     return g_n > fx.edges.x || g_d > fx.edges.y;
 }
 
-// 1 where the shadow map sees the point (offset along its normal), else 0.
-fn tap(texel: vec2<i32>, offset: vec2<i32>, z: f32) -> f32 {
+// 1 where the shadow map sees the point (offset along its normal), or sees the point's own
+// glyph there: a convex glyph shadows itself only where it faces away from the light, which the
+// caller decides exactly, so its own texels never shadow it (no acne at any slope).
+fn tap(texel: vec2<i32>, offset: vec2<i32>, z: f32, own: u32) -> f32 {
     let size = i32(fx.params.y);
     let q = clamp(texel + offset, vec2<i32>(0), vec2<i32>(size - 1));
-    return select(0.0, 1.0, z <= textureLoad(shadow_map, q, 0));
+    let lit = z <= textureLoad(shadow_map, q, 0) || textureLoad(shadow_ids, q, 0).r == own;
+    return select(0.0, 1.0, lit);
 }
 
 // How lit the key light leaves a point: percentage-closer filtering over (2r+1)² texels placed
 // at the point's exact position in the map (the kernel's edge texels weighted by their
 // overlap, bilinearly), or, with the adaptive test, over the kernel's corners and centre where
 // those agree.
-fn lit_fraction(p_view: vec3<f32>, n_view: vec3<f32>, nk: f32) -> f32 {
-    let q = fx.view_to_light * vec4<f32>(p_view + n_view * fx.edges.z, 1.0);
+fn lit_fraction(p_view: vec3<f32>, nk: f32, own: u32) -> f32 {
+    let q = fx.view_to_light * vec4<f32>(p_view, 1.0);
     let c = q.xyz / q.w;
     let uv = vec2<f32>(c.x * 0.5 + 0.5, 0.5 - c.y * 0.5);
     if any(uv < vec2<f32>(0.0)) || any(uv >= vec2<f32>(1.0)) || c.z > 1.0 {
@@ -121,9 +126,9 @@ fn lit_fraction(p_view: vec3<f32>, n_view: vec3<f32>, nk: f32) -> f32 {
     let tan_theta = min(sqrt(max(1.0 - nk * nk, 0.0)) / max(nk, 1e-6), 8.0);
     let z = c.z - fx.edges.w * (1.0 + f32(r + 1) * tan_theta);
     if has(FLAG_ADAPTIVE) {
-        let probe = tap(texel, vec2<i32>(-r, -r), z) + tap(texel, vec2<i32>(r + 1, -r), z)
-            + tap(texel, vec2<i32>(-r, r + 1), z) + tap(texel, vec2<i32>(r + 1, r + 1), z)
-            + tap(texel, vec2<i32>(0, 0), z);
+        let probe = tap(texel, vec2<i32>(-r, -r), z, own) + tap(texel, vec2<i32>(r + 1, -r), z, own)
+            + tap(texel, vec2<i32>(-r, r + 1), z, own) + tap(texel, vec2<i32>(r + 1, r + 1), z, own)
+            + tap(texel, vec2<i32>(0, 0), z, own);
         if probe == 0.0 || probe == 5.0 {
             return probe / 5.0;
         }
@@ -133,7 +138,7 @@ fn lit_fraction(p_view: vec3<f32>, n_view: vec3<f32>, nk: f32) -> f32 {
         let wy = select(select(1.0, t.y, j == r + 1), 1.0 - t.y, j == -r);
         for (var i = -r; i <= r + 1; i++) {
             let wx = select(select(1.0, t.x, i == r + 1), 1.0 - t.x, i == -r);
-            sum += wx * wy * tap(texel, vec2<i32>(i, j), z);
+            sum += wx * wy * tap(texel, vec2<i32>(i, j), z, own);
         }
     }
     let side = f32(2 * r + 1);
@@ -166,7 +171,7 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> Out {
     if has(FLAG_SHADOWS) {
         let nk = max(dot(n, fx.key.xyz), 0.0);
         // A surface facing away from the light is in its own (attached) shadow.
-        lit = select(0.0, lit_fraction(p, n, nk), nk > 0.0);
+        lit = select(0.0, lit_fraction(p, nk, id), nk > 0.0);
         diffuse = (1.0 - fx.key.w) * nl + fx.key.w * lit * nk;
     }
     let spec = pow(nl, fx.lighting.w);
