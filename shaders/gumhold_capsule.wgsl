@@ -1,125 +1,28 @@
-// Capsule glyphs (the segment of half-length h along the frame's first column swept by a ball of
-// radius R, capsule_of in capsule.wgsl), ray cast on Gumhold's quad of the minimal bounding
-// ellipsoid of the circumscribed cylinder, half-length h + R and radius R (cylinder-capsule.md
-// §5): √3 (h + R) along the axis, √(3/2) R across. The ray starts at the quad point V, next to
-// the glyph: p = V + t v with v = V − e, in front of the eye for t > −1. When the eye is inside
-// the bounding ellipsoid but outside the capsule, the proxy becomes the whole near plane, as for
-// cylinders. Composed as common.wgsl + capsule.wgsl + this + outputs.wgsl.
+// Capsule glyphs on Gumhold's quad (gumhold_solid.wgsl): the segment of half-length h along the
+// frame's first column swept by a ball of radius R (capsule_of in capsule.wgsl); parameter space
+// is the local frame scaled by R, bounded by the minimal ellipsoid of the circumscribed cylinder
+// of half-length h + R and radius R (cylinder-capsule.md §5): √3 (h + R) along the axis,
+// √(3/2) R across. Composed as common.wgsl + capsule.wgsl + this + gumhold_solid.wgsl +
+// outputs.wgsl.
 
-struct VsOut {
-    @builtin(position) position: vec4<f32>,
-    // The proxy point V in capsule space.
-    @location(0) o_t: vec3<f32>,
-    // The ray through V in capsule space: Oᵀ (V − e) / R (perspective) or Oᵀ d / R (orthographic).
-    @location(1) v_t: vec3<f32>,
-    // V in view space.
-    @location(2) v_view: vec3<f32>,
-    @location(3) @interpolate(flat) id: u32,
-    @location(4) @interpolate(flat) color: u32,
-    // Columns of R_view O: view normal = N n~.
-    @location(5) @interpolate(flat) n0: vec3<f32>,
-    @location(6) @interpolate(flat) n1: vec3<f32>,
-    @location(7) @interpolate(flat) n2: vec3<f32>,
-    // Row 2 of R_view O R: the hit's view z relative to the centre is tz · p~.
-    @location(8) @interpolate(flat) tz: vec3<f32>,
+struct Solid {
+    scale: vec3<f32>,
+    bound: vec3<f32>,
     // The segment's half-length in units of R.
-    @location(9) @interpolate(flat) h: f32,
+    shape: f32,
 }
 
-@vertex
-fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
-    var out: VsOut;
-    let g = load_glyph(ii);
-    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
-        out.position = CULLED_POSITION;
-        return out;
-    }
-    let o = quat_to_mat3(g.rotation);
-    let ot = transpose(o);
-    let cap = capsule_of(g.radii);
+fn solid_of(radii: vec3<f32>) -> Solid {
+    let cap = capsule_of(radii);
     let h = cap.x;
-    let radius = cap.y;
-    // The bounding ellipsoid's semi-axes in units of R.
-    let bound = vec3<f32>(1.7320508 * (h + 1.0), 1.2247449, 1.2247449);
-    let s = proxy_corner(vi);
-    let e_c = (ot * (camera.eye.xyz - g.centre)) / radius;
-
-    var v: vec3<f32>;
-    var near = false;
-    if is_ortho() {
-        // Gumhold's orthographic quad of the bounding ellipsoid (m~ = 0, r~ = 1).
-        let d_b = (ot * camera.forward.xyz) / bound;
-        let z_hat = normalize(d_b);
-        let xy = orthonormal_pair(z_hat);
-        v = g.centre + o * ((s.x * xy[0] + s.y * xy[1]) * bound * radius);
-    } else {
-        if capsule_contains(e_c, h) {
-            // Eye inside the glyph: not drawn (as for ellipsoids; the reference agrees).
-            out.position = vec4<f32>(0.0, 0.0, -2.0, 1.0);
-            return out;
-        }
-        let e_b = e_c / bound;
-        let e2 = dot(e_b, e_b);
-        if e2 > EYE_INSIDE_E2 {
-            let e = sqrt(e2);
-            let z_hat = -e_b / e;
-            let xy = orthonormal_pair(z_hat);
-            let vt = e_b / e2 + sqrt((e2 - 1.0) / e2) * (s.x * xy[0] + s.y * xy[1]);
-            v = g.centre + o * (vt * bound * radius);
-        } else {
-            near = true;
-            v = near_plane_point(near_plane_ndc(vi));
-        }
-    }
-    out.position = camera.view_proj * vec4<f32>(v, 1.0);
-    if near {
-        // Exactly on the near plane: a round trip through the inverse could land in front of it.
-        out.position = vec4<f32>(near_plane_ndc(vi), 0.0, 1.0);
-    }
-    out.o_t = (ot * (v - g.centre)) / radius;
-    if is_ortho() {
-        out.v_t = (ot * camera.forward.xyz) / radius;
-    } else {
-        out.v_t = (ot * (v - camera.eye.xyz)) / radius;
-    }
-    out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
-    out.id = ii + 1u;
-    out.color = g.color;
-    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
-    let n = rv * o;
-    out.n0 = n[0];
-    out.n1 = n[1];
-    out.n2 = n[2];
-    let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
-    out.tz = (ot * r2) * radius;
-    out.h = h;
-    return out;
+    return Solid(vec3<f32>(cap.y), vec3<f32>(1.7320508 * (h + 1.0), 1.2247449, 1.2247449), h);
 }
 
-fn ray_cast(in: VsOut) -> Hit {
-    let t = capsule_span(in.o_t, in.v_t, in.h).x;
-    var p_view: vec3<f32>;
-    var delta_depth: f32;
-    if is_ortho() {
-        // |v~| = 1/R: t counts view units along −z.
-        p_view = in.v_view - vec3<f32>(0.0, 0.0, t);
-        delta_depth = -camera.depth.y * t;
-    } else {
-        // t > −1 is in front of the eye; t < 0 is in front of the proxy.
-        if t <= -1.0 {
-            discard;
-        }
-        p_view = (1.0 + t) * in.v_view;
-        delta_depth = -(t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
-    }
-    let p_t = in.o_t + t * in.v_t;
-    let n_t = capsule_normal(p_t, in.h);
-    let n_view = normalize(in.n0 * n_t.x + in.n1 * n_t.y + in.n2 * n_t.z);
-    var hit: Hit;
-    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
-    hit.n_view = n_view;
-    hit.z_rel = dot(in.tz, p_t);
-    hit.z_proxy_rel = dot(in.tz, in.o_t);
-    hit.depth = in.position.z + delta_depth;
-    return hit;
+fn solid_contains(p: vec3<f32>, h: f32) -> bool {
+    return capsule_contains(p, h);
+}
+
+fn solid_entry(o: vec3<f32>, v: vec3<f32>, h: f32) -> vec4<f32> {
+    let t = capsule_span(o, v, h).x;
+    return vec4<f32>(t, capsule_normal(o + t * v, h));
 }

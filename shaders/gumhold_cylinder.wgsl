@@ -1,124 +1,30 @@
-// Capped elliptic cylinder glyphs, ray cast on Gumhold's quad of the cylinder's minimal bounding
-// ellipsoid (cylinder-capsule.md §5): the axis is the frame's first column with half-length
-// radii.x, the cross-section has semi-axes radii.y, radii.z. Parameter space here is the glyph's
-// local frame scaled by the radii: the solid is |p~x| <= 1, p~y² + p~z² <= 1.
-// When the eye is inside the bounding ellipsoid but outside the cylinder (near a cap), the proxy
-// becomes the whole near plane. Composed as common.wgsl + cylinder_slab.wgsl + this + outputs.wgsl.
+// Capped elliptic cylinder glyphs on Gumhold's quad (gumhold_solid.wgsl): the axis is the frame's
+// first column with half-length radii.x, the cross-section has semi-axes radii.y, radii.z;
+// parameter space is the local frame scaled by the radii, where the solid is |p~x| <= 1,
+// p~y² + p~z² <= 1, bounded by its minimal ellipsoid (√3 along the axis, √(3/2) across).
+// Composed as common.wgsl + cylinder_slab.wgsl + this + gumhold_solid.wgsl + outputs.wgsl.
 
-struct VsOut {
-    @builtin(position) position: vec4<f32>,
-    // The proxy point V in cylinder parameter space.
-    @location(0) o_t: vec3<f32>,
-    // The ray through V in parameter space: T⁻¹ (V − e) (perspective) or T⁻¹ d (orthographic).
-    @location(1) v_t: vec3<f32>,
-    // V in view space.
-    @location(2) v_view: vec3<f32>,
-    @location(3) @interpolate(flat) id: u32,
-    @location(4) @interpolate(flat) color: u32,
-    // Columns of N = R_view O diag(1/r): view normal = N n~.
-    @location(5) @interpolate(flat) n0: vec3<f32>,
-    @location(6) @interpolate(flat) n1: vec3<f32>,
-    @location(7) @interpolate(flat) n2: vec3<f32>,
-    // Row 2 of R_view O diag(r): the hit's view z relative to the centre is tz · p~.
-    @location(8) @interpolate(flat) tz: vec3<f32>,
+struct Solid {
+    scale: vec3<f32>,
+    bound: vec3<f32>,
+    shape: f32,
 }
 
-// Bounding ellipsoid of the unit cylinder: √3 along the axis, √(3/2) across.
-const BOUND: vec3<f32> = vec3<f32>(1.7320508, 1.2247449, 1.2247449);
-
-@vertex
-fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
-    var out: VsOut;
-    let g = load_glyph(ii);
-    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
-        out.position = CULLED_POSITION;
-        return out;
-    }
-    let o = quat_to_mat3(g.rotation);
-    let ot = transpose(o);
-    let rinv = 1.0 / g.radii;
-    let s = proxy_corner(vi);
-    // Local parameter space of the cylinder: p~ = diag(1/r) Oᵀ (p − c).
-    let e_c = (ot * (camera.eye.xyz - g.centre)) * rinv;
-
-    var v: vec3<f32>;
-    var near = false;
-    if is_ortho() {
-        // Gumhold's orthographic quad of the bounding ellipsoid (m~ = 0, r~ = 1).
-        let d_b = (ot * camera.forward.xyz) * rinv / BOUND;
-        let z_hat = normalize(d_b);
-        let xy = orthonormal_pair(z_hat);
-        v = g.centre + o * ((s.x * xy[0] + s.y * xy[1]) * BOUND * g.radii);
-    } else {
-        if abs(e_c.x) <= 1.0 && dot(e_c.yz, e_c.yz) <= 1.0 {
-            // Eye inside the glyph: not drawn (as for ellipsoids; the reference agrees).
-            out.position = vec4<f32>(0.0, 0.0, -2.0, 1.0);
-            return out;
-        }
-        let e_b = e_c / BOUND;
-        let e2 = dot(e_b, e_b);
-        if e2 > EYE_INSIDE_E2 {
-            let e = sqrt(e2);
-            let z_hat = -e_b / e;
-            let xy = orthonormal_pair(z_hat);
-            let vt = e_b / e2 + sqrt((e2 - 1.0) / e2) * (s.x * xy[0] + s.y * xy[1]);
-            v = g.centre + o * (vt * BOUND * g.radii);
-        } else {
-            near = true;
-            v = near_plane_point(near_plane_ndc(vi));
-        }
-    }
-    out.position = camera.view_proj * vec4<f32>(v, 1.0);
-    if near {
-        // Exactly on the near plane: a round trip through the inverse could land in front of it.
-        out.position = vec4<f32>(near_plane_ndc(vi), 0.0, 1.0);
-    }
-    out.o_t = (ot * (v - g.centre)) * rinv;
-    if is_ortho() {
-        out.v_t = (ot * camera.forward.xyz) * rinv;
-    } else {
-        out.v_t = (ot * (v - camera.eye.xyz)) * rinv;
-    }
-    out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
-    out.id = ii + 1u;
-    out.color = g.color;
-    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
-    let n = rv * mat3x3<f32>(o[0] * rinv.x, o[1] * rinv.y, o[2] * rinv.z);
-    out.n0 = n[0];
-    out.n1 = n[1];
-    out.n2 = n[2];
-    let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
-    out.tz = (ot * r2) * g.radii;
-    return out;
+fn solid_of(radii: vec3<f32>) -> Solid {
+    return Solid(radii, vec3<f32>(1.7320508, 1.2247449, 1.2247449), 0.0);
 }
 
-fn ray_cast(in: VsOut) -> Hit {
-    let s = slab(in.o_t, in.v_t);
-    let t = s.x;
-    var p_view: vec3<f32>;
-    var delta_depth: f32;
-    if is_ortho() {
-        p_view = in.v_view - vec3<f32>(0.0, 0.0, t);
-        delta_depth = -camera.depth.y * t;
-    } else {
-        // t > −1 is in front of the eye; t < 0 is in front of the proxy.
-        if t <= -1.0 {
-            discard;
-        }
-        p_view = (1.0 + t) * in.v_view;
-        delta_depth = -(t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
-    }
-    let p_t = in.o_t + t * in.v_t;
-    var n_t = vec3<f32>(s.y, 0.0, 0.0);
+fn solid_contains(p: vec3<f32>, shape: f32) -> bool {
+    return abs(p.x) <= 1.0 && dot(p.yz, p.yz) <= 1.0;
+}
+
+// (t, local normal) where the ray o + t v enters: a cap (axial normal) or the side.
+fn solid_entry(o: vec3<f32>, v: vec3<f32>, shape: f32) -> vec4<f32> {
+    let s = slab(o, v);
+    let p = o + s.x * v;
+    var n = vec3<f32>(s.y, 0.0, 0.0);
     if s.y == 0.0 {
-        n_t = vec3<f32>(0.0, p_t.y, p_t.z);
+        n = vec3<f32>(0.0, p.y, p.z);
     }
-    let n_view = normalize(in.n0 * n_t.x + in.n1 * n_t.y + in.n2 * n_t.z);
-    var hit: Hit;
-    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
-    hit.n_view = n_view;
-    hit.z_rel = dot(in.tz, p_t);
-    hit.z_proxy_rel = dot(in.tz, in.o_t);
-    hit.depth = in.position.z + delta_depth;
-    return hit;
+    return vec4<f32>(s.x, n);
 }

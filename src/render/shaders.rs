@@ -21,6 +21,7 @@ const SIGG_ELLIPSOID: &str = include_str!("../../shaders/sigg_ellipsoid.wgsl");
 const SIGG_CYLINDER: &str = include_str!("../../shaders/sigg_cylinder.wgsl");
 const CAPSULE: &str = include_str!("../../shaders/capsule.wgsl");
 const GUMHOLD_CAPSULE: &str = include_str!("../../shaders/gumhold_capsule.wgsl");
+const GUMHOLD_SOLID: &str = include_str!("../../shaders/gumhold_solid.wgsl");
 const SIGG_CAPSULE: &str = include_str!("../../shaders/sigg_capsule.wgsl");
 const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
 const SPLAT64: &str = include_str!("../../shaders/splat64.wgsl");
@@ -86,10 +87,10 @@ impl ShaderSource {
     pub fn text(self) -> String {
         let parts: &[&str] = match self {
             ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID, SPLAT32],
-            ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER],
+            ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER, GUMHOLD_SOLID],
             ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
             ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
-            ShaderSource::GumholdCapsule => &[CAPSULE, GUMHOLD_CAPSULE],
+            ShaderSource::GumholdCapsule => &[CAPSULE, GUMHOLD_CAPSULE, GUMHOLD_SOLID],
             ShaderSource::SiggCapsule => &[CAPSULE, SIGG, SIGG_CAPSULE],
             ShaderSource::Mesh => &[CAPSULE, MESH],
         };
