@@ -8,7 +8,7 @@ mod common;
 use common::scenes::{self, framed};
 use common::{assert_tight, aux_request, check_request, spec};
 use glam::DVec3;
-use tensorglyph::camera::{Camera, Framing, ViewPreset};
+use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::metrics::Accuracy;
 use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::Scene;
@@ -294,27 +294,11 @@ fn eye_inside_a_grid_of_capsules() {
 }
 
 #[test]
-fn capsules_side_on_end_on_and_oblique() {
-    let scene = scenes::cylinders();
-    for (name, framing) in scenes::cylinder_framings() {
-        let cam = framed(&scene, framing);
-        tight(name, &scene, &cam, GlyphKind::Capsule);
-    }
-}
-
-#[test]
-fn capsule_seen_end_on_along_its_axis() {
-    let scene = scenes::end_on_cylinder();
-    for ortho in [false, true] {
-        let cam = framed(
-            &scene,
-            Framing {
-                view: ViewPreset::NegZ,
-                ortho,
-                ..Framing::default()
-            },
-        );
-        tight("end-on", &scene, &cam, GlyphKind::Capsule);
+fn cylinders_and_capsules_side_on_end_on_and_oblique() {
+    // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the cap or
+    // the side (normal jumps 90°), hence max is not bounded, the p99 is.
+    for (glyph, name, scene, cam) in scenes::solid_views() {
+        tight(name, &scene, &cam, glyph);
     }
 }
 
@@ -328,34 +312,6 @@ fn eye_near_a_capsule_end() {
         Proxy::Box(_)
     ));
     tight("near end", &scene, &cam, GlyphKind::Capsule);
-}
-
-#[test]
-fn cylinders_side_on_end_on_and_oblique() {
-    let scene = scenes::cylinders();
-    for (name, framing) in scenes::cylinder_framings() {
-        let cam = framed(&scene, framing);
-        // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
-        // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
-        tight(name, &scene, &cam, GlyphKind::Cylinder);
-    }
-}
-
-#[test]
-fn cylinder_seen_end_on_along_its_axis() {
-    // Axis exactly along the view direction: the side degenerates to the rim; only the cap shows.
-    let scene = scenes::end_on_cylinder();
-    for ortho in [false, true] {
-        let cam = framed(
-            &scene,
-            Framing {
-                view: ViewPreset::NegZ,
-                ortho,
-                ..Framing::default()
-            },
-        );
-        tight("end-on", &scene, &cam, GlyphKind::Cylinder);
-    }
 }
 
 #[test]

@@ -6,7 +6,7 @@ mod common;
 
 use common::assert_tight;
 use common::scenes::{self, framed};
-use tensorglyph::camera::{Camera, Framing, ViewPreset};
+use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::metrics::Accuracy;
 use tensorglyph::request::{GlyphKind, Method};
 use tensorglyph::scene::Scene;
@@ -86,58 +86,11 @@ fn orthographic_view_along_an_eigenvector() {
 }
 
 #[test]
-fn cylinders_side_on_end_on_and_oblique() {
-    let scene = scenes::cylinders();
-    for (name, framing) in scenes::cylinder_framings() {
-        let cam = framed(&scene, framing);
-        // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the
-        // cap or the side (normal jumps 90°), hence max is not bounded, the p99 is.
-        tight(name, &scene, &cam, GlyphKind::Cylinder);
-    }
-}
-
-#[test]
-fn cylinder_seen_end_on_along_its_axis() {
-    // Axis exactly along the view direction: the side degenerates to the rim; only the cap shows.
-    let scene = scenes::end_on_cylinder();
-    for ortho in [false, true] {
-        let cam = framed(
-            &scene,
-            Framing {
-                view: ViewPreset::NegZ,
-                ortho,
-                ..Framing::default()
-            },
-        );
-        tight("end-on", &scene, &cam, GlyphKind::Cylinder);
-    }
-}
-
-#[test]
-fn capsules_side_on_end_on_and_oblique() {
-    // The cylinders' glyphs as capsules (R the mean of the cross-section's semi-axes): the
-    // same bounds, though a capsule has no crease (side and balls meet tangentially).
-    let scene = scenes::cylinders();
-    for (name, framing) in scenes::cylinder_framings() {
-        let cam = framed(&scene, framing);
-        tight(name, &scene, &cam, GlyphKind::Capsule);
-    }
-}
-
-#[test]
-fn capsule_seen_end_on_along_its_axis() {
-    // Axis along the view direction: the ball in front hides the rest; the silhouette is a circle.
-    let scene = scenes::end_on_cylinder();
-    for ortho in [false, true] {
-        let cam = framed(
-            &scene,
-            Framing {
-                view: ViewPreset::NegZ,
-                ortho,
-                ..Framing::default()
-            },
-        );
-        tight("end-on", &scene, &cam, GlyphKind::Capsule);
+fn cylinders_and_capsules_side_on_end_on_and_oblique() {
+    // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the cap or
+    // the side (normal jumps 90°), hence max is not bounded, the p99 is.
+    for (glyph, name, scene, cam) in scenes::solid_views() {
+        tight(name, &scene, &cam, glyph);
     }
 }
 

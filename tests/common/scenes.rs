@@ -211,3 +211,30 @@ pub fn near_a_cap() -> (Scene, Camera) {
     cam.far = 10.0;
     (scene, cam)
 }
+
+/// The cylinder scenes' views for both solid glyphs, as (glyph, name, scene, camera): the
+/// cylinders side-on, end-on and oblique, and one glyph seen end-on along its axis, in
+/// perspective and orthographic. Capsules are the cylinders' glyphs (R the mean of the
+/// cross-section's semi-axes), held to the same bounds.
+pub fn solid_views() -> Vec<(tensorglyph::request::GlyphKind, &'static str, Scene, Camera)> {
+    use tensorglyph::request::GlyphKind;
+    let mut views = Vec::new();
+    for glyph in [GlyphKind::Cylinder, GlyphKind::Capsule] {
+        let scene = cylinders();
+        for (name, framing) in cylinder_framings() {
+            views.push((glyph, name, scene.clone(), framed(&scene, framing)));
+        }
+        // Axis exactly along the view direction: a cylinder's side degenerates to the rim and
+        // only the cap shows; a capsule's front ball hides the rest.
+        let end_on = end_on_cylinder();
+        for ortho in [false, true] {
+            let framing = Framing {
+                view: ViewPreset::NegZ,
+                ortho,
+                ..Framing::default()
+            };
+            views.push((glyph, "end-on", end_on.clone(), framed(&end_on, framing)));
+        }
+    }
+    views
+}
