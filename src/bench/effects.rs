@@ -1,6 +1,6 @@
 //! What the figure effects cost, measured as Sigg et al. (2006) did in their Table 1: the same
-//! frames shaded directly and deferred, then with outlines, shadows, both, and both without the
-//! adaptive PCF test; each stage's share is the difference it makes to the frame time. The
+//! frames shaded directly and deferred, then with outlines, hard shadows (one shadow map texel),
+//! soft shadows, both, and both without the adaptive PCF test; each stage's share is the difference it makes to the frame time. The
 //! accuracy of the effects (outline and shadow mismatch against the exact reference) is
 //! measured once per view with both on.
 
@@ -45,6 +45,16 @@ pub fn configs(size: (u32, u32)) -> Vec<(&'static str, Effects)> {
             "+outlines",
             Effects {
                 outlines,
+                ..deferred
+            },
+        ),
+        (
+            "+shadows, hard",
+            Effects {
+                shadows: Some(Shadows {
+                    pcf_radius: 0,
+                    ..shadows
+                }),
                 ..deferred
             },
         ),
@@ -106,7 +116,11 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
             })
             .collect();
         // Both effects against the exact reference.
-        let both = configs[4].1;
+        let both_at = configs
+            .iter()
+            .position(|(n, _)| *n == "+both")
+            .expect("the +both configuration");
+        let both = configs[both_at].1;
         let req = FrameRequest {
             effects: both,
             aux: true,
@@ -117,7 +131,7 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
         let accuracy =
             compare(&frame, &reference, &view.scene).with_effects(&frame, &reference, &both);
         for (k, (name, _)) in configs.iter().enumerate() {
-            let measured = k == 4;
+            let measured = k == both_at;
             rows.push(EffectsRow {
                 view: view.name.clone(),
                 config: name,
@@ -142,7 +156,8 @@ pub fn stage_shares(rows: &[EffectsRow]) -> Vec<(&'static str, f64)> {
     vec![
         ("deferred shading pass", ms("deferred") - ms("direct")),
         ("outlines", ms("+outlines") - ms("deferred")),
-        ("shadow map + PCF", ms("+shadows") - ms("deferred")),
+        ("shadow map", ms("+shadows, hard") - ms("deferred")),
+        ("PCF", ms("+shadows") - ms("+shadows, hard")),
         ("adaptive PCF saves", ms("+both, full PCF") - ms("+both")),
     ]
 }

@@ -6,7 +6,7 @@ use std::ops::Range;
 
 use crate::render::context::GpuContext;
 use crate::render::pipeline::Variant;
-use crate::render::scene_buffers::SceneBuffers;
+use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
 use crate::render::targets::TargetViews;
 use crate::request::{FrameRequest, Proxy};
 
@@ -21,9 +21,21 @@ pub struct FrameRecording<'a> {
     pub stats: Option<&'a wgpu::QuerySet>,
     /// Index 0 at the frame's start and 1 at its end, if timed.
     pub timestamps: Option<&'a wgpu::QuerySet>,
+    /// Drawn from the key light (the shadow map): the chunks' light groups, and whatever a
+    /// method keeps per scene kept apart from the eye's.
+    pub light: bool,
 }
 
 impl FrameRecording<'_> {
+    /// The bind group 0 of a chunk for this recording's camera.
+    pub fn group<'b>(&self, chunk: &'b ChunkBuffers) -> &'b wgpu::BindGroup {
+        if self.light {
+            &chunk.light_bind_group
+        } else {
+            &chunk.bind_group
+        }
+    }
+
     /// Timestamp writes of a render pass that begins and/or ends the frame.
     pub fn pass_timestamps(
         &self,
@@ -84,7 +96,7 @@ pub fn record_chunks<D: Drawer + ?Sized>(
         pass.begin_pipeline_statistics_query(set, 0);
     }
     for c in frame.buffers.chunks.iter().filter(|c| c.count > 0) {
-        pass.set_bind_group(0, &c.bind_group, &[]);
+        pass.set_bind_group(0, frame.group(c), &[]);
         drawer.draw(
             &mut pass,
             Variant::of(req),

@@ -19,11 +19,11 @@ use crate::camera::{Camera, Projection};
 use crate::effects::{Effects, light, outline, shade::KEY_SHARE};
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
-use crate::render::drawer::Drawer;
-use crate::render::pipeline::Variant;
+use crate::render::drawer::{Drawer, FrameRecording};
+use crate::render::renderer::within_limits;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::{COLOR_FORMAT, TargetViews, Targets};
-use crate::request::{FrameRequest, Proxy};
+use crate::request::{FrameRequest, UnderlayView};
 
 pub const SHADER: &str = include_str!("../../shaders/composite.wgsl");
 
@@ -313,21 +313,35 @@ impl EffectsPipeline {
             light::shadow_camera(camera, centre, half, s)
         });
         if let (Some(light), Some((_, shadow_views))) = (&light, &textures.shadow) {
-            buffers.write_light_uniform(&ctx.queue, light, req);
-            let mut pass = shadow_views.begin_pass(encoder, [0.0; 4], true, None);
-            let variant = Variant {
-                depth_correction: req.depth_correction(),
-                aux: false,
-            };
-            // Early depth tests were vetted for the eye's camera only.
-            let proxy = Proxy {
-                early_depth: false,
-                ..req.proxy()
-            };
-            for c in buffers.chunks.iter().filter(|c| c.count > 0) {
-                pass.set_bind_group(0, &c.light_bind_group, &[]);
-                drawer.draw(&mut pass, variant, proxy, c.base..c.base + c.count);
-            }
+            // The method's own passes (Gumhold's prepass and splats too) from the light, with
+            // its colours unused and no early depth test (vetted for the eye's camera only).
+            let mut light_req = within_limits(
+                ctx,
+                &FrameRequest {
+                    aux: false,
+                    effects: Effects::default(),
+                    underlay: UnderlayView {
+                        shown: false,
+                        ..req.underlay
+                    },
+                    ..*req
+                },
+                light,
+            );
+            light_req.method.set_early_depth(false);
+            buffers.write_light_uniform(&ctx.queue, light, &light_req);
+            drawer.record(
+                &FrameRecording {
+                    ctx,
+                    buffers,
+                    req: &light_req,
+                    views: shadow_views,
+                    stats: None,
+                    timestamps: None,
+                    light: true,
+                },
+                encoder,
+            );
         }
         let uniform = EffectsUniform::new(camera, light.as_ref(), buffers.origin(), req);
         ctx.queue

@@ -32,7 +32,7 @@ pub struct SceneBuffers {
 }
 
 /// One storage buffer of packed instances and its uniform, bound as group 0.
-pub(crate) struct ChunkBuffers {
+pub struct ChunkBuffers {
     pub(crate) base: u32,
     pub(crate) count: u32,
     _glyphs: wgpu::Buffer,

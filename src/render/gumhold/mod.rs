@@ -19,6 +19,25 @@ use crate::render::strip::StripRenderer;
 use crate::request::{FrameRequest, GlyphKind, Proxy};
 use prepass::{PrepassBuffers, PrepassCache, PrepassPipelines, frame_buffer_layout};
 
+/// The prepass buffers the shadow map's pass keeps (a type of its own for the scene's state).
+struct LightPrepass(PrepassBuffers);
+
+/// The eye's or the light's prepass buffers.
+enum Prepass {
+    Eye(std::sync::Arc<PrepassBuffers>),
+    Light(std::sync::Arc<LightPrepass>),
+}
+
+impl std::ops::Deref for Prepass {
+    type Target = PrepassBuffers;
+    fn deref(&self) -> &PrepassBuffers {
+        match self {
+            Prepass::Eye(p) => p,
+            Prepass::Light(p) => &p.0,
+        }
+    }
+}
+
 pub struct GumholdRenderer {
     strips: StripRenderer,
     /// The compute prepass and splats (ellipsoids only).
@@ -57,17 +76,25 @@ impl GumholdRenderer {
         Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy()))
     }
 
-    /// The scene's prepass buffers, made on the first frame drawn with the prepass.
+    /// The scene's prepass buffers, made on the first frame drawn with the prepass; the key
+    /// light's shadow map (`light`) has its own, so that neither pass re-sizes the other's
+    /// per-pixel buffers every frame.
     fn prepass_buffers(
         &self,
         ctx: &GpuContext,
         buffers: &SceneBuffers,
-    ) -> Option<std::sync::Arc<PrepassBuffers>> {
+        light: bool,
+    ) -> Option<Prepass> {
         let cache = self.prepass.as_ref()?;
-        Some(buffers.method_state(|| {
+        let make = || {
             let counts: Vec<u32> = buffers.chunks.iter().map(|c| c.count).collect();
             PrepassBuffers::new(ctx, &cache.layouts, &counts)
-        }))
+        };
+        Some(if light {
+            Prepass::Light(buffers.method_state(|| LightPrepass(make())))
+        } else {
+            Prepass::Eye(buffers.method_state(make))
+        })
     }
 }
 
@@ -87,7 +114,7 @@ impl Drawer for GumholdRenderer {
         if !req.uses_prepass() {
             return 1;
         }
-        self.prepass_buffers(ctx, buffers)
+        self.prepass_buffers(ctx, buffers, false)
             .map_or(1, |p| (p.slices.len() as u32).max(1))
     }
 
@@ -96,7 +123,7 @@ impl Drawer for GumholdRenderer {
     fn record(&self, frame: &FrameRecording<'_>, encoder: &mut wgpu::CommandEncoder) {
         let (Some(pipelines), Some(prepass)) = (
             self.prepass_pipelines(frame.req),
-            self.prepass_buffers(frame.ctx, frame.buffers),
+            self.prepass_buffers(frame.ctx, frame.buffers, frame.light),
         ) else {
             return record_chunks(self, frame, encoder);
         };
@@ -115,7 +142,7 @@ impl Drawer for GumholdRenderer {
         }
         let last = prepass.slices.len() - 1;
         for (k, slice) in prepass.slices.iter().enumerate() {
-            let chunk = &frame.buffers.chunks[slice.chunk].bind_group;
+            let chunk = frame.group(&frame.buffers.chunks[slice.chunk]);
             let compute_stamp =
                 frame
                     .timestamps
