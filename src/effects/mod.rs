@@ -1,13 +1,13 @@
 //! Figure effects after Sigg et al. (2006, §4): deferred shading, silhouette and crease outlines,
 //! and soft shadows from a key light. The options a [`crate::request::FrameRequest`] carries,
-//! and what both back ends apply the same way: the outline filter ([`outline`]), the key light's
-//! direction and shadow camera ([`light`]) and the shading that combines them ([`shade`]). The
+//! and what both back ends apply the same way: the outline filter ([`outline`]) and the key light's
+//! direction and shadow camera ([`light`]); the shading that combines them has its f64 twin in
+//! [`crate::twin::composite`]. The
 //! GPU runs them in one full-screen pass over its geometry buffer (`shaders/composite.wgsl`); the
 //! reference over its exact f64 buffers, with exact shadow rays.
 
 pub mod light;
 pub mod outline;
-pub mod shade;
 
 use std::fmt;
 
@@ -52,6 +52,10 @@ impl Default for Outlines {
         }
     }
 }
+
+/// The share of the diffuse light the key light gives when shadows are on (the headlight gives
+/// the rest, so the eye's side of every glyph stays readable).
+pub const KEY_SHARE: f64 = 0.65;
 
 /// Shadows cast by a directional key light, from a shadow map filtered by percentage-closer
 /// filtering (PCF).

@@ -15,13 +15,13 @@ use rayon::prelude::*;
 use crate::camera::Camera;
 use crate::effects::light;
 use crate::effects::outline::{Sample, outline_mask};
-use crate::effects::shade::{Key, composite};
 use crate::frame::Frame;
 use crate::request::{FrameRequest, GlyphKind};
 use crate::scene::rules::{EYE_INSIDE_E2, drawable_radii};
 use crate::scene::underlay::grey;
 use crate::scene::{GlyphGeometry, Scene};
 use crate::twin::common::{shade, to_unorm8};
+use crate::twin::composite::{Key, composite};
 use bvh::{Aabb, Bvh};
 use intersect::{Capsule, Cylinder, RayHit};
 
@@ -335,7 +335,7 @@ impl<'a> ReferenceScene<'a> {
 
     /// Deferred shading of a rendered frame from its exact geometry: the outline filter over
     /// the f64 buffers, hard shadows from exact shadow rays, and the shading of
-    /// [`crate::effects::shade::composite`]. Pixels without a surface (background, underlay)
+    /// [`crate::twin::composite::composite`]. Pixels without a surface (background, underlay)
     /// keep their colour.
     fn apply_effects(&self, req: &FrameRequest, surfaces: &[Option<Surface>], frame: &mut Frame) {
         let fx = &req.effects;

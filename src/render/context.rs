@@ -96,6 +96,24 @@ impl GpuContext {
         }
     }
 
+    /// `req` as this device can draw it at the camera's size (see
+    /// [`crate::render::GpuRenderer::within_limits`]; the shadow map's pass asks it too).
+    pub fn within_limits(
+        &self,
+        req: &crate::request::FrameRequest,
+        camera: &crate::camera::Camera,
+    ) -> crate::request::FrameRequest {
+        let mut req = *req;
+        let key_bytes = if self.int64_atomics { 8 } else { 4 };
+        let pixels = u64::from(camera.width) * u64::from(camera.height);
+        if req.splat_pixels() > 0
+            && pixels.saturating_mul(key_bytes) > self.limits.max_storage_buffer_binding_size
+        {
+            req.method.drop_splats();
+        }
+        req
+    }
+
     /// Wait for all submitted work. lavapipe can take many seconds on large frames.
     pub fn wait(&self) -> Result<(), RenderError> {
         self.device

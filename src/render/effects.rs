@@ -16,11 +16,10 @@ use std::sync::{Arc, Mutex, OnceLock};
 use bytemuck::{Pod, Zeroable};
 
 use crate::camera::{Camera, Projection};
-use crate::effects::{Effects, light, outline, shade::KEY_SHARE};
+use crate::effects::{Effects, KEY_SHARE, light, outline};
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording};
-use crate::render::renderer::within_limits;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::{COLOR_FORMAT, TargetViews, Targets};
 use crate::request::{FrameRequest, UnderlayView};
@@ -315,8 +314,7 @@ impl EffectsPipeline {
         if let (Some(light), Some((_, shadow_views))) = (&light, &textures.shadow) {
             // The method's own passes (Gumhold's prepass and splats too) from the light, with
             // its colours unused and no early depth test (vetted for the eye's camera only).
-            let mut light_req = within_limits(
-                ctx,
+            let mut light_req = ctx.within_limits(
                 &FrameRequest {
                     aux: false,
                     effects: Effects::default(),

@@ -27,19 +27,6 @@ use crate::scene::Scene;
 
 type DrawerKey = (Method, GlyphKind);
 
-/// [`GpuRenderer::within_limits`] on a context (the shadow map's pass asks it too).
-pub(crate) fn within_limits(ctx: &GpuContext, req: &FrameRequest, camera: &Camera) -> FrameRequest {
-    let mut req = *req;
-    let key_bytes = if ctx.int64_atomics { 8 } else { 4 };
-    let pixels = u64::from(camera.width) * u64::from(camera.height);
-    if req.splat_pixels() > 0
-        && pixels.saturating_mul(key_bytes) > ctx.limits.max_storage_buffer_binding_size
-    {
-        req.method.drop_splats();
-    }
-    req
-}
-
 /// Long-lived GPU state: device, shared layouts and every method's pipelines.
 pub struct GpuRenderer {
     pub ctx: GpuContext,
@@ -158,7 +145,7 @@ impl GpuRenderer {
     /// per pixel in one storage binding, so an image with more pixels than that binding holds
     /// (16.7 M with 64-bit keys on a 128 MiB limit) draws every glyph from the prepass instead.
     pub fn within_limits(&self, req: &FrameRequest, camera: &Camera) -> FrameRequest {
-        within_limits(&self.ctx, req, camera)
+        self.ctx.within_limits(req, camera)
     }
 
     /// Render instances uploaded by [`Self::upload`] (timing upload and frames apart).

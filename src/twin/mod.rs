@@ -5,5 +5,6 @@
 
 pub mod capsule;
 pub mod common;
+pub mod composite;
 pub mod gumhold_ellipsoid;
 pub mod sigg;

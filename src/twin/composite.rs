@@ -1,4 +1,5 @@
-//! Deferred shading, the f64 twin of `fs_composite` in shaders/composite.wgsl. Without shadows it
+//! Deferred shading, the f64 twin of `fs_composite` in shaders/composite.wgsl (its outline filter
+//! is [`crate::effects::outline`], shared with the reference as it is). Without shadows it
 //! is the headlight Blinn-Phong of the direct path ([`crate::twin::common::shade`]), so deferred
 //! and direct frames agree; with shadows [`KEY_SHARE`] of the diffuse light comes from the key
 //! light instead, scaled by how lit the point is, so that shadows show and the eye's side of
@@ -6,12 +7,9 @@
 
 use glam::DVec3;
 
-use crate::effects::Outlines;
+use crate::effects::{KEY_SHARE, Outlines};
 use crate::frame::Lighting;
 use crate::twin::common::shade as headlight;
-
-/// The share of the diffuse light the key light gives when shadows are on.
-pub const KEY_SHARE: f64 = 0.65;
 
 /// The key light at one point: the unit direction towards it (view space) and how lit the point
 /// is (0 in shadow, 1 lit, in between in a penumbra).
