@@ -5,6 +5,7 @@ pub mod colormap;
 pub mod derive;
 pub mod spacing;
 pub mod style;
+pub mod superquadric;
 
 pub use derive::derive_glyphs;
 pub use style::{ColorScheme, GlyphStyle, Normalize, ResolvedStyle, Scale, SizeBy};

@@ -8,6 +8,7 @@
 
 pub mod bvh;
 pub mod intersect;
+pub mod superquadric;
 
 use glam::{DMat3, DMat4, DVec3};
 use rayon::prelude::*;
