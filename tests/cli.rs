@@ -31,6 +31,8 @@ fn render_demo_writes_png_and_reports() {
     let j = json(&o);
     assert_eq!(png_size(&out), (160, 120));
     assert_eq!(j["width"], 160);
+    assert_eq!(j["tiles"], 1);
+    assert_eq!(j["effects"], "direct");
     assert_eq!(j["glyphs_total"], 216);
     assert_eq!(j["glyphs_drawn"], 216);
     assert_eq!(

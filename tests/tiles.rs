@@ -211,6 +211,8 @@ fn the_command_line_renders_beyond_the_texture_limit() {
     assert!(r.status.success(), "{}", stderr(&r));
     let j = json(&r);
     assert_eq!(j["width"], width);
+    // Wider than one render target: at least two pieces.
+    assert!(j["tiles"].as_u64().unwrap() >= 2, "{j}");
     assert!(j["covered_pixels"].as_u64().unwrap() > 100, "{j}");
     // The accuracy bounds of tests/cli.rs's whole-image check.
     assert!(j["coverage_mismatch"].as_f64().unwrap() <= 5e-4, "{j}");

@@ -118,6 +118,8 @@ struct RenderReport {
     backend: Option<String>,
     width: u32,
     height: u32,
+    /// Pieces the image was rendered in (1: whole; more beyond one render target).
+    tiles: usize,
     glyphs_total: usize,
     /// Valid glyphs the selection kept (= glyphs_total without a selection).
     glyphs_selected: usize,
@@ -283,9 +285,14 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         margin: Tiling::new(&backend, ssaa).margin.max(reach),
         ..Tiling::new(&backend, ssaa)
     };
-    tiling
-        .plan(w, h)
-        .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?;
+    let tiles = if tiling.fits_whole(w, h) {
+        1
+    } else {
+        tiling
+            .plan(w, h)
+            .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?
+            .len()
+    };
     let mut frame: Frame =
         tiling.render(&backend, &scene, &camera, &req, &mut timings, &progress)?;
 
@@ -339,6 +346,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         backend: backend_name,
         width: w,
         height: h,
+        tiles,
         glyphs_total: staged.glyphs_valid,
         glyphs_selected: staged.glyphs_selected,
         glyphs_clamped: staged.glyphs_clamped,
