@@ -223,3 +223,76 @@ fn a_figure_beyond_the_splat_buffer_draws_its_glyphs() {
     std::fs::remove_file(&a).ok();
     std::fs::remove_file(&b).ok();
 }
+
+/// The viewer's Save figure writes what `render` writes for the same camera, effects, samples,
+/// legend and transparency: the same pixels, through the same renderer, filter and legend.
+#[test]
+fn the_viewers_save_figure_is_renders_figure() {
+    use tensorglyph::Silent;
+    use tensorglyph::camera::{Camera, Framing};
+    use tensorglyph::effects::{Effects, Outlines};
+    use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset};
+    use tensorglyph::staging::{Demo, Recipe, Source, stage};
+    use tensorglyph::viewer::screenshot::{Figure, save_view};
+    let Some(gpu) = common::gpu() else { return };
+    let cli = tmp("render-figure.png");
+    let viewer = tmp("viewer-figure.png");
+    let r = tg(&[
+        "render",
+        "--demo",
+        "grid:5",
+        "-o",
+        cli.to_str().unwrap(),
+        "--size",
+        "160x120",
+        "--ssaa",
+        "2",
+        "--outlines",
+        "--legend",
+        "--transparent",
+        "-q",
+    ]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let staged = stage(&Source::Demo(Demo { n: 5 }), &Recipe::default(), &Silent).unwrap();
+    // render frames the field's box with its defaults; the viewer's camera is given at the
+    // output size and scaled to the samples.
+    let camera = Camera::frame_box(
+        &Framing::default(),
+        staged.frame_centre,
+        staged.frame_half,
+        160,
+        120,
+    );
+    let req = FrameRequest {
+        background: [1.0, 1.0, 1.0, 0.0],
+        effects: Effects {
+            outlines: Some(Outlines::default()),
+            ..Effects::default()
+        }
+        .resolved()
+        .supersampled(2),
+        ..FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT)
+    };
+    let figure = Figure {
+        size: (160, 120),
+        ssaa: 2,
+        legend: Some((&staged.style, staged.glyphs_clamped, false)),
+    };
+    save_view(&gpu, &staged.scene, &camera, &req, &figure, &viewer).unwrap();
+    let (a, size, _) = read_png(&cli);
+    let (b, _, _) = read_png(&viewer);
+    assert_eq!(size, (160, 120));
+    let differ = a
+        .iter()
+        .zip(&b)
+        .filter(|(x, y)| x.abs_diff(**y) > 1)
+        .count();
+    assert_eq!(differ, 0, "the two figures differ in {differ} channels");
+    assert!(
+        a.chunks_exact(4).any(|p| p[3] == 0),
+        "transparent background"
+    );
+    for p in [&cli, &viewer] {
+        std::fs::remove_file(p).ok();
+    }
+}

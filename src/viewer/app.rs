@@ -19,7 +19,7 @@ use crate::viewer::loader::{Loaded, Loading};
 use crate::viewer::navigation::{Navigation, axis_view};
 use crate::viewer::panel::{self, Action, PanelInfo, PanelState};
 use crate::viewer::picking::{PickInfo, read_id};
-use crate::viewer::screenshot::{parse_size, save_view, save_window};
+use crate::viewer::screenshot::{Figure, parse_size, save_view, save_window};
 use crate::viewer::state::{BuildKey, RenderKey, Settings};
 use crate::viewer::triad;
 use crate::viewer::view3d::View3d;
@@ -33,8 +33,8 @@ struct Built {
     selected: Vec<usize>,
     /// Of those, glyphs `--scale auto` scaled down to the robust largest size.
     clamped: usize,
-    /// The smallest relative radius in effect.
-    min_radius: f64,
+    /// The style with the field's numbers fixed (the legend, the smallest relative radius).
+    style: crate::glyph::style::ResolvedStyle,
     generation: u64,
 }
 
@@ -275,7 +275,7 @@ impl ViewerApp {
             scene,
             selected,
             clamped: glyphs_clamped,
-            min_radius: style.min_radius,
+            style,
             generation: self.scene_generation,
         });
     }
@@ -347,19 +347,35 @@ impl ViewerApp {
         let path = PathBuf::from(self.panel.screenshot_path.trim());
         let ssaa = self.panel.figure_ssaa.clamp(1, 4);
         let camera = nav.camera(size.0, size.1);
+        let mut req = self.settings.request(ssaa);
+        if self.panel.figure_transparent {
+            req.background[3] = 0.0;
+        }
+        let figure = Figure {
+            size,
+            ssaa,
+            legend: self
+                .panel
+                .figure_legend
+                .then(|| (&built.style, built.clamped, self.anatomical())),
+        };
         self.status = Some(
-            match save_view(
-                &self.gpu,
-                &built.scene,
-                &camera,
-                &self.settings.request(ssaa),
-                (size, ssaa),
-                &path,
-            ) {
+            match save_view(&self.gpu, &built.scene, &camera, &req, &figure, &path) {
                 Ok(()) => format!("saved {} ({}x{})", path.display(), size.0, size.1),
                 Err(e) => format!("screenshot failed: {e:#}"),
             },
         );
+    }
+
+    /// Whether the loaded field's world is anatomical (RAS): axes labelled R/A/S.
+    fn anatomical(&self) -> bool {
+        self.data.as_ref().is_some_and(|d| {
+            d.field
+                .meta
+                .frame
+                .as_ref()
+                .is_some_and(|f| f.world == "RAS")
+        })
     }
 
     /// Pointer navigation and picking on the 3D area.
@@ -541,7 +557,7 @@ impl eframe::App for ViewerApp {
                     frame: self.view.last_frame,
                     adapter: &adapter,
                     glyphs_clamped: self.built.as_ref().map_or(0, |b| b.clamped),
-                    min_radius: self.built.as_ref().map(|b| b.min_radius),
+                    min_radius: self.built.as_ref().map(|b| b.style.min_radius),
                     underlay_file: self.underlay_file.as_ref(),
                     underlay_window: self
                         .built
@@ -581,14 +597,7 @@ impl eframe::App for ViewerApp {
                         egui::Color32::WHITE,
                     );
                     if let Some(nav) = &self.nav {
-                        let anatomical = self.data.as_ref().is_some_and(|d| {
-                            d.field
-                                .meta
-                                .frame
-                                .as_ref()
-                                .is_some_and(|f| f.world == "RAS")
-                        });
-                        triad::paint(ui.painter(), rect, nav, anatomical);
+                        triad::paint(ui.painter(), rect, nav, self.anatomical());
                     }
                 }
                 _ => {

@@ -5,28 +5,44 @@ use std::path::Path;
 
 use crate::camera::Camera;
 use crate::error::RenderError;
+use crate::glyph::style::ResolvedStyle;
 use crate::image_out::write_png_atomic;
+use crate::legend::raster::{Caption, burn};
 use crate::render::GpuRenderer;
 use crate::request::FrameRequest;
 use crate::scene::Scene;
 
-/// Render `scene` with `camera` resized to `size`, with `ssaa`×`ssaa` samples per pixel as
-/// `render --ssaa` takes them (`req` has its effects scaled for them), and write it as a PNG.
+/// A figure of the view as `render` writes one: `size` pixels of `ssaa`×`ssaa` samples (`req`
+/// has its effects scaled for them and its background's alpha), and the legend `render
+/// --legend` burns in, built from the request and camera of the figure.
+pub struct Figure<'a> {
+    pub size: (u32, u32),
+    pub ssaa: u32,
+    /// The style and clamped count the scene was built with, and whether the world is
+    /// anatomical (R/A/S axes), for the legend.
+    pub legend: Option<(&'a ResolvedStyle, usize, bool)>,
+}
+
+/// Render `scene` with `camera` resized to the figure's samples and write it as a PNG.
 pub fn save_view(
     gpu: &GpuRenderer,
     scene: &Scene,
     camera: &Camera,
     req: &FrameRequest,
-    (size, ssaa): ((u32, u32), u32),
+    figure: &Figure<'_>,
     path: &Path,
 ) -> Result<(), RenderError> {
-    let n = ssaa.max(1);
-    crate::frame::check_size(size.0.saturating_mul(n), size.1.saturating_mul(n))?;
+    let ((w, h), n) = (figure.size, figure.ssaa.max(1));
+    crate::frame::check_size(w.saturating_mul(n), h.saturating_mul(n))?;
     let mut cam = *camera;
-    cam.width = size.0 * n;
-    cam.height = size.1 * n;
+    cam.width = w * n;
+    cam.height = h * n;
     let req = FrameRequest { frames: 1, ..*req };
-    let frame = gpu.render(scene, &cam, &req)?.downsample(n);
+    let mut frame = gpu.render(scene, &cam, &req)?.downsample(n);
+    if let Some((style, clamped, anatomical)) = figure.legend {
+        let caption = Caption::of_frame(style, clamped, scene, &req, &cam, anatomical);
+        burn(&mut frame.color, w, h, &frame.ids, &caption, req.background);
+    }
     write_png(path, frame.width, frame.height, &frame.color)
 }
 

@@ -44,6 +44,10 @@ pub struct PanelState {
     pub screenshot_size: String,
     /// Samples per pixel across (N×N) of a saved figure.
     pub figure_ssaa: u32,
+    /// Burn the legend into a saved figure (`render --legend`).
+    pub figure_legend: bool,
+    /// A transparent background in a saved figure (`render --transparent`).
+    pub figure_transparent: bool,
     /// The text of the scale field (`auto` or a factor).
     pub scale_text: String,
 }
@@ -56,6 +60,8 @@ impl Default for PanelState {
             screenshot_window_size: true,
             screenshot_size: "1920x1080".into(),
             figure_ssaa: 2,
+            figure_legend: false,
+            figure_transparent: false,
             scale_text: "auto".into(),
         }
     }
@@ -335,6 +341,10 @@ fn screenshot_section(ui: &mut Ui, state: &mut PanelState, actions: &mut Vec<Act
         );
     });
     ui.add(egui::Slider::new(&mut state.figure_ssaa, 1..=4).text("anti-aliasing N×N"));
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut state.figure_legend, "legend");
+        ui.checkbox(&mut state.figure_transparent, "transparent");
+    });
     if ui.button("Save figure (S)").clicked() {
         actions.push(Action::Screenshot);
     }
