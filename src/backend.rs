@@ -87,6 +87,25 @@ impl Backend {
     }
 }
 
+/// Upload `scene` to `gpu`, timing it (`timings.upload`) and its peak memory, as the upload
+/// stage of [`Backend::render`] (and of tiled images, which upload once for all tiles).
+pub(crate) fn upload_timed(
+    gpu: &GpuRenderer,
+    scene: &Scene,
+    timings: &mut Timings,
+    progress: &dyn Progress,
+) -> Result<crate::render::SceneBuffers, RenderError> {
+    progress.begin(
+        &format!("uploading {} instances", scene.instances.len()),
+        None,
+    );
+    let t = Instant::now();
+    let uploaded = gpu.upload(scene);
+    timings.upload = ms(t);
+    timings.peak_rss_after[3] = crate::mem::peak_rss_bytes();
+    uploaded
+}
+
 /// Upload `scene` and draw `req.frames` frames on `gpu`, timed as [`Backend::render`] says.
 pub fn render_gpu(
     gpu: &GpuRenderer,
@@ -101,15 +120,8 @@ pub fn render_gpu(
         ran: timings.describe(),
         error,
     };
-    progress.begin(
-        &format!("uploading {} instances", scene.instances.len()),
-        None,
-    );
-    let t = Instant::now();
-    let uploaded = gpu.upload(scene);
-    timings.upload = ms(t);
-    timings.peak_rss_after[3] = crate::mem::peak_rss_bytes();
-    let buffers = uploaded.map_err(|e| failed("upload", timings, e))?;
+    let buffers =
+        upload_timed(gpu, scene, timings, progress).map_err(|e| failed("upload", timings, e))?;
     progress.begin("first frame", None);
     let first_req = FrameRequest { frames: 1, ..*req };
     let t = Instant::now();

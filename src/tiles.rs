@@ -11,7 +11,7 @@
 
 use std::time::Instant;
 
-use crate::backend::{Backend, StageFailed};
+use crate::backend::{Backend, StageFailed, upload_timed};
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::frame::{Frame, MAX_PIXELS};
@@ -238,15 +238,8 @@ impl Tiling {
             .len();
         let result = match backend {
             Backend::Gpu(gpu) => {
-                progress.begin(
-                    &format!("uploading {} instances", scene.instances.len()),
-                    None,
-                );
-                let t = Instant::now();
-                let uploaded = gpu.upload(scene);
-                timings.upload = ms(t);
-                timings.peak_rss_after[3] = crate::mem::peak_rss_bytes();
-                let buffers = uploaded.map_err(|e| failed(timings, e))?;
+                let buffers =
+                    upload_timed(gpu, scene, timings, progress).map_err(|e| failed(timings, e))?;
                 progress.begin("tiles", Some(count as u64));
                 let t = Instant::now();
                 let frame = self.render_with(&full, |cam| {
