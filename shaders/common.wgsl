@@ -53,6 +53,9 @@ struct Chunk {
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<storage, read> glyphs: array<GpuGlyph>;
 @group(0) @binding(2) var<uniform> chunk: Chunk;
+// Superquadric exponents (α, β, c), 21 bits each (pack_exponents in src/glyph/superquadric.rs),
+// one pair of words per glyph of the chunk. Bound for every method, read by superquadrics only.
+@group(0) @binding(3) var<storage, read> shapes: array<vec2<u32>>;
 
 // A glyph decoded.
 struct Glyph {
@@ -92,6 +95,16 @@ fn load_glyph(instance: u32) -> Glyph {
         default: { g.rotation = vec4<f32>(a, b, c, big); }
     }
     return g;
+}
+
+// The exponents (α, β, c) of superquadric instance `instance` (unpack_exponents in
+// src/glyph/superquadric.rs).
+fn load_exponents(instance: u32) -> vec3<f32> {
+    let w = shapes[instance - chunk.base];
+    let a = w.x & 0x1fffffu;
+    let b = (w.x >> 21u) | ((w.y & 0x3ffu) << 11u);
+    let c = (w.y >> 10u) & 0x1fffffu;
+    return vec3<f32>(bitcast<f32>(a << 10u), bitcast<f32>(b << 10u), bitcast<f32>(c << 10u));
 }
 
 // E² (the eye in an ellipsoid's parameter space, squared) at or below this counts as "eye

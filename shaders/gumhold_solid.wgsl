@@ -3,7 +3,7 @@
 // The ray starts at the quad point V, next to the glyph: p = V + t v with v = V − e, in front of
 // the eye for t > −1. When the eye is inside the bounding ellipsoid but outside the solid (near
 // a cap), the proxy becomes the whole near plane. The shape's own file, composed before this one,
-// gives `solid_of` (scale, bounding ellipsoid, shape parameter), `solid_contains` and
+// gives `solid_radius` (a bounding sphere's radius), `solid_of` (scale, bounding ellipsoid, shape parameter), `solid_contains` and
 // `solid_entry` (entry t and local normal, discarding on a miss).
 
 struct VsOut {
@@ -23,21 +23,22 @@ struct VsOut {
     @location(7) @interpolate(flat) n2: vec3<f32>,
     // Row 2 of R_view O diag(scale): the hit's view z relative to the centre is tz · p~.
     @location(8) @interpolate(flat) tz: vec3<f32>,
-    // The shape's parameter (a capsule's segment half-length in units of its radius).
-    @location(9) @interpolate(flat) shape: f32,
+    // The shape's parameters (a capsule's segment half-length in units of its radius; a
+    // superquadric's exponents).
+    @location(9) @interpolate(flat) shape: vec3<f32>,
 }
 
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
     var out: VsOut;
     let g = load_glyph(ii);
-    if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
+    if !drawable(g.radii) || skip_glyph(g.centre, solid_radius(g.radii)) {
         out.position = CULLED_POSITION;
         return out;
     }
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
-    let solid = solid_of(g.radii);
+    let solid = solid_of(g, ii);
     let sc = solid.scale;
     let bound = solid.bound;
     let s = proxy_corner(vi);
@@ -96,7 +97,8 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 }
 
 fn ray_cast(in: VsOut) -> Hit {
-    let entry = solid_entry(in.o_t, in.v_t, in.shape);
+    // From the eye (t = −1) when perspective; orthographic rays are clipped by the depth range.
+    let entry = solid_entry(in.o_t, in.v_t, in.shape, select(-1.0, -3.0e38, is_ortho()));
     let t = entry.x;
     var p_view: vec3<f32>;
     var delta_depth: f32;

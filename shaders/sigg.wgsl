@@ -19,8 +19,9 @@ struct VsOut {
     @location(4) @interpolate(flat) a0: vec3<f32>,
     @location(5) @interpolate(flat) a1: vec3<f32>,
     @location(6) @interpolate(flat) a2: vec3<f32>,
-    // A shape parameter of the glyph kind (capsules: the segment's half-length in units of R).
-    @location(7) @interpolate(flat) shape: f32,
+    // Shape parameters of the glyph kind (capsules: x, the segment's half-length in units of R;
+    // superquadrics: the exponents α, β, c).
+    @location(7) @interpolate(flat) shape: vec3<f32>,
 }
 
 // How a glyph is drawn.

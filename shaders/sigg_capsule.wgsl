@@ -17,7 +17,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     var ball = g;
     ball.radii = vec3<f32>(cap.y);
     glyph_varyings(&out, ball, o, ii + 1u);
-    out.shape = cap.x;
+    out.shape = vec3<f32>(cap.x, 0.0, 0.0);
     if !is_ortho() {
         let e_c = (transpose(o) * (camera.eye.xyz - g.centre)) / cap.y;
         if capsule_contains(e_c, cap.x) {
@@ -51,7 +51,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 
 fn ray_cast(in: VsOut) -> Hit {
     var r = pixel_ray(in);
-    let h = in.shape;
+    let h = in.shape.x;
     // pixel_ray's origin is the ray point nearest the centre, which for a long capsule can lie
     // k = h + 1 radii from where the ray passes the axis: there |o~.yz|² − 1 loses the 1 in f32.
     // Slide it to the point nearest the axis (β ≈ 0 for the side), kept within the balls' reach.

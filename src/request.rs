@@ -103,12 +103,16 @@ pub enum GlyphKind {
     /// of the cross-section's semi-axes, total half-length max(axis half-length, R); an
     /// isotropic tensor gives a sphere ([`crate::scene::capsule_of`]).
     Capsule,
+    /// Kindlmann's superquadric (Schultz–Kindlmann's for indefinite tensors), shaped by the
+    /// tensor and `--sharpness` ([`crate::glyph::superquadric`]).
+    Superquadric,
 }
 
 crate::names::named_values!(GlyphKind {
     Ellipsoid => "ellipsoid",
     Cylinder => "cylinder",
     Capsule => "capsule",
+    Superquadric => "superquadric",
 });
 
 /// The polygon around the unit circle that Gumhold's proxy is made of (gumhold-ellipsoid.md §10).
@@ -217,6 +221,11 @@ pub enum GumholdConfig {
         shape: ProxyShape,
         depth_correction: bool,
     },
+    /// Superquadrics use the quad of the ball around their unit box.
+    Superquadric {
+        shape: ProxyShape,
+        depth_correction: bool,
+    },
 }
 
 /// A method with the options it takes, and only those: a request for Sigg's method with splats,
@@ -271,6 +280,7 @@ impl MethodConfig {
             MethodConfig::Gumhold(GumholdConfig::Ellipsoid { .. }) => GlyphKind::Ellipsoid,
             MethodConfig::Gumhold(GumholdConfig::Cylinder { .. }) => GlyphKind::Cylinder,
             MethodConfig::Gumhold(GumholdConfig::Capsule { .. }) => GlyphKind::Capsule,
+            MethodConfig::Gumhold(GumholdConfig::Superquadric { .. }) => GlyphKind::Superquadric,
             MethodConfig::Sigg { glyph, .. }
             | MethodConfig::Mesh { glyph, .. }
             | MethodConfig::Reference { glyph } => *glyph,
@@ -288,6 +298,9 @@ impl MethodConfig {
                 depth_correction, ..
             })
             | MethodConfig::Gumhold(GumholdConfig::Capsule {
+                depth_correction, ..
+            })
+            | MethodConfig::Gumhold(GumholdConfig::Superquadric {
                 depth_correction, ..
             })
             | MethodConfig::Sigg {
@@ -316,7 +329,9 @@ impl MethodConfig {
                 },
             },
             MethodConfig::Gumhold(
-                GumholdConfig::Cylinder { shape, .. } | GumholdConfig::Capsule { shape, .. },
+                GumholdConfig::Cylinder { shape, .. }
+                | GumholdConfig::Capsule { shape, .. }
+                | GumholdConfig::Superquadric { shape, .. },
             ) => Proxy {
                 shape: *shape,
                 ..Proxy::BASELINE
@@ -437,6 +452,10 @@ impl DrawOptions {
                     depth_correction,
                 },
                 GlyphKind::Capsule => GumholdConfig::Capsule {
+                    shape: self.proxy,
+                    depth_correction,
+                },
+                GlyphKind::Superquadric => GumholdConfig::Superquadric {
                     shape: self.proxy,
                     depth_correction,
                 },

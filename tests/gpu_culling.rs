@@ -87,7 +87,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
             culled.ids, all.ids,
             "{method} {glyph}: culling changed the image"
         );
-        let vis = scene.visibility(&cam, true, 0.0);
+        let vis = scene.visibility(&cam, glyph, true, 0.0);
         assert!(
             vis.culled > scene.instances.len() / 4,
             "{method} {glyph}: {vis:?}"
@@ -100,7 +100,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
                 ..scene.clone()
             };
             assert_eq!(
-                one.visibility(&cam, true, 0.0).culled,
+                one.visibility(&cam, glyph, true, 0.0).culled,
                 0,
                 "{method} {glyph}: glyph {id} is shown but its twin culls it"
             );
@@ -127,7 +127,7 @@ fn min_pixel_radius_skips_only_small_glyphs() {
             },
         )
         .unwrap();
-    let vis = scene.visibility(&cam, false, min_px);
+    let vis = scene.visibility(&cam, GlyphKind::Ellipsoid, false, min_px);
     assert!(
         vis.culled > 0 && vis.culled < scene.instances.len(),
         "{vis:?}"

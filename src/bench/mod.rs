@@ -262,7 +262,7 @@ pub fn run(
                     };
                     st.covered = f.covered_pixels();
                     st.culled = scene
-                        .visibility(&view.camera, req.cull, req.min_pixel_radius)
+                        .visibility(&view.camera, req.glyph(), req.cull, req.min_pixel_radius)
                         .culled;
                     (st.predicted, st.predicted_tiles) =
                         predicted_fragments(&view.scene, &view.camera, cfg).unzip();

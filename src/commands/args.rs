@@ -14,6 +14,7 @@ use tensorglyph::defaults::Defaults;
 use tensorglyph::effects::{Effects, Outlines, Shading, Shadows, light};
 use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
 pub use tensorglyph::frame::parse_size;
+use tensorglyph::glyph::superquadric::{MAX_GAMMA, Sharpness};
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
 use tensorglyph::scene::UnderlaySource;
@@ -62,6 +63,11 @@ pub struct SceneArgs {
     /// otherwise).
     #[arg(long, value_name = "EPS")]
     pub min_radius: Option<f64>,
+    /// Superquadric glyphs (--glyph superquadric): Kindlmann's sharpness γ ≥ 0, default 3 (0:
+    /// ellipsoids; larger: boxier, sharper edges). Indefinite tensors take Schultz–Kindlmann's
+    /// shapes, whose sharpness is fixed (β_max = 3).
+    #[arg(long, value_name = "GAMMA")]
+    pub sharpness: Option<f64>,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -84,12 +90,21 @@ impl SceneArgs {
                 "--min-radius must be between 0 and 1, got {e}"
             );
         }
+        let mut sharpness = Sharpness::default();
+        if let Some(g) = self.sharpness {
+            ensure!(
+                g.is_finite() && (0.0..=MAX_GAMMA).contains(&g),
+                "--sharpness must be between 0 and {MAX_GAMMA}, got {g}"
+            );
+            sharpness.gamma = g;
+        }
         Ok(GlyphStyle {
             color: self.color.unwrap_or(defaults.color),
             scale: self.scale,
             normalize: self.normalize,
             size_by: self.size_by.unwrap_or(defaults.size_by),
             min_radius: self.min_radius,
+            sharpness,
             ..GlyphStyle::default()
         })
     }
@@ -101,6 +116,10 @@ impl SceneArgs {
         glyph: GlyphKind,
         defaults: &Defaults,
     ) -> Result<Recipe> {
+        ensure!(
+            self.sharpness.is_none() || glyph == GlyphKind::Superquadric,
+            "--sharpness applies to --glyph superquadric"
+        );
         Ok(Recipe {
             read: self.read_options(),
             style: self.style(defaults)?,

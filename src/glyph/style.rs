@@ -8,6 +8,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::colormap::{diverging, to_rgba8, viridis};
+use super::superquadric::{Sharpness, SuperquadricShape, superquadric_shape};
 use super::{Glyph, GlyphSet};
 use crate::tensor::eigen::quat_to_frame;
 use crate::tensor::shape::{self, DEFAULT_CLASS_THRESHOLD};
@@ -159,6 +160,8 @@ pub struct GlyphStyle {
     pub class_threshold: f64,
     /// Colour of [`ColorScheme::Solid`].
     pub solid_color: [u8; 3],
+    /// How sharp superquadric glyphs are (`--sharpness`).
+    pub sharpness: Sharpness,
 }
 
 impl Default for GlyphStyle {
@@ -171,6 +174,7 @@ impl Default for GlyphStyle {
             min_radius: None,
             class_threshold: DEFAULT_CLASS_THRESHOLD,
             solid_color: [200, 200, 200],
+            sharpness: Sharpness::default(),
         }
     }
 }
@@ -215,6 +219,7 @@ impl GlyphStyle {
             class_threshold: self.class_threshold,
             solid_color: self.solid_color,
             md_range,
+            sharpness: self.sharpness,
         };
         if size_by == SizeBy::Log {
             // λ_ref: a low percentile of the largest |λ|, so that most glyphs sit where the
@@ -289,6 +294,7 @@ pub struct ResolvedStyle {
     pub solid_color: [u8; 3],
     /// (MD min, MD max) of the field, for [`ColorScheme::Md`].
     pub md_range: (f64, f64),
+    pub sharpness: Sharpness,
 }
 
 impl ResolvedStyle {
@@ -303,6 +309,12 @@ impl ResolvedStyle {
         }
         let floor = self.min_radius * r[0].max(r[1]).max(r[2]);
         r.map(|x| x.max(floor) as f32)
+    }
+
+    /// The superquadric this glyph is drawn as (`--glyph superquadric`): its shape follows
+    /// the signed eigenvalues, whatever the radii's size map.
+    pub fn superquadric(&self, g: &Glyph) -> SuperquadricShape {
+        superquadric_shape(g.eigenvalues.map(f64::from), self.sharpness)
     }
 
     /// Whether [`Self::radii`] scales this glyph down to the cap.

@@ -31,6 +31,9 @@ use crate::tensor::shape::{magnitudes_desc, westin_trace};
 
 /// Kindlmann's default sharpness γ, which Teem's `tend glyph -gsc` also uses.
 pub const DEFAULT_GAMMA: f64 = 3.0;
+/// The largest sharpness accepted (`--sharpness`): at γ = 20 the Westin cap already gives
+/// exponents of 1e-40, below f32's normal range; the shapes stopped changing visibly long before.
+pub const MAX_GAMMA: f64 = 20.0;
 /// Schultz–Kindlmann's largest profile exponent, 3 in their tutorial's example code.
 pub const DEFAULT_BETA_MAX: f64 = 3.0;
 /// Teem caps `cl` and `cp` here: `1 − cl` never reaches 0, so every exponent stays positive and
@@ -319,6 +322,88 @@ fn barycentric(p: [f64; 2], t: [[f64; 2]; 3]) -> [f64; 3] {
     }
 }
 
+/// Exponents below this are raised to it: `2/e` must stay finite for the powers to.
+pub const EXPONENT_MIN: f64 = 1e-300;
+
+/// The solid's inside–outside function (docs/superquadric.md §1, §4) of exponents `e = (α, β,
+/// c)` at absolute local coordinates `a = (|x|, |y|, |z|)`: `N_α(|x| / R_β(z), |y| / R_c(z))`,
+/// ≤ 1 exactly on the solid, non-decreasing in each argument, ∞ beyond `|z| = 1`.
+pub fn gauge(e: [f64; 3], a: [f64; 3]) -> f64 {
+    let [ax, ay, az] = a;
+    if az >= 1.0 {
+        return if az == 1.0 && ax == 0.0 && ay == 0.0 {
+            1.0
+        } else {
+            f64::INFINITY
+        };
+    }
+    let u = scaled(ax, profile(az, e[1]));
+    let w = scaled(ay, profile(az, e[2]));
+    pnorm(u, w, e[0])
+}
+
+/// `a / r` with `0 / 0 = 0`: an axis point stays on the axis where the profile closes.
+fn scaled(a: f64, r: f64) -> f64 {
+    if a == 0.0 { 0.0 } else { a / r }
+}
+
+/// The profile radius `R_e(z) = (1 − z^(2/e))^(e/2)` for `0 ≤ z ≤ 1`, accurate near the tips
+/// (`1 − z^q` by `expm1`) and for extreme exponents (no intermediate overflows).
+pub fn profile(z: f64, e: f64) -> f64 {
+    let q = 2.0 / e.max(EXPONENT_MIN);
+    let rest = -(q * z.ln()).exp_m1();
+    (rest.ln() / q).exp()
+}
+
+/// `N_e(a, b) = (a^(2/e) + b^(2/e))^(e/2)` for `a, b ≥ 0`, scaled by the larger so that nothing
+/// overflows: `max(a, b)` in the limit `e → 0`.
+pub fn pnorm(a: f64, b: f64, e: f64) -> f64 {
+    let (hi, lo) = if a >= b { (a, b) } else { (b, a) };
+    if hi == 0.0 || hi.is_infinite() {
+        return hi;
+    }
+    let p = 2.0 / e.max(EXPONENT_MIN);
+    let r = (lo / hi).powf(p);
+    hi * (r.ln_1p() / p).exp()
+}
+
+/// Bits kept of an exponent: an f32 without its sign and its 10 lowest mantissa bits (8
+/// exponent bits, 13 mantissa bits; relative rounding error ≤ 2⁻¹⁴). Three fit in 64 bits, the
+/// superquadric's whole per-glyph shape: α and β change a glyph's surface by far less than the
+/// rounding moves it (≤ 6e-5 of an exponent), and the reference reads the same rounded values.
+const EXPONENT_BITS: u32 = 21;
+const EXPONENT_DROP: u32 = 31 - EXPONENT_BITS;
+
+/// `(α, β, c)` packed in two words, as the GPU reads them (`load_exponents` in
+/// shaders/common.wgsl): α in bits 0..21 of word 0, β in bits 21..32 of word 0 and 0..10 of
+/// word 1, c in bits 10..31 of word 1. Each is rounded to nearest and clamped to
+/// `[1e-30, f32::MAX]`; non-finite exponents become the sphere's 1.
+pub fn pack_exponents(e: [f64; 3]) -> [u32; 2] {
+    let [a, b, c] = e.map(|x| {
+        let x = if x.is_finite() { x } else { 1.0 };
+        let x = x.clamp(EXPONENT_LOWEST, f64::from(f32::MAX)) as f32;
+        let bits = x.to_bits() + (1 << (EXPONENT_DROP - 1));
+        (bits >> EXPONENT_DROP).min((1 << EXPONENT_BITS) - 1)
+    });
+    [
+        a | (b << EXPONENT_BITS),
+        (b >> (32 - EXPONENT_BITS)) | (c << 10),
+    ]
+}
+
+/// The exponents [`pack_exponents`] stored (exactly what the shaders decode).
+pub fn unpack_exponents(w: [u32; 2]) -> [f32; 3] {
+    let mask = (1u32 << EXPONENT_BITS) - 1;
+    let a = w[0] & mask;
+    let b = (w[0] >> EXPONENT_BITS) | ((w[1] & 0x3ff) << (32 - EXPONENT_BITS));
+    let c = (w[1] >> 10) & mask;
+    [a, b, c].map(|x| f32::from_bits(x << EXPONENT_DROP))
+}
+
+/// The smallest exponent stored: far below any mapping's (Kindlmann's γ = 10 gives 1e-20), and
+/// a normal f32, so `2/e` stays finite.
+const EXPONENT_LOWEST: f64 = 1e-30;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -372,6 +457,32 @@ mod tests {
             }
         }
         assert!(cases.len() >= 12, "only {} mapping cases", cases.len());
+    }
+
+    /// Packing keeps each exponent to 2⁻¹⁴ relative, the three apart, and the round trip is
+    /// a fixed point (what the scene stores is exactly what the GPU decodes).
+    #[test]
+    fn exponents_pack_to_21_bits_each() {
+        for e in [
+            [1.0, 0.216, 0.216],
+            [1e-20, 3.0, 2.0],
+            [1e-5, 1e-5, 1e-5],
+            [0.55, 2.75, 2.3],
+            [5.0, 1e-3, 0.5],
+        ] {
+            let got = unpack_exponents(pack_exponents(e));
+            for k in 0..3 {
+                let rel = (f64::from(got[k]) - e[k]).abs() / e[k];
+                assert!(rel <= 2f64.powi(-14), "{e:?} → {got:?}");
+            }
+            let again = unpack_exponents(pack_exponents(got.map(f64::from)));
+            assert_eq!(again, got);
+        }
+        assert_eq!(
+            unpack_exponents(pack_exponents([f64::NAN, 1.0, 1.0]))[0],
+            1.0
+        );
+        assert!(unpack_exponents(pack_exponents([0.0, 1.0, 1.0]))[0] > 0.0);
     }
 
     #[test]

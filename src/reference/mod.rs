@@ -53,6 +53,7 @@ enum Shape {
     Ellipsoid { centre: DVec3, t_inv: DMat3 },
     Cylinder(Cylinder),
     Capsule(Capsule),
+    Superquadric(superquadric::Superquadric),
 }
 
 impl Shape {
@@ -61,6 +62,7 @@ impl Shape {
             Shape::Ellipsoid { centre, .. } => *centre,
             Shape::Cylinder(c) => c.c,
             Shape::Capsule(c) => c.c,
+            Shape::Superquadric(q) => q.centre,
         }
     }
 
@@ -74,6 +76,7 @@ impl Shape {
             }
             Shape::Cylinder(c) => c.intersect(o, d),
             Shape::Capsule(c) => c.intersect(o, d),
+            Shape::Superquadric(q) => q.intersect(o, d),
         }
     }
 }
@@ -137,6 +140,10 @@ impl<'a> ReferenceScene<'a> {
                             r,
                         };
                         (Shape::Capsule(c), c.half_extents(), c.contains(eye))
+                    }
+                    GlyphKind::Superquadric => {
+                        let q = superquadric::Superquadric::of(&geo);
+                        (Shape::Superquadric(q), q.half_extents(), q.contains(eye))
                     }
                 };
                 let drawable = drawable_radii(g.radii);

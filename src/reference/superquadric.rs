@@ -20,7 +20,7 @@
 use glam::{DMat3, DVec3};
 
 use super::intersect::RayHit;
-use crate::glyph::superquadric::SuperquadricShape;
+use crate::glyph::superquadric::{SuperquadricShape, gauge, pnorm, profile};
 
 /// The slack of the bound tests, in units of the inside–outside function: a few ulps of its
 /// rounding, so that no stretch is discarded on rounding alone.
@@ -31,8 +31,7 @@ const MARGIN: f64 = 16.0 * f64::EPSILON;
 /// leftmost stretch still alive is taken as the hit: everything before it is certified empty,
 /// so it is a tangency resolved to that stretch's width.
 pub const MAX_BOUND_EVALS: usize = 1 << 20;
-/// Exponents below this are raised to it: `2/e` must stay finite for the powers to.
-const EXPONENT_MIN: f64 = 1e-300;
+use crate::glyph::superquadric::EXPONENT_MIN;
 
 /// A superquadric glyph in world space: the solid of [`SuperquadricShape`] in local unit
 /// coordinates, scaled by `radii`, turned into `frame`, at `centre`.
@@ -71,6 +70,19 @@ impl Superquadric {
         }
     }
 
+    /// The superquadric an instance's geometry is drawn as (`--glyph superquadric`: the frame
+    /// and radii already in local order, the exponents as stored).
+    pub fn of(geo: &crate::scene::GlyphGeometry) -> Self {
+        Superquadric {
+            centre: geo.centre,
+            frame: geo.frame,
+            radii: geo.radii,
+            alpha: geo.exponents.x,
+            beta: geo.exponents.y,
+            beta_y: geo.exponents.z,
+        }
+    }
+
     /// To local unit coordinates (a vector, not a point).
     pub fn to_local(&self, v: DVec3) -> DVec3 {
         (self.frame.transpose() * v) / self.radii
@@ -91,16 +103,7 @@ impl Superquadric {
     /// Inside–outside function of absolute local coordinates: ≤ 1 exactly on the solid,
     /// non-decreasing in each argument, `N_α(|x| / R_β(z), |y| / R_c(z))`.
     pub fn gauge(&self, ax: f64, ay: f64, az: f64) -> f64 {
-        if az >= 1.0 {
-            return if az == 1.0 && ax == 0.0 && ay == 0.0 {
-                1.0
-            } else {
-                f64::INFINITY
-            };
-        }
-        let u = scaled(ax, profile(az, self.beta));
-        let w = scaled(ay, profile(az, self.beta_y));
-        pnorm(u, w, self.alpha)
+        gauge([self.alpha, self.beta, self.beta_y], [ax, ay, az])
     }
 
     /// Bounds of [`Self::gauge`] over `q0 + s v`, `s ∈ [a, b]`.
@@ -339,31 +342,6 @@ fn log_add(a: f64, b: f64) -> f64 {
         return hi;
     }
     hi + (lo - hi).exp().ln_1p()
-}
-
-/// `a / r` with `0 / 0 = 0`: an axis point stays on the axis where the profile closes.
-fn scaled(a: f64, r: f64) -> f64 {
-    if a == 0.0 { 0.0 } else { a / r }
-}
-
-/// The profile radius `R_e(z) = (1 − z^(2/e))^(e/2)` for `0 ≤ z ≤ 1`, accurate near the tips
-/// (`1 − z^q` by `expm1`) and for extreme exponents (no intermediate overflows).
-fn profile(z: f64, e: f64) -> f64 {
-    let q = 2.0 / e.max(EXPONENT_MIN);
-    let rest = -(q * z.ln()).exp_m1();
-    (rest.ln() / q).exp()
-}
-
-/// `N_e(a, b) = (a^(2/e) + b^(2/e))^(e/2)` for `a, b ≥ 0`, scaled by the larger so that nothing
-/// overflows: `max(a, b)` in the limit `e → 0`.
-fn pnorm(a: f64, b: f64, e: f64) -> f64 {
-    let (hi, lo) = if a >= b { (a, b) } else { (b, a) };
-    if hi == 0.0 || hi.is_infinite() {
-        return hi;
-    }
-    let p = 2.0 / e.max(EXPONENT_MIN);
-    let r = (lo / hi).powf(p);
-    hi * (r.ln_1p() / p).exp()
 }
 
 /// Range of `|q0 + s v|` over `s ∈ [a, b]`: at the ends, or 0 where it changes sign.

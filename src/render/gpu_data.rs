@@ -59,6 +59,8 @@ impl GpuGlyph {
             rotation: unpack_quat(self.rotation),
             radii,
             glyph: 0,
+            // A separate buffer holds superquadric exponents (`GpuShape`).
+            shape: [0; 2],
         }
     }
 }
@@ -252,6 +254,7 @@ mod tests {
             rotation,
             radii,
             glyph: 7,
+            shape: [0; 2],
         }
     }
 

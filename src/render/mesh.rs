@@ -305,6 +305,8 @@ pub fn mesh_stats(method: Method, glyph: GlyphKind) -> (usize, usize) {
             let (s, m) = (prism_sides(n) as usize, capsule_rings(n) as usize);
             (2 * m * s + 2, 4 * m * s)
         }
+        // Not tessellated yet.
+        (Method::Mesh(_), GlyphKind::Superquadric) => (0, 0),
         (Method::Box, _) => (24, 12),
         (Method::Gumhold | Method::Sigg, _) => (4, 2),
         (Method::Reference, _) => (0, 0),

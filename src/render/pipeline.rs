@@ -75,7 +75,8 @@ pub fn buffer_entry(
 }
 
 /// The bind group layout of every glyph shader: @binding(0) camera, @binding(1) glyphs (one
-/// chunk), @binding(2) the chunk's base instance and culling parameters. Compute stages see it
+/// chunk), @binding(2) the chunk's base instance and culling parameters, @binding(3) the chunk's
+/// superquadric exponents (one unused word pair for scenes of other glyphs). Compute stages see it
 /// too (the `--prepass` reads the glyphs there).
 pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     let all = wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
@@ -87,6 +88,7 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
                 buffer_entry(0, all, uniform),
                 buffer_entry(1, all, wgpu::BufferBindingType::Storage { read_only: true }),
                 buffer_entry(2, all, uniform),
+                buffer_entry(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
             ],
         })
 }

@@ -36,6 +36,7 @@ pub struct ChunkBuffers {
     pub(crate) base: u32,
     pub(crate) count: u32,
     _glyphs: wgpu::Buffer,
+    _shapes: wgpu::Buffer,
     uniform: wgpu::Buffer,
     pub(crate) bind_group: wgpu::BindGroup,
     /// The same chunk seen by the key light's camera (the shadow map's pass).
@@ -216,6 +217,20 @@ impl ChunkBuffers {
             }
         }
         glyphs.unmap();
+        // Superquadric exponents, where the chunk has any (a binding may not be empty).
+        let words: Vec<[u32; 2]> = if piece.iter().any(|g| g.shape != [0; 2]) {
+            piece.iter().map(|g| g.shape).collect()
+        } else {
+            vec![[0; 2]]
+        };
+        let shapes = wgpu::util::DeviceExt::create_buffer_init(
+            device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("superquadric exponents"),
+                contents: bytemuck::cast_slice(&words),
+                usage: wgpu::BufferUsages::STORAGE,
+            },
+        );
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("chunk"),
             size: std::mem::size_of::<ChunkUniform>() as u64,
@@ -239,6 +254,10 @@ impl ChunkBuffers {
                         binding: 2,
                         resource: uniform.as_entire_binding(),
                     },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: shapes.as_entire_binding(),
+                    },
                 ],
             })
         };
@@ -248,6 +267,7 @@ impl ChunkBuffers {
             bind_group: group(camera_buffer),
             light_bind_group: group(light_buffer),
             _glyphs: glyphs,
+            _shapes: shapes,
             uniform,
         })
     }

@@ -1,5 +1,6 @@
 //! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
-//! parts it needs (`cylinder_slab.wgsl` for cylinders, `capsule.wgsl` for capsules, `sigg.wgsl`
+//! parts it needs (`cylinder_slab.wgsl` for cylinders, `capsule.wgsl` for capsules,
+//! `superquadric.wgsl` for superquadrics, `sigg.wgsl`
 //! for Sigg's method), its own
 //! file and `outputs.wgsl` (the shared fragment entry points); `tests::all_shaders_validate`
 //! runs naga's validator over each composition.
@@ -23,6 +24,9 @@ const CAPSULE: &str = include_str!("../../shaders/capsule.wgsl");
 const GUMHOLD_CAPSULE: &str = include_str!("../../shaders/gumhold_capsule.wgsl");
 const GUMHOLD_SOLID: &str = include_str!("../../shaders/gumhold_solid.wgsl");
 const SIGG_CAPSULE: &str = include_str!("../../shaders/sigg_capsule.wgsl");
+const SUPERQUADRIC: &str = include_str!("../../shaders/superquadric.wgsl");
+const GUMHOLD_SUPERQUADRIC: &str = include_str!("../../shaders/gumhold_superquadric.wgsl");
+const SIGG_SUPERQUADRIC: &str = include_str!("../../shaders/sigg_superquadric.wgsl");
 const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
 const SPLAT64: &str = include_str!("../../shaders/splat64.wgsl");
 
@@ -35,18 +39,22 @@ pub enum ShaderSource {
     SiggCylinder,
     GumholdCapsule,
     SiggCapsule,
+    GumholdSuperquadric,
+    SiggSuperquadric,
     /// The triangle-mesh baselines (`mesh:N`, `box`), every glyph shape.
     Mesh,
 }
 
 impl ShaderSource {
-    pub const ALL: [ShaderSource; 7] = [
+    pub const ALL: [ShaderSource; 9] = [
         ShaderSource::GumholdEllipsoid,
         ShaderSource::GumholdCylinder,
         ShaderSource::SiggEllipsoid,
         ShaderSource::SiggCylinder,
         ShaderSource::GumholdCapsule,
         ShaderSource::SiggCapsule,
+        ShaderSource::GumholdSuperquadric,
+        ShaderSource::SiggSuperquadric,
         ShaderSource::Mesh,
     ];
 
@@ -58,6 +66,8 @@ impl ShaderSource {
             ShaderSource::SiggCylinder => "sigg_cylinder.wgsl",
             ShaderSource::GumholdCapsule => "gumhold_capsule.wgsl",
             ShaderSource::SiggCapsule => "sigg_capsule.wgsl",
+            ShaderSource::GumholdSuperquadric => "gumhold_superquadric.wgsl",
+            ShaderSource::SiggSuperquadric => "sigg_superquadric.wgsl",
             ShaderSource::Mesh => "mesh.wgsl",
         }
     }
@@ -69,6 +79,7 @@ impl ShaderSource {
             ShaderSource::GumholdEllipsoid
                 | ShaderSource::GumholdCylinder
                 | ShaderSource::GumholdCapsule
+                | ShaderSource::GumholdSuperquadric
         )
     }
 
@@ -92,6 +103,10 @@ impl ShaderSource {
             ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
             ShaderSource::GumholdCapsule => &[CAPSULE, GUMHOLD_CAPSULE, GUMHOLD_SOLID],
             ShaderSource::SiggCapsule => &[CAPSULE, SIGG, SIGG_CAPSULE],
+            ShaderSource::GumholdSuperquadric => {
+                &[SUPERQUADRIC, GUMHOLD_SUPERQUADRIC, GUMHOLD_SOLID]
+            }
+            ShaderSource::SiggSuperquadric => &[SUPERQUADRIC, SIGG, SIGG_SUPERQUADRIC],
             ShaderSource::Mesh => &[CAPSULE, MESH],
         };
         let body = parts.join("\n");

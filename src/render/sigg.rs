@@ -1,6 +1,7 @@
 //! Sigg et al.'s method: per glyph an instanced 4-vertex strip at the NDC corners of the
 //! screen-space bounding box of its projected quadric (Sigg eq. 5; cylinders: the union of the
-//! two end discs' boxes, capsules of the two end balls'), with no vertex buffer; the fragment
+//! two end discs' boxes, capsules of the two end balls', superquadrics the hull of their local
+//! unit box's corners), with no vertex buffer; the fragment
 //! stage rebuilds the pixel's ray from its window position. Glyphs crossing the camera plane cover the viewport; glyphs behind
 //! it or around the eye are culled. The box math has an f64 twin in [`crate::twin::sigg`].
 
@@ -21,6 +22,7 @@ impl SiggRenderer {
             GlyphKind::Ellipsoid => ShaderSource::SiggEllipsoid,
             GlyphKind::Cylinder => ShaderSource::SiggCylinder,
             GlyphKind::Capsule => ShaderSource::SiggCapsule,
+            GlyphKind::Superquadric => ShaderSource::SiggSuperquadric,
         };
         Self(StripRenderer::new(ctx, layouts, source, None))
     }

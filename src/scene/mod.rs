@@ -25,9 +25,18 @@ pub struct GlyphInstance {
     pub radii: [f32; 3],
     /// Index into the glyph list the scene was built from (instances may be reordered).
     pub glyph: u32,
+    /// A superquadric's exponents (α, β, c) as the GPU reads them
+    /// ([`crate::glyph::superquadric::pack_exponents`]); `[0, 0]` for the other glyphs. The
+    /// frame's third column is then the symmetry axis and `radii` are in local (x, y, z) order.
+    pub shape: [u32; 2],
 }
 
 impl GlyphInstance {
+    /// The superquadric exponents (α, β, c) stored in [`Self::shape`].
+    pub fn exponents(&self) -> [f32; 3] {
+        crate::glyph::superquadric::unpack_exponents(self.shape)
+    }
+
     pub fn pack_color(rgba: [u8; 4]) -> u32 {
         u32::from_le_bytes(rgba)
     }
@@ -59,6 +68,8 @@ pub struct GlyphGeometry {
     /// Eigenvector frame O (columns).
     pub frame: DMat3,
     pub radii: DVec3,
+    /// Superquadric exponents (α, β, c) ([`GlyphInstance::exponents`]; 0 for other glyphs).
+    pub exponents: DVec3,
 }
 
 impl GlyphGeometry {
@@ -74,6 +85,7 @@ impl GlyphGeometry {
             // The shader normalises nothing: use the quaternion exactly as stored, like it does.
             frame: quat_to_mat3_unnormalised(q),
             radii: DVec3::from(g.radii.map(f64::from)),
+            exponents: DVec3::from(g.exponents().map(f64::from)),
         }
     }
 
@@ -111,6 +123,37 @@ impl GlyphGeometry {
             GlyphKind::Capsule => {
                 let (h, r) = capsule_of(self.radii);
                 (self.frame.x_axis * h).abs() + r
+            }
+            // The local unit box scaled by the radii holds every superquadric.
+            GlyphKind::Superquadric => {
+                (self.frame.x_axis * self.radii.x).abs()
+                    + (self.frame.y_axis * self.radii.y).abs()
+                    + (self.frame.z_axis * self.radii.z).abs()
+            }
+        }
+    }
+
+    /// Whether `p` (relative to the scene origin) is inside or on the glyph drawn as `glyph`:
+    /// the rule by which the methods do not draw a glyph around the eye (ellipsoids: E² ≤
+    /// [`rules::EYE_INSIDE_E2`]).
+    pub fn contains_as(&self, glyph: GlyphKind, p: DVec3) -> bool {
+        let local = self.frame.transpose() * (p - self.centre);
+        match glyph {
+            GlyphKind::Ellipsoid => {
+                (self.t_inv() * (p - self.centre)).length_squared() <= rules::EYE_INSIDE_E2
+            }
+            GlyphKind::Cylinder => {
+                let q = local / self.radii;
+                q.x.abs() <= 1.0 && q.y * q.y + q.z * q.z <= 1.0
+            }
+            GlyphKind::Capsule => {
+                let (h, r) = capsule_of(self.radii);
+                let q = local / r;
+                (q - DVec3::new(q.x.clamp(-h / r, h / r), 0.0, 0.0)).length_squared() <= 1.0
+            }
+            GlyphKind::Superquadric => {
+                let q = (local / self.radii).abs();
+                crate::glyph::superquadric::gauge(self.exponents.to_array(), q.to_array()) <= 1.0
             }
         }
     }
@@ -180,6 +223,7 @@ impl Scene {
                     rotation: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
                     radii: [s.radii.x as f32, s.radii.y as f32, s.radii.z as f32],
                     glyph: s.glyph,
+                    shape: [0; 2],
                 }
             })
             .collect();
@@ -298,6 +342,7 @@ impl Scene {
     pub fn visibility(
         &self,
         camera: &crate::camera::Camera,
+        glyph: GlyphKind,
         frustum: bool,
         min_pixel_radius: f32,
     ) -> Visibility {
@@ -314,12 +359,9 @@ impl Scene {
             let r = geo.max_radius();
             if (geo.centre - eye).dot(f) + r < camera.near {
                 v.behind_camera += 1;
-            } else if culling.skips(geo.centre, bounding_radius(g.radii)) {
+            } else if culling.skips(geo.centre, bounding_radius_as(g.radii, glyph)) {
                 v.culled += 1;
-            } else if !camera.is_ortho()
-                && (geo.t_inv() * (eye - geo.centre)).length_squared()
-                    <= crate::scene::rules::EYE_INSIDE_E2
-            {
+            } else if !camera.is_ortho() && geo.contains_as(glyph, eye) {
                 v.eye_inside += 1;
             }
         }
@@ -355,9 +397,18 @@ fn instance(
     glyph: GlyphKind,
 ) -> GlyphInstance {
     let c = DVec3::from(g.centre) - origin;
-    let (rotation, radii) = match glyph {
-        GlyphKind::Ellipsoid => (g.rotation, style.radii(g)),
-        GlyphKind::Cylinder | GlyphKind::Capsule => cylinder_frame(g.rotation, style.radii(g)),
+    let (rotation, radii, shape) = match glyph {
+        GlyphKind::Ellipsoid => (g.rotation, style.radii(g), [0; 2]),
+        GlyphKind::Cylinder | GlyphKind::Capsule => {
+            let (rotation, radii) = cylinder_frame(g.rotation, style.radii(g));
+            (rotation, radii, [0; 2])
+        }
+        GlyphKind::Superquadric => {
+            let sq = style.superquadric(g);
+            let (rotation, radii) = superquadric_frame(g.rotation, style.radii(g), sq.axes);
+            let exponents = crate::glyph::superquadric::pack_exponents([sq.alpha, sq.beta, sq.c]);
+            (rotation, radii, exponents)
+        }
     };
     GlyphInstance {
         centre: [c.x as f32, c.y as f32, c.z as f32],
@@ -365,6 +416,7 @@ fn instance(
         rotation,
         radii,
         glyph: k as u32,
+        shape,
     }
 }
 
@@ -382,6 +434,15 @@ pub struct Visibility {
 /// `bounding_radius` of common.wgsl: a sphere around the glyph as ellipsoid or capped cylinder.
 pub fn bounding_radius(r: [f32; 3]) -> f64 {
     f64::from(r[0]).hypot(f64::from(r[1].max(r[2])))
+}
+
+/// The radius the vertex stage of `glyph`'s methods culls with: [`bounding_radius`], or for
+/// superquadrics the corner of their local box (`length(radii)`).
+pub fn bounding_radius_as(r: [f32; 3], glyph: GlyphKind) -> f64 {
+    match glyph {
+        GlyphKind::Superquadric => DVec3::from(r.map(f64::from)).length(),
+        _ => bounding_radius(r),
+    }
 }
 
 /// The culling test of `skip_glyph` in common.wgsl, in f64.
@@ -437,6 +498,34 @@ impl Scene {
             }
         })
     }
+}
+
+/// The local frame of a superquadric glyph from its eigen frame: columns `e_i` in the order
+/// `axes` of [`crate::glyph::superquadric::SuperquadricShape`] (local z the symmetry axis), the
+/// middle one negated when that order is a reflection (the solid is mirror-symmetric), and the
+/// radii in the same order.
+pub fn superquadric_frame(
+    rotation: [f32; 4],
+    radii: [f32; 3],
+    axes: [usize; 3],
+) -> ([f32; 4], [f32; 3]) {
+    let q = DQuat::from_xyzw(
+        f64::from(rotation[0]),
+        f64::from(rotation[1]),
+        f64::from(rotation[2]),
+        f64::from(rotation[3]),
+    )
+    .normalize();
+    let m = DMat3::from_quat(q);
+    let mut f = DMat3::from_cols(m.col(axes[0]), m.col(axes[1]), m.col(axes[2]));
+    if f.determinant() < 0.0 {
+        f.y_axis = -f.y_axis;
+    }
+    let q = DQuat::from_mat3(&f).normalize();
+    (
+        [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+        axes.map(|i| radii[i]),
+    )
 }
 
 /// Reorder an eigen frame for a cylinder glyph (cylinder-capsule.md §6): the axis (first column)
@@ -499,6 +588,7 @@ mod tests {
                 0.9,
             )),
             radii: DVec3::new(1.0, 0.35, 0.25),
+            exponents: DVec3::ZERO,
         };
         let half = geo.half_extents_as(GlyphKind::Capsule);
         let mut reach = DVec3::ZERO;

@@ -325,7 +325,8 @@ pub fn tile_invocations(tris: &[[DVec2; 3]], width: u32, height: u32, block: u32
 /// The proxy Gumhold's vertex stage draws for instance `i` (the fragments it shades, since
 /// writing depth disables early rejection). Ellipsoids use their own quad, cylinders the quad
 /// of their bounding ellipsoid (√3 along the axis, √(3/2) across), capsules that of their
-/// circumscribed cylinder's, or the whole viewport when the eye is inside that ellipsoid.
+/// circumscribed cylinder's, superquadrics that of the ball around their unit box, or the whole
+/// viewport when the eye is inside that ellipsoid.
 pub fn proxy_shape(
     scene: &crate::scene::Scene,
     camera: &crate::camera::Camera,
@@ -357,6 +358,14 @@ pub fn proxy_shape(
             }
             capsule::bound(h) * r
         }
+        GlyphKind::Superquadric => {
+            let sq = crate::reference::superquadric::Superquadric::of(&geo);
+            if !camera.is_ortho() && sq.contains(eye) {
+                return ProxyShape::None;
+            }
+            // The ball around the local unit box.
+            geo.radii * 3f64.sqrt()
+        }
     };
     // The ellipsoid shader works with the symmetric T; the cylinder shader in the glyph's local
     // frame (A = O diag(r), so its quad is a different, equally valid square).
@@ -365,7 +374,7 @@ pub fn proxy_shape(
             geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose(),
             geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
         ),
-        GlyphKind::Cylinder | GlyphKind::Capsule => (
+        GlyphKind::Cylinder | GlyphKind::Capsule | GlyphKind::Superquadric => (
             geo.frame * DMat3::from_diagonal(radii),
             DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
         ),

@@ -224,7 +224,8 @@ impl Proxy {
     }
 }
 
-/// The vertex stage of sigg_ellipsoid.wgsl / sigg_cylinder.wgsl / sigg_capsule.wgsl for one glyph (`eye` and
+/// The vertex stage of sigg_ellipsoid.wgsl / sigg_cylinder.wgsl / sigg_capsule.wgsl /
+/// sigg_superquadric.wgsl for one glyph (`eye` and
 /// `view_proj` relative to the scene origin, like the glyph's centre).
 pub fn glyph_proxy(
     view_proj: &DMat4,
@@ -295,6 +296,46 @@ pub fn glyph_proxy(
             match (balls[0].bbox, balls[1].bbox) {
                 (Some(a), Some(b)) => Proxy::Box(a.union(b)),
                 _ if behind(&balls[0]) && behind(&balls[1]) => Proxy::Culled,
+                _ => Proxy::Viewport,
+            }
+        }
+        GlyphKind::Superquadric => {
+            // sigg_superquadric.wgsl: the hull of the local unit box's projected corners.
+            let sq = crate::reference::superquadric::Superquadric::of(geo);
+            if !ortho && sq.contains(eye) {
+                return Proxy::Culled;
+            }
+            let clip = |p: DVec3, w: f64| *view_proj * p.extend(w);
+            let (mc, axes) = (clip(geo.centre, 1.0), axes.map(|a| clip(a, 0.0)));
+            let planes: [fn(glam::DVec4) -> f64; 6] = [
+                |p| p.w + p.x,
+                |p| p.w - p.x,
+                |p| p.w + p.y,
+                |p| p.w - p.y,
+                |p| p.z,
+                |p| p.w - p.z,
+            ];
+            if planes
+                .iter()
+                .any(|f| f(mc) + axes.iter().map(|&a| f(a).abs()).sum::<f64>() < 0.0)
+            {
+                return Proxy::Culled;
+            }
+            let corners: Vec<glam::DVec4> = (0..8)
+                .map(|k| {
+                    let s = |bit: usize| if k & bit != 0 { 1.0 } else { -1.0 };
+                    mc + axes[0] * s(1) + axes[1] * s(2) + axes[2] * s(4)
+                })
+                .filter(|p| p.w > 0.0)
+                .collect();
+            match corners.len() {
+                0 => Proxy::Culled,
+                8 => {
+                    let ndc = corners.iter().map(|p| DVec2::new(p.x, p.y) / p.w);
+                    let lo = ndc.clone().fold(DVec2::splat(f64::INFINITY), DVec2::min);
+                    let hi = ndc.fold(DVec2::splat(f64::NEG_INFINITY), DVec2::max);
+                    Proxy::Box(NdcBox { lo, hi })
+                }
                 _ => Proxy::Viewport,
             }
         }
@@ -416,16 +457,19 @@ mod tests {
         cam.near = 0.1;
         cam.far = 100.0;
         let vp = cam.projection_matrix() * cam.view(DVec3::ZERO);
+        // Superquadric exponents of the sphere (the other glyphs ignore them).
         let sphere = |c: DVec3| GlyphGeometry {
             centre: c,
             frame: DMat3::IDENTITY,
             radii: DVec3::splat(0.5),
+            exponents: DVec3::ONE,
         };
         let proxy = |c: DVec3, kind| glyph_proxy(&vp, &sphere(c), DVec3::ZERO, false, kind);
         for kind in [
             GlyphKind::Ellipsoid,
             GlyphKind::Cylinder,
             GlyphKind::Capsule,
+            GlyphKind::Superquadric,
         ] {
             // In front: a box around the projected centre.
             let Proxy::Box(b) = proxy(DVec3::new(0.0, 0.0, -5.0), kind) else {

@@ -64,6 +64,10 @@ impl GumholdRenderer {
                 strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdCapsule, None),
                 prepass: None,
             },
+            GlyphKind::Superquadric => Self {
+                strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdSuperquadric, None),
+                prepass: None,
+            },
         }
     }
 
@@ -106,7 +110,7 @@ impl Drawer for GumholdRenderer {
         proxy: Proxy,
         instances: Range<u32>,
     ) {
-        // The request's configuration gives cylinders and capsules no conservative proxy.
+        // The request's configuration gives the solids no conservative proxy.
         self.strips.draw(pass, variant, proxy, instances);
     }
 

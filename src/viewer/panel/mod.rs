@@ -217,7 +217,18 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
         ui.selectable_value(&mut settings.glyph, GlyphKind::Ellipsoid, "ellipsoid");
         ui.selectable_value(&mut settings.glyph, GlyphKind::Cylinder, "cylinder");
         ui.selectable_value(&mut settings.glyph, GlyphKind::Capsule, "capsule");
+        ui.selectable_value(&mut settings.glyph, GlyphKind::Superquadric, "superquadric");
     });
+    if settings.glyph == GlyphKind::Superquadric {
+        // A new sharpness rebuilds the scene (it is part of the style).
+        ui.add(
+            egui::Slider::new(&mut settings.style.sharpness.gamma, 0.0..=10.0).text("sharpness γ"),
+        )
+        .on_hover_text(
+            "Kindlmann's γ: 0 ellipsoids, 3 the default, larger boxier. Indefinite tensors take \
+             Schultz–Kindlmann's shapes (β_max = 3).",
+        );
+    }
     ui.checkbox(&mut settings.depth_correction, "depth correction");
     // The presets of `render --preset` and the bench's paths; the controls below fine-tune.
     egui::ComboBox::from_label("preset")

@@ -1,0 +1,33 @@
+// Superquadric glyphs on Gumhold's quad (gumhold_solid.wgsl): parameter space is the local frame
+// (third column the symmetry axis) scaled by the radii, where the solid lies in the unit box;
+// the quad is that of the box's circumscribed ball (radius √3). The first crossing is found by
+// superquadric.wgsl (docs/superquadric.md §6). Composed as common.wgsl + superquadric.wgsl +
+// this + gumhold_solid.wgsl + outputs.wgsl.
+
+struct Solid {
+    scale: vec3<f32>,
+    bound: vec3<f32>,
+    // The exponents (α, β, c).
+    shape: vec3<f32>,
+}
+
+// The unit box's corner: no superquadric reaches beyond it.
+fn solid_radius(radii: vec3<f32>) -> f32 {
+    return length(radii);
+}
+
+fn solid_of(g: Glyph, ii: u32) -> Solid {
+    return Solid(g.radii, vec3<f32>(1.7320508), load_exponents(ii));
+}
+
+fn solid_contains(p: vec3<f32>, e: vec3<f32>) -> bool {
+    return sq_contains(p, e);
+}
+
+fn solid_entry(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, t_min: f32) -> vec4<f32> {
+    let h = sq_first(o, v, e, t_min);
+    if !h.hit {
+        discard;
+    }
+    return vec4<f32>(h.s, h.n);
+}
