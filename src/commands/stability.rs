@@ -2,11 +2,13 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 
+use super::args::one_of;
 use tensorglyph::bench::report::write_atomic;
 use tensorglyph::render::{GpuContext, GpuRenderer};
+use tensorglyph::request::{GlyphKind, Method};
 use tensorglyph::stability::{self, Options, Status, report};
 
 #[derive(Args, Debug)]
@@ -20,6 +22,12 @@ pub struct StabilityArgs {
     /// Only the quick regression subset.
     #[arg(long)]
     pub quick: bool,
+    /// Only these methods (repeatable; default every GPU method).
+    #[arg(long = "method")]
+    pub methods: Vec<Method>,
+    /// Only these glyphs (repeatable; default every glyph).
+    #[arg(long = "glyph", value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
+    pub glyphs: Vec<GlyphKind>,
 }
 
 pub fn run(args: StabilityArgs) -> Result<()> {
@@ -28,10 +36,19 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     let ctx = GpuContext::new().context("stability needs a GPU adapter (lavapipe counts)")?;
     let adapter = format!("{} ({})", ctx.adapter_name, ctx.backend);
     let gpu = GpuRenderer::new(ctx)?;
-    let opts = Options {
+    let mut opts = Options {
         quick: args.quick,
         ..Options::default()
     };
+    if let Some(m) = args.methods.iter().find(|m| **m == Method::Reference) {
+        bail!("--method {m}: the suite measures the GPU methods against the reference");
+    }
+    if !args.methods.is_empty() {
+        opts.methods = args.methods.clone();
+    }
+    if !args.glyphs.is_empty() {
+        opts.glyphs = args.glyphs.clone();
+    }
     let rows = stability::run(Some(&gpu), &opts, |msg| eprintln!("{msg}"));
     let charts = report::charts(&rows, &args.out);
     let md = report::markdown(&rows, &charts, &adapter);

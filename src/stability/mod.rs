@@ -139,6 +139,7 @@ impl Default for Options {
                 GlyphKind::Ellipsoid,
                 GlyphKind::Cylinder,
                 GlyphKind::Capsule,
+                GlyphKind::Superquadric,
             ],
             quick: false,
         }
@@ -180,16 +181,23 @@ pub fn sanity(frame: &Frame, reference: &Frame, instances: usize) -> (usize, usi
 pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
     let mut rows = Vec::new();
     for &glyph in &opts.glyphs {
-        if probe.ellipsoid_only && glyph != GlyphKind::Ellipsoid {
+        if probe.only.is_some_and(|only| only != glyph) {
             continue;
         }
+        let superquadrics;
+        let scene = if glyph == GlyphKind::Superquadric {
+            superquadrics = cases::as_superquadrics(&probe.scene);
+            &superquadrics
+        } else {
+            &probe.scene
+        };
         let dc = probe.depth_correction;
         let request = |method, preset| FrameRequest {
             aux: true,
             background: [0.0, 0.0, 0.0, 1.0],
             ..FrameRequest::preset(method, glyph, dc, preset)
         };
-        let reference = ReferenceScene::new(&probe.scene, &probe.camera, glyph)
+        let reference = ReferenceScene::new(scene, &probe.camera, glyph)
             .render(&request(Method::Reference, Preset::Baseline));
         let mut variants: Vec<(String, FrameRequest)> = Vec::new();
         for &method in &opts.methods {
@@ -200,10 +208,10 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         }
         for (label, req) in variants {
             let mut m = BTreeMap::new();
-            let (status, reason) = match gpu.render(&probe.scene, &probe.camera, &req) {
+            let (status, reason) = match gpu.render(scene, &probe.camera, &req) {
                 Err(e) => (Status::Fail, format!("render error: {e}")),
                 Ok(frame) => {
-                    measure(&frame, &reference, &probe.scene, &mut m);
+                    measure(&frame, &reference, scene, &mut m);
                     (Status::Pass, String::new())
                 }
             };
