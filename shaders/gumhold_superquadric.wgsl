@@ -1,6 +1,7 @@
 // Superquadric glyphs on Gumhold's quad (gumhold_solid.wgsl): parameter space is the local frame
 // (third column the symmetry axis) scaled by the radii, where the solid lies in the unit box;
-// the quad is that of the box's circumscribed ball (radius √3). The first crossing is found by
+// the quad is that of the smallest ball about the centre holding the solid (sq_bound: 1 for an
+// ellipsoid, √2 for a cylinder, at most √3, the box's corner). The first crossing is found by
 // superquadric.wgsl (docs/superquadric.md §6). Composed as common.wgsl + superquadric.wgsl +
 // this + gumhold_solid.wgsl + outputs.wgsl.
 
@@ -17,7 +18,9 @@ fn solid_radius(radii: vec3<f32>) -> f32 {
 }
 
 fn solid_of(g: Glyph, ii: u32) -> Solid {
-    return Solid(g.radii, vec3<f32>(1.7320508), load_exponents(ii));
+    let e = load_exponents(ii);
+    // A hair beyond the bound, so that f32 rounding cannot put the silhouette outside the quad.
+    return Solid(g.radii, vec3<f32>(sq_bound(e) * 1.0001), e);
 }
 
 fn solid_contains(p: vec3<f32>, e: vec3<f32>) -> bool {

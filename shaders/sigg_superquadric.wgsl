@@ -1,7 +1,9 @@
 // Sigg et al.'s method for superquadric glyphs: the solid lies in its local unit box (third
-// column the symmetry axis, half-sizes the radii), so the screen box is the hull of the box's
-// eight projected corners (exact in front of the camera plane) and a frustum plane is missed
-// when it misses all eight. Per fragment the first crossing from the glyph-near origin by
+// column the symmetry axis, half-sizes the radii) and in the ellipsoid of semi-axes s·radii
+// (s = sq_bound: 1 for an ellipsoid, √2 for a cylinder, √3 for a cube), so the screen box is the
+// intersection of the hull of the box's eight projected corners and the ellipsoid's eq. 5 box
+// (both exact in front of the camera plane; the first is tighter for boxy glyphs, the second for
+// round ones), and a frustum plane is missed when it misses all eight corners. Per fragment the first crossing from the glyph-near origin by
 // superquadric.wgsl (docs/superquadric.md §6).
 // Composed as common.wgsl + superquadric.wgsl + sigg.wgsl + this + outputs.wgsl.
 
@@ -61,9 +63,15 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         return culled();
     }
     if in_front == 8u {
+        let s = sq_bound(e) * 1.0001;
+        let q = quadric_box(o[0] * (s * g.radii.x), o[1] * (s * g.radii.y), o[2] * (s * g.radii.z), g.centre);
         b.kind = PROXY_BOX;
         b.lo = lo;
         b.hi = hi;
+        if q.kind == PROXY_BOX {
+            b.lo = max(lo, q.lo);
+            b.hi = min(hi, q.hi);
+        }
         b.z = clamp(mc.z / mc.w, 0.0, 1.0);
     } else {
         // The box crosses the camera plane.

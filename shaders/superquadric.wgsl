@@ -44,3 +44,16 @@ fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32) -> SqHit {
     }
     return h;
 }
+
+// bounding_scale in src/glyph/superquadric.rs: the radius (local unit coordinates) of the
+// smallest ball about the centre holding the solid of exponents e.
+fn sq_bound(e: vec3<f32>) -> f32 {
+    let beta = min(e.y, e.z);
+    let m = max(exp2(1.0 - e.x), 1.0);
+    var s2 = m;
+    if beta < 1.0 {
+        let k = 1.0 - beta;
+        s2 = m * pow(1.0 + pow(m, -1.0 / k), k);
+    }
+    return min(sqrt(s2), 1.7320508);
+}

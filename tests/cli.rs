@@ -149,6 +149,38 @@ fn bad_options_exit_2_with_a_clear_message() {
             &["render", "/nonexistent/field.vtk", "-o", o],
             "/nonexistent/field.vtk",
         ),
+        (
+            &["render", "--demo", "grid:3", "-o", o, "--sharpness", "5"],
+            "--sharpness applies to --glyph superquadric",
+        ),
+        (
+            &[
+                "render",
+                "--demo",
+                "grid:3",
+                "-o",
+                o,
+                "--glyph",
+                "superquadric",
+                "--sharpness",
+                "-1",
+            ],
+            "--sharpness must be between 0 and 20",
+        ),
+        (
+            &[
+                "render",
+                "--demo",
+                "grid:3",
+                "-o",
+                o,
+                "--glyph",
+                "superquadric",
+                "--sharpness",
+                "nan",
+            ],
+            "--sharpness must be between 0 and 20",
+        ),
     ];
     for (args, needle) in cases {
         let r = tg(args);

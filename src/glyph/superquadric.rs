@@ -367,6 +367,32 @@ pub fn pnorm(a: f64, b: f64, e: f64) -> f64 {
     hi * (r.ln_1p() / p).exp()
 }
 
+/// The radius, in local unit coordinates, of the smallest ball about the centre that holds the
+/// solid of exponents `e = (α, β, c)`: the proxies' bound (a ball of radius s in local unit
+/// coordinates is the ellipsoid of semi-axes s·radii), 1 for the ellipsoid, √2 for the
+/// cylinder, √3 at most (the unit box's corner).
+///
+/// For Barr's solid (c = β) write ρ = N_α(x, y): the cross-section's farthest point from the
+/// axis is on its diagonal for α ≤ 2 (x² + y² = 2^(1−α) ρ²) and on an axis beyond (ρ²), so
+/// |q|² ≤ m ρ² + z² with m = max(2^(1−α), 1), over the profile ρ^(2/β) + z^(2/β) = 1. With
+/// U = ρ², V = z² that profile is U^(1/β) + V^(1/β) = 1 and m U + V a linear function: for
+/// β < 1 Hölder's inequality gives its maximum ‖(m, 1)‖ in the dual norm of 1/β, (m^(1/(1−β)) +
+/// 1)^(1−β), written as m (1 + m^(−1/(1−β)))^(1−β) so that nothing overflows; for β ≥ 1 the
+/// curve lies inside U + V ≤ 1 and the maximum is m. The bound is attained. Schultz–Kindlmann's
+/// c ≠ β solids lie inside the Barr solid of exponent min(β, c) (R_e(z) grows as e shrinks).
+pub fn bounding_scale(e: [f64; 3]) -> f64 {
+    let [alpha, beta, c] = e;
+    let beta = beta.min(c);
+    let m = (1.0 - alpha).exp2().max(1.0);
+    let s2 = if beta < 1.0 {
+        let k = 1.0 - beta;
+        m * (1.0 + m.powf(-1.0 / k)).powf(k)
+    } else {
+        m
+    };
+    s2.sqrt().min(3f64.sqrt())
+}
+
 /// Bits kept of an exponent: an f32 without its sign and its 10 lowest mantissa bits (8
 /// exponent bits, 13 mantissa bits; relative rounding error ≤ 2⁻¹⁴). Three fit in 64 bits, the
 /// superquadric's whole per-glyph shape: α and β change a glyph's surface by far less than the
@@ -457,6 +483,53 @@ mod tests {
             }
         }
         assert!(cases.len() >= 12, "only {} mapping cases", cases.len());
+    }
+
+    /// The bound holds every point of the surface and is reached (sampled on Kindlmann's
+    /// parametric surface, and on the c ≠ β form through the gauge).
+    #[test]
+    fn bounding_scale_is_the_farthest_surface_point() {
+        assert!((bounding_scale([1.0, 1.0, 1.0]) - 1.0).abs() < 1e-12);
+        assert!((bounding_scale([1.0, 1e-20, 1e-20]) - 2f64.sqrt()).abs() < 1e-12);
+        assert!((bounding_scale([1e-20, 1e-20, 1e-20]) - 3f64.sqrt()).abs() < 1e-12);
+        let sp = |c: f64, e: f64| c.signum() * c.abs().powf(e);
+        for e in [
+            [1.0, 0.216, 0.216],
+            [0.3, 0.8, 0.8],
+            [0.55, 2.75, 2.3],
+            [1.0, 3.0, 3.0],
+            [1e-5, 3.0, 2.0],
+            [0.5, 0.5, 0.5],
+            [1.0, 0.999, 0.999],
+        ] {
+            let bound = bounding_scale(e);
+            let mut far = 0.0f64;
+            let n = 400;
+            for i in 0..=n {
+                let theta = std::f64::consts::FRAC_PI_2 * f64::from(i) / f64::from(n);
+                for j in 0..=n {
+                    let phi = std::f64::consts::FRAC_PI_2 * f64::from(j) / f64::from(n);
+                    // Barr's surface of exponents (α, β), then y stretched to the c profile.
+                    let z = sp(phi.cos(), e[1]);
+                    let x = sp(theta.cos(), e[0]) * sp(phi.sin(), e[1]);
+                    let mut y = sp(theta.sin(), e[0]) * sp(phi.sin(), e[1]);
+                    let (rb, rc) = (profile(z, e[1]), profile(z, e[2]));
+                    if rb > 0.0 {
+                        y *= rc / rb;
+                    }
+                    let g = gauge(e, [x, y, z]);
+                    assert!((g - 1.0).abs() < 1e-6 || rb == 0.0, "{e:?}: gauge {g}");
+                    far = far.max((x * x + y * y + z * z).sqrt());
+                }
+            }
+            assert!(far <= bound * (1.0 + 1e-12), "{e:?}: {far} beyond {bound}");
+            if e[1] == e[2] {
+                assert!(
+                    far >= bound * (1.0 - 1e-3),
+                    "{e:?}: {far} well inside {bound}"
+                );
+            }
+        }
     }
 
     /// Packing keeps each exponent to 2⁻¹⁴ relative, the three apart, and the round trip is

@@ -624,6 +624,7 @@ mod tests {
             GlyphKind::Ellipsoid,
             GlyphKind::Cylinder,
             GlyphKind::Capsule,
+            GlyphKind::Superquadric,
         ] {
             let scene = Scene::build(&set, &style, glyph);
             let (c, half) = Scene::bounding_box(&set, &style, glyph);
@@ -646,6 +647,48 @@ mod tests {
             Scene::bounding_box(&empty, &style, GlyphKind::Ellipsoid),
             (scene.centre, scene.half)
         );
+    }
+
+    /// A superquadric instance is the glyph's own tensor seen in its local frame: the frame's
+    /// third column is the eigenvector the mapping picked as the axis, the radii follow their
+    /// eigenvectors, the exponents are the mapping's (to the 2⁻¹⁴ of their packing), and the
+    /// box holds the solid.
+    #[test]
+    fn superquadric_instances_carry_the_mapping_in_their_local_frame() {
+        use crate::glyph::superquadric::{Sharpness, superquadric_shape};
+        let field = crate::field::synthetic::grid(6);
+        let set = derive_glyphs(&field, &crate::progress::Silent);
+        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
+        let scene = Scene::build(&set, &style, GlyphKind::Superquadric);
+        let mut axes_seen = [0; 3];
+        for inst in &scene.instances {
+            let g = &set.glyphs[inst.glyph as usize];
+            let shape = superquadric_shape(g.eigenvalues.map(f64::from), Sharpness::default());
+            axes_seen[shape.axis()] += 1;
+            let eigen = crate::tensor::eigen::quat_to_frame(g.rotation);
+            let geo = GlyphGeometry::of(inst);
+            let frame_radii = style.radii(g);
+            for (local, &k) in shape.axes.iter().enumerate() {
+                // The same direction up to sign (the solid is mirror-symmetric).
+                let e = DVec3::from(eigen[k]);
+                let cos = geo.frame.col(local).normalize().dot(e).abs();
+                assert!(cos > 1.0 - 1e-5, "column {local} vs e{k}: cos {cos}");
+                assert_eq!(inst.radii[local], frame_radii[k]);
+            }
+            assert!(geo.frame.determinant() > 0.0);
+            let want = [shape.alpha, shape.beta, shape.c];
+            for (got, want) in inst.exponents().iter().zip(want) {
+                assert!((f64::from(*got) - want).abs() <= want * 2f64.powi(-14));
+            }
+            let box_half = geo.half_extents_as(GlyphKind::Superquadric);
+            for corner in 0..8 {
+                let s = |b: usize| if corner & b != 0 { 1.0 } else { -1.0 };
+                let p = geo.frame * (geo.radii * DVec3::new(s(1), s(2), s(4)));
+                assert!((p.abs() - box_half).max_element() <= 1e-9 * geo.max_radius());
+            }
+        }
+        // The demo field has linear and planar glyphs: both axis choices are exercised.
+        assert!(axes_seen[0] > 0 && axes_seen[2] > 0, "{axes_seen:?}");
     }
 
     #[derive(Default)]

@@ -363,8 +363,9 @@ pub fn proxy_shape(
             if !camera.is_ortho() && sq.contains(eye) {
                 return ProxyShape::None;
             }
-            // The ball around the local unit box.
-            geo.radii * 3f64.sqrt()
+            // The smallest ball about the centre holding the solid (gumhold_superquadric.wgsl).
+            let s = crate::glyph::superquadric::bounding_scale(geo.exponents.to_array());
+            geo.radii * (s * 1.0001)
         }
     };
     // The ellipsoid shader works with the symmetric T; the cylinder shader in the glyph's local

@@ -306,7 +306,7 @@ pub fn glyph_proxy(
                 return Proxy::Culled;
             }
             let clip = |p: DVec3, w: f64| *view_proj * p.extend(w);
-            let (mc, axes) = (clip(geo.centre, 1.0), axes.map(|a| clip(a, 0.0)));
+            let (mc, m_axes) = (clip(geo.centre, 1.0), axes.map(|a| clip(a, 0.0)));
             let planes: [fn(glam::DVec4) -> f64; 6] = [
                 |p| p.w + p.x,
                 |p| p.w - p.x,
@@ -317,14 +317,14 @@ pub fn glyph_proxy(
             ];
             if planes
                 .iter()
-                .any(|f| f(mc) + axes.iter().map(|&a| f(a).abs()).sum::<f64>() < 0.0)
+                .any(|f| f(mc) + m_axes.iter().map(|&a| f(a).abs()).sum::<f64>() < 0.0)
             {
                 return Proxy::Culled;
             }
             let corners: Vec<glam::DVec4> = (0..8)
                 .map(|k| {
                     let s = |bit: usize| if k & bit != 0 { 1.0 } else { -1.0 };
-                    mc + axes[0] * s(1) + axes[1] * s(2) + axes[2] * s(4)
+                    mc + m_axes[0] * s(1) + m_axes[1] * s(2) + m_axes[2] * s(4)
                 })
                 .filter(|p| p.w > 0.0)
                 .collect();
@@ -332,8 +332,15 @@ pub fn glyph_proxy(
                 0 => Proxy::Culled,
                 8 => {
                     let ndc = corners.iter().map(|p| DVec2::new(p.x, p.y) / p.w);
-                    let lo = ndc.clone().fold(DVec2::splat(f64::INFINITY), DVec2::min);
-                    let hi = ndc.fold(DVec2::splat(f64::NEG_INFINITY), DVec2::max);
+                    let mut lo = ndc.clone().fold(DVec2::splat(f64::INFINITY), DVec2::min);
+                    let mut hi = ndc.fold(DVec2::splat(f64::NEG_INFINITY), DVec2::max);
+                    // Clipped to the box of the bounding ellipsoid s·radii.
+                    let s = crate::glyph::superquadric::bounding_scale(geo.exponents.to_array())
+                        * 1.0001;
+                    let [u, v, w] = axes.map(|a| a * s);
+                    if let Some(b) = quadric_box(view_proj, u, v, w, geo.centre).bbox {
+                        (lo, hi) = (lo.max(b.lo), hi.min(b.hi));
+                    }
                     Proxy::Box(NdcBox { lo, hi })
                 }
                 _ => Proxy::Viewport,
