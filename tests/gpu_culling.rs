@@ -72,6 +72,8 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
         (Method::Gumhold, GlyphKind::Cylinder),
         (Method::Gumhold, GlyphKind::Capsule),
         (Method::Sigg, GlyphKind::Ellipsoid),
+        // Tessellated superquadrics cull with their box's corner, length(radii).
+        (Method::Mesh(1), GlyphKind::Superquadric),
     ] {
         let scene = grid_scene(12, glyph);
         let req = FrameRequest {

@@ -1,7 +1,7 @@
 //! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
 //! parts it needs (`cylinder_slab.wgsl` for cylinders, `capsule.wgsl` for capsules,
-//! `superquadric.wgsl` for superquadrics, `sigg.wgsl`
-//! for Sigg's method), its own
+//! `superquadric.wgsl` for the ray-cast superquadrics, `superquadric_mesh.wgsl` for the
+//! tessellated ones, `sigg.wgsl` for Sigg's method), its own
 //! file and `outputs.wgsl` (the shared fragment entry points); `tests::all_shaders_validate`
 //! runs naga's validator over each composition.
 //!
@@ -25,6 +25,7 @@ const GUMHOLD_CAPSULE: &str = include_str!("../../shaders/gumhold_capsule.wgsl")
 const GUMHOLD_SOLID: &str = include_str!("../../shaders/gumhold_solid.wgsl");
 const SIGG_CAPSULE: &str = include_str!("../../shaders/sigg_capsule.wgsl");
 const SUPERQUADRIC: &str = include_str!("../../shaders/superquadric.wgsl");
+const SUPERQUADRIC_MESH: &str = include_str!("../../shaders/superquadric_mesh.wgsl");
 const GUMHOLD_SUPERQUADRIC: &str = include_str!("../../shaders/gumhold_superquadric.wgsl");
 const SIGG_SUPERQUADRIC: &str = include_str!("../../shaders/sigg_superquadric.wgsl");
 const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
@@ -107,7 +108,7 @@ impl ShaderSource {
                 &[SUPERQUADRIC, GUMHOLD_SUPERQUADRIC, GUMHOLD_SOLID]
             }
             ShaderSource::SiggSuperquadric => &[SUPERQUADRIC, SIGG, SIGG_SUPERQUADRIC],
-            ShaderSource::Mesh => &[CAPSULE, MESH],
+            ShaderSource::Mesh => &[CAPSULE, SUPERQUADRIC_MESH, MESH],
         };
         let body = parts.join("\n");
         format!("{COMMON}\n{body}\n{OUTPUTS}")
