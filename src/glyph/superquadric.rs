@@ -29,7 +29,7 @@
 
 use crate::tensor::shape::{magnitudes_desc, westin_trace};
 
-/// Kindlmann's default sharpness γ, which Teem's `tend glyph -gsc` also uses.
+/// Kindlmann's default sharpness γ, which Teem's `tend glyph -sh` also uses.
 pub const DEFAULT_GAMMA: f64 = 3.0;
 /// The largest sharpness accepted (`--sharpness`): at γ = 20 the Westin cap already gives
 /// exponents of 1e-40, below f32's normal range; the shapes stopped changing visibly long before.
