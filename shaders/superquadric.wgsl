@@ -30,8 +30,8 @@ const SQ_NEWTON_MAX: u32 = 24u;
 // Gauge evaluations of the branch and bound (non-convex): one per node, two more per look for a
 // sign change. Transversal crossings take 10–40; a ray skimming the surface at clearance δ keeps
 // about 1/δ nodes per unit length alive (first-order bounds). At the cap everything before the
-// current node is certified; entry → the rest of the ray is sampled (SQ_SAMPLES, SQ_GROWTH,
-// SQ_PARTS) and the first sign change refined, no longer certified; exit → the start of the node.
+// current node is certified; the rest of the ray is then sampled (SQ_SAMPLES, SQ_GROWTH,
+// SQ_PARTS) and the first sign change refined, no longer certified.
 const SQ_BOUND_MAX: u32 = 128u;
 // Tolerance along the ray in local unit coordinates (the box is [−1, 1]³): Newton stops when its
 // step is shorter, the branch and bound when its node is narrower.
@@ -365,24 +365,21 @@ fn sq_search(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_a: f32, s_b: f32, tol: 
             }
         }
     }
-    // Cap: everything before lo is certified.
+    // Cap: everything before lo is certified. The rest sampled, steps growing from the node's
+    // width by SQ_GROWTH up to 1/SQ_PARTS of the rest, and the first change to the sought side
+    // (inside for an entry, outside for an exit) refined (not certified).
     let lo = s_a + f32(i) * w;
-    if inside {
-        return vec2<f32>(lo, 1.0);
-    }
-    // The rest sampled, steps growing from the node's width by SQ_GROWTH up to 1/SQ_PARTS of
-    // the rest, and the first sign change refined (not certified).
     let coarse = (s_b - lo) / SQ_PARTS;
     var step = min(w, coarse);
     var s0 = lo;
     var f0 = sq_excess(sq_gauge(abs(o + s0 * v), e));
-    if f0 <= 0.0 {
+    if (f0 > 0.0) == inside {
         return vec2<f32>(s0, 1.0);
     }
     for (var k = 0u; k < SQ_SAMPLES; k++) {
         let s1 = min(s0 + step, s_b);
         let f1 = sq_excess(sq_gauge(abs(o + s1 * v), e));
-        if f1 <= 0.0 {
+        if (f1 > 0.0) == inside {
             return vec2<f32>(sq_secant(o, v, e, s0, s1, f0, f1, tol), 1.0);
         }
         if s1 >= s_b {
@@ -392,7 +389,8 @@ fn sq_search(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_a: f32, s_b: f32, tol: 
         f0 = f1;
         step = min(step * SQ_GROWTH, coarse);
     }
-    return vec2<f32>(s_b, 0.0);
+    // No change: an entry misses, an exit leaves through the box.
+    return vec2<f32>(s_b, select(0.0, 1.0, inside));
 }
 
 // First crossing of o + s v with s >= s_min (see SqHit). The caller should put o next to the

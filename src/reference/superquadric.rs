@@ -260,12 +260,32 @@ impl Superquadric {
         let s = if self.is_convex() {
             self.first_convex(q0, v, s_in, s_out, from_inside)?
         } else {
-            self.first(q0, v, s_in, s_out, !from_inside)?
+            match self.first(q0, v, s_in, s_out, !from_inside) {
+                Some(s) => s,
+                // From inside, a stretch certified inside up to the box exit leaves there: a
+                // flat cap lying on the box face (rounding can put the face a hair inside).
+                None if from_inside => s_out,
+                None => return None,
+            }
         };
         if t0 + s <= 0.0 {
             return None;
         }
-        let normal = (self.frame * (self.local_gradient(q0 + v * s) / self.radii)).normalize();
+        let q = q0 + v * s;
+        // A convex glyph's norm G has the solid's normal everywhere on it, flat caps included;
+        // H jumps from below 1 to ∞ across a near-box's cap (R_β(z) stays 1 up to the face), so
+        // its gradient there points along the cap instead of across it.
+        let local = if self.is_convex() {
+            let n = self.norm_gradient(q);
+            if n == DVec3::ZERO {
+                self.local_gradient(q)
+            } else {
+                n
+            }
+        } else {
+            self.local_gradient(q)
+        };
+        let normal = (self.frame * (local / self.radii)).normalize();
         Some(RayHit { t: t0 + s, normal })
     }
 
