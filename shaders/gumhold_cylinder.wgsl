@@ -7,7 +7,7 @@
 struct Solid {
     scale: vec3<f32>,
     bound: vec3<f32>,
-    shape: vec3<f32>,
+    shape: vec4<f32>,
 }
 
 fn solid_radius(radii: vec3<f32>) -> f32 {
@@ -15,15 +15,15 @@ fn solid_radius(radii: vec3<f32>) -> f32 {
 }
 
 fn solid_of(g: Glyph, ii: u32) -> Solid {
-    return Solid(g.radii, vec3<f32>(1.7320508, 1.2247449, 1.2247449), vec3<f32>(0.0));
+    return Solid(g.radii, vec3<f32>(1.7320508, 1.2247449, 1.2247449), vec4<f32>(0.0));
 }
 
-fn solid_contains(p: vec3<f32>, shape: vec3<f32>) -> bool {
+fn solid_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {
     return abs(p.x) <= 1.0 && dot(p.yz, p.yz) <= 1.0;
 }
 
 // (t, local normal) where the ray o + t v enters: a cap (axial normal) or the side.
-fn solid_entry(o: vec3<f32>, v: vec3<f32>, shape: vec3<f32>, t_min: f32) -> vec4<f32> {
+fn solid_entry(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> vec4<f32> {
     let s = slab(o, v);
     let p = o + s.x * v;
     var n = vec3<f32>(s.y, 0.0, 0.0);

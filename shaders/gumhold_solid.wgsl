@@ -24,8 +24,8 @@ struct VsOut {
     // Row 2 of R_view O diag(scale): the hit's view z relative to the centre is tz · p~.
     @location(8) @interpolate(flat) tz: vec3<f32>,
     // The shape's parameters (a capsule's segment half-length in units of its radius; a
-    // superquadric's exponents).
-    @location(9) @interpolate(flat) shape: vec3<f32>,
+    // superquadric's exponents and bounding ball).
+    @location(9) @interpolate(flat) shape: vec4<f32>,
 }
 
 @vertex

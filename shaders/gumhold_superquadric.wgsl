@@ -8,8 +8,8 @@
 struct Solid {
     scale: vec3<f32>,
     bound: vec3<f32>,
-    // The exponents (α, β, c).
-    shape: vec3<f32>,
+    // The exponents (α, β, c) and the bounding ball's radius.
+    shape: vec4<f32>,
 }
 
 // The unit box's corner: no superquadric reaches beyond it.
@@ -19,16 +19,16 @@ fn solid_radius(radii: vec3<f32>) -> f32 {
 
 fn solid_of(g: Glyph, ii: u32) -> Solid {
     let e = load_exponents(ii);
-    // A hair beyond the bound, so that f32 rounding cannot put the silhouette outside the quad.
-    return Solid(g.radii, vec3<f32>(sq_bound(e) * 1.0001), e);
+    let bound = sq_bound(e);
+    return Solid(g.radii, vec3<f32>(bound), vec4<f32>(e, bound));
 }
 
-fn solid_contains(p: vec3<f32>, e: vec3<f32>) -> bool {
-    return sq_contains(p, e);
+fn solid_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {
+    return sq_contains(p, shape.xyz);
 }
 
-fn solid_entry(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, t_min: f32) -> vec4<f32> {
-    let h = sq_first(o, v, e, t_min);
+fn solid_entry(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> vec4<f32> {
+    let h = sq_first(o, v, shape.xyz, t_min, shape.w);
     if !h.hit {
         discard;
     }

@@ -20,8 +20,8 @@ struct VsOut {
     @location(5) @interpolate(flat) a1: vec3<f32>,
     @location(6) @interpolate(flat) a2: vec3<f32>,
     // Shape parameters of the glyph kind (capsules: x, the segment's half-length in units of R;
-    // superquadrics: the exponents α, β, c).
-    @location(7) @interpolate(flat) shape: vec3<f32>,
+    // superquadrics: the exponents α, β, c and the bounding ball's radius).
+    @location(7) @interpolate(flat) shape: vec4<f32>,
 }
 
 // How a glyph is drawn.

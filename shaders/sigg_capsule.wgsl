@@ -17,7 +17,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     var ball = g;
     ball.radii = vec3<f32>(cap.y);
     glyph_varyings(&out, ball, o, ii + 1u);
-    out.shape = vec3<f32>(cap.x, 0.0, 0.0);
+    out.shape = vec4<f32>(cap.x, 0.0, 0.0, 0.0);
     if !is_ortho() {
         let e_c = (transpose(o) * (camera.eye.xyz - g.centre)) / cap.y;
         if capsule_contains(e_c, cap.x) {

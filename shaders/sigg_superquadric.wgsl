@@ -16,8 +16,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     }
     let o = quat_to_mat3(g.rotation);
     let e = load_exponents(ii);
+    let bound = sq_bound(e);
     glyph_varyings(&out, g, o, ii + 1u);
-    out.shape = e;
+    out.shape = vec4<f32>(e, bound);
     if !is_ortho() {
         let e_t = (transpose(o) * (camera.eye.xyz - g.centre)) / g.radii;
         if sq_contains(e_t, e) {
@@ -63,8 +64,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         return culled();
     }
     if in_front == 8u {
-        let s = sq_bound(e) * 1.0001;
-        let q = quadric_box(o[0] * (s * g.radii.x), o[1] * (s * g.radii.y), o[2] * (s * g.radii.z), g.centre);
+        let q = quadric_box(o[0] * (bound * g.radii.x), o[1] * (bound * g.radii.y), o[2] * (bound * g.radii.z), g.centre);
         b.kind = PROXY_BOX;
         b.lo = lo;
         b.hi = hi;
@@ -89,7 +89,7 @@ fn box_reach(c: f32, u: f32, v: f32, w: f32) -> f32 {
 fn ray_cast(in: VsOut) -> Hit {
     let r = pixel_ray(in);
     // The first crossing in front of the ray's start (eye, or the orthographic camera plane).
-    let h = sq_first(r.o_t, r.v_t, in.shape, -r.t0);
+    let h = sq_first(r.o_t, r.v_t, in.shape.xyz, -r.t0, in.shape.w);
     if !h.hit {
         discard;
     }

@@ -129,6 +129,35 @@ fn sq_norm_log(a: vec3<f32>, e: vec3<f32>) -> vec4<f32> {
     return vec4<f32>(n2.x, n2.y + n1.y, n2.y + n1.z, n2.z);
 }
 
+// (N, ∂N/∂a, ∂N/∂b) of N_e(a, b) for e <= 2 (p = 2/e >= 1, the convex case), a, b >= 0, the
+// derivatives without logs of their own: with r = (lo/hi)^p, (hi/N)^p = 1/(1 + r), so
+// ∂N/∂hi = (hi/N)^(p−1) = (N/hi)/(1 + r) in [1/2, 1], and ∂N/∂lo = (lo/hi)^(p−1) ∂N/∂hi =
+// (r/(lo/hi)) ∂N/∂hi <= 1 (lo/hi clamped as r is). Four transcendentals, as N alone.
+fn sq_pnorm_grad(a: f32, b: f32, e: f32) -> vec3<f32> {
+    let hi = max(a, b);
+    let lo = min(a, b);
+    if hi <= 0.0 {
+        return vec3<f32>(0.0, 0.0, 0.0);
+    }
+    let p = 2.0 / max(e, SQ_EXP_MIN);
+    let ratio = max(lo / hi, SQ_TINY);
+    let r = select(exp2(p * log2(ratio)), 0.0, lo <= 0.0);
+    let grow = exp2(log2(1.0 + r) / p);
+    let d_hi = grow / (1.0 + r);
+    let d_lo = (r / ratio) * d_hi;
+    if a >= b {
+        return vec3<f32>(hi * grow, d_hi, d_lo);
+    }
+    return vec3<f32>(hi * grow, d_lo, d_hi);
+}
+
+// (G, ∇G) of Barr's norm at absolute coordinates a, convex glyphs: 8 transcendentals.
+fn sq_norm_grad(a: vec3<f32>, e: vec3<f32>) -> vec4<f32> {
+    let n1 = sq_pnorm_grad(a.x, a.y, e.x);
+    let n2 = sq_pnorm_grad(n1.x, a.z, e.y);
+    return vec4<f32>(n2.x, n2.y * n1.y, n2.y * n1.z, n2.z);
+}
+
 // Inside–outside function of absolute coordinates, <= 1 exactly on the solid and non-decreasing
 // in each argument: G when c = β (no profile, no cancellation at the tips), else
 // H = N_α(|x|/R_β(z), |y|/R_c(z)) (SQ_BIG where |z| >= 1 off the axis).
@@ -221,20 +250,30 @@ fn sq_normal(q: vec3<f32>, e: vec3<f32>) -> vec3<f32> {
     return sq_unit(sign(q) * exp2(l - vec3<f32>(m)));
 }
 
-// The convex finder on [s_a, s_b]: the entry forward from s_a, or (inside) the exit backward from
-// s_b. The normal is the gradient at the last point evaluated (the hit, or within tol of it).
-fn sq_newton(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_a: f32, s_b: f32, tol: f32, inside: bool) -> SqHit {
-    let dir = select(1.0, -1.0, inside);
-    let s_far = select(s_b, s_a, inside);
-    var s = select(s_a, s_b, inside);
+// The convex finder on [s_a, s_b]: the entry forward from s_a, or, when s_a is the ray's start
+// (may_start_inside) and lies in the solid, the exit backward from s_b. The normal is the gradient at the last point evaluated (the hit, or within tol of it).
+fn sq_newton(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_a: f32, s_b: f32, tol: f32, may_start_inside: bool) -> SqHit {
+    var inside = false;
+    var dir = 1.0;
+    var s_far = s_b;
+    var s = s_a;
     // ∇G at the last point evaluated (ratios <= 1 to powers >= 0; |∇G| >= G/|q| > 0).
     var grad = vec3<f32>(0.0, 0.0, 1.0);
     for (var k = 0u; k < SQ_NEWTON_MAX; k++) {
         let q = o + s * v;
-        let g = sq_norm_log(abs(q), e);
-        grad = sign(q) * exp2(g.yzw);
+        let g = sq_norm_grad(abs(q), e);
+        grad = sign(q) * g.yzw;
         // On or in the solid: a box face on the surface, or rounding a hair past the root.
         if g.x <= 1.0 {
+            // The ray starts in the solid (its first point is the ray's own start): the exit,
+            // backwards from the far end. Testing here costs no evaluation of its own.
+            if k == 0u && may_start_inside {
+                inside = true;
+                dir = -1.0;
+                s_far = s_a;
+                s = s_b;
+                continue;
+            }
             return SqHit(s, sq_unit(grad), true);
         }
         // A subgradient of g along the ray.
@@ -393,9 +432,33 @@ fn sq_search(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_a: f32, s_b: f32, tol: 
     return vec2<f32>(s_b, select(0.0, 1.0, inside));
 }
 
-// First crossing of o + s v with s >= s_min (see SqHit). The caller should put o next to the
-// glyph (as the reference does): the tolerance grows with |s| (SQ_ULP).
-fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32) -> SqHit {
+// Whether the pipeline may meet non-convex glyphs (pinched or c ≠ β: indefinite tensors). The
+// renderer sets it per chunk of glyphs; false removes their search from the shader, which a CPU
+// device such as lavapipe would otherwise run under a mask for every fragment.
+override SQ_GENERAL: bool = true;
+
+// A hair beyond the solid's farthest point, so that f32 rounding cannot put the surface outside
+// the ball (BOUND_MARGIN in src/glyph/superquadric.rs).
+const SQ_BOUND_MARGIN: f32 = 1.0001;
+
+// bounding_scale in src/glyph/superquadric.rs (times SQ_BOUND_MARGIN): the radius, in local unit
+// coordinates, of a ball about the centre holding the solid of exponents e (1 for an ellipsoid,
+// √2 for a cylinder, √3 for a box).
+fn sq_bound(e: vec3<f32>) -> f32 {
+    let beta = min(e.y, e.z);
+    let m = max(exp2(1.0 - e.x), 1.0);
+    var s2 = m;
+    if beta < 1.0 {
+        let k = 1.0 - beta;
+        s2 = m * exp2(k * log2(1.0 + exp2(-log2(m) / k)));
+    }
+    return min(sqrt(s2), 1.7320508) * SQ_BOUND_MARGIN;
+}
+
+// First crossing of o + s v with s >= s_min (see SqHit); `bound` is sq_bound(e) (computed once
+// per glyph by the caller). The caller should put o next to the glyph (as the reference does):
+// the tolerance grows with |s| (SQ_ULP).
+fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: f32) -> SqHit {
     let miss = SqHit(0.0, vec3<f32>(0.0, 0.0, 1.0), false);
     // Slab-clip to the unit box and to s >= s_min.
     let ok = abs(v) >= vec3<f32>(SQ_V_MIN);
@@ -407,39 +470,49 @@ fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32) -> SqHit {
     let s2 = (vec3<f32>(1.0) - o) / vs;
     let near = select(vec3<f32>(-SQ_BIG), min(s1, s2), ok);
     let far = select(vec3<f32>(SQ_BIG), max(s1, s2), ok);
-    let s_in = max(s_min, max(near.x, max(near.y, near.z)));
-    let s_out = min(far.x, min(far.y, far.z));
+    var s_in = max(s_min, max(near.x, max(near.y, near.z)));
+    var s_out = min(far.x, min(far.y, far.z));
     if !(s_in < s_out && s_out < SQ_BIG) {
         return miss;
     }
-    let tol = max(SQ_TOL / length(v), SQ_ULP * max(abs(s_in), abs(s_out)));
-    // From inside the solid the first crossing is the exit.
-    var inside = false;
-    if s_in == s_min {
-        inside = sq_contains(o + s_in * v, e);
+    // And to the ball about the centre holding the solid: a ray past it misses without an
+    // evaluation, and the search starts next to the surface (stable roots of the quadratic).
+    let qa = dot(v, v);
+    let qb = dot(o, v);
+    let qc = dot(o, o) - bound * bound;
+    let disc = qb * qb - qa * qc;
+    if !(disc >= 0.0) {
+        return miss;
     }
-    if sq_convex(e) {
-        let h = sq_newton(o, v, e, s_in, s_out, tol, inside);
+    let q = -(qb + select(-1.0, 1.0, qb >= 0.0) * sqrt(disc));
+    var r1 = q / qa;
+    var r2 = r1;
+    if q != 0.0 {
+        r2 = qc / q;
+    }
+    s_in = max(s_in, min(r1, r2));
+    s_out = min(s_out, max(r1, r2));
+    if !(s_in < s_out) {
+        return miss;
+    }
+    let tol = max(SQ_TOL / length(v), SQ_ULP * max(abs(s_in), abs(s_out)));
+    // Where the span starts at the ray's start, that point may be inside the solid: then the
+    // first crossing is the exit.
+    let start = s_in == s_min;
+    if !SQ_GENERAL || sq_convex(e) {
+        let h = sq_newton(o, v, e, s_in, s_out, tol, start);
         if h.hit {
             return h;
         }
         return miss;
+    }
+    var inside = false;
+    if start {
+        inside = sq_contains(o + s_in * v, e);
     }
     let r = sq_search(o, v, e, s_in, s_out, tol, inside);
     if r.y == 0.0 {
         return miss;
     }
     return SqHit(r.x, sq_normal(o + r.x * v, e), true);
-}
-// bounding_scale in src/glyph/superquadric.rs: the radius (local unit coordinates) of the
-// smallest ball about the centre holding the solid of exponents e.
-fn sq_bound(e: vec3<f32>) -> f32 {
-    let beta = min(e.y, e.z);
-    let m = max(exp2(1.0 - e.x), 1.0);
-    var s2 = m;
-    if beta < 1.0 {
-        let k = 1.0 - beta;
-        s2 = m * pow(1.0 + pow(m, -1.0 / k), k);
-    }
-    return min(sqrt(s2), 1.7320508);
 }

@@ -393,6 +393,18 @@ pub fn bounding_scale(e: [f64; 3]) -> f64 {
     s2.sqrt().min(3f64.sqrt())
 }
 
+/// A hair beyond the farthest point ([`bounding_scale`] times this), so that f32 rounding
+/// cannot put the surface outside a proxy built from the bound (`SQ_BOUND_MARGIN` in
+/// shaders/superquadric.wgsl).
+pub const BOUND_MARGIN: f64 = 1.0001;
+
+/// Whether the solid of exponents `e = (α, β, c)` is convex with Barr's norm as gauge (α, β ≤ 2,
+/// c = β: every Kindlmann glyph), the shader's fast finder (`sq_convex` in
+/// shaders/superquadric.wgsl).
+pub fn is_convex(e: [f32; 3]) -> bool {
+    e[0] <= 2.0 && e[1] <= 2.0 && e[2] == e[1]
+}
+
 /// Bits kept of an exponent: an f32 without its sign and its 10 lowest mantissa bits (8
 /// exponent bits, 13 mantissa bits; relative rounding error ≤ 2⁻¹⁴). Three fit in 64 bits, the
 /// superquadric's whole per-glyph shape: α and β change a glyph's surface by far less than the

@@ -2,8 +2,6 @@
 //! frame loop ([`crate::render::GpuRenderer`]) knows no method; a method with passes of its own
 //! (Gumhold's compute prepass and splats) records them here.
 
-use std::ops::Range;
-
 use crate::render::context::GpuContext;
 use crate::render::pipeline::Variant;
 use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
@@ -52,14 +50,14 @@ impl FrameRecording<'_> {
 
 /// A GPU method's long-lived pipelines for one glyph shape.
 pub trait Drawer: Send + Sync {
-    /// Record the draw of the glyph instances `instances` (instance_index values); bind group 0
-    /// (camera, the chunk holding them, its uniform) is already set.
+    /// Record the draw of the glyph instances of `chunk`; bind group 0 (camera, the chunk, its
+    /// uniform) is already set.
     fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         variant: Variant,
         proxy: Proxy,
-        instances: Range<u32>,
+        chunk: &ChunkBuffers,
     );
 
     /// Render passes one frame of `req` takes (each gets one pipeline-statistics query).
@@ -97,12 +95,7 @@ pub fn record_chunks<D: Drawer + ?Sized>(
     }
     for c in frame.buffers.chunks.iter().filter(|c| c.count > 0) {
         pass.set_bind_group(0, frame.group(c), &[]);
-        drawer.draw(
-            &mut pass,
-            Variant::of(req),
-            req.proxy(),
-            c.base..c.base + c.count,
-        );
+        drawer.draw(&mut pass, Variant::of(req), req.proxy(), c);
     }
     if frame.stats.is_some() {
         pass.end_pipeline_statistics_query();

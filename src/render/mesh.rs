@@ -32,6 +32,7 @@ use crate::render::context::GpuContext;
 use crate::render::drawer::Drawer;
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
 use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
+use crate::render::scene_buffers::ChunkBuffers;
 use crate::render::shaders::ShaderSource;
 use crate::request::{GlyphKind, Method, Proxy};
 
@@ -646,13 +647,13 @@ impl Drawer for MeshRenderer {
         pass: &mut wgpu::RenderPass<'_>,
         variant: Variant,
         _proxy: Proxy,
-        instances: std::ops::Range<u32>,
+        chunk: &ChunkBuffers,
     ) {
         // Variant::ALL is in index order.
         pass.set_pipeline(&self.pipelines[variant.index()]);
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..self.index_count, 0, instances);
+        pass.draw_indexed(0..self.index_count, 0, chunk.instances());
     }
 }
 

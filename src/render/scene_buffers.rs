@@ -35,6 +35,9 @@ pub struct SceneBuffers {
 pub struct ChunkBuffers {
     pub(crate) base: u32,
     pub(crate) count: u32,
+    /// Whether any instance is a superquadric the convex finder cannot draw (pinched, or c ≠ β:
+    /// indefinite tensors); the superquadric pipelines leave that search out otherwise.
+    pub(crate) general: bool,
     _glyphs: wgpu::Buffer,
     _shapes: wgpu::Buffer,
     uniform: wgpu::Buffer,
@@ -181,6 +184,11 @@ impl SceneBuffers {
 }
 
 impl ChunkBuffers {
+    /// The instance_index values of this chunk's glyphs.
+    pub(crate) fn instances(&self) -> std::ops::Range<u32> {
+        self.base..self.base + self.count
+    }
+
     /// A storage buffer of `piece` packed straight into its mapping, its uniform and its bind
     /// group.
     fn upload(
@@ -266,6 +274,9 @@ impl ChunkBuffers {
             count: piece.len() as u32,
             bind_group: group(camera_buffer),
             light_bind_group: group(light_buffer),
+            general: piece.iter().any(|g| {
+                g.shape != [0; 2] && !crate::glyph::superquadric::is_convex(g.exponents())
+            }),
             _glyphs: glyphs,
             _shapes: shapes,
             uniform,

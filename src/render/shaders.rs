@@ -84,6 +84,14 @@ impl ShaderSource {
         )
     }
 
+    /// Whether the shader ray casts superquadrics (and has their `SQ_GENERAL` override).
+    pub fn is_superquadric(self) -> bool {
+        matches!(
+            self,
+            ShaderSource::GumholdSuperquadric | ShaderSource::SiggSuperquadric
+        )
+    }
+
     /// The composed source, specialised by `defs`.
     pub fn text_with(self, defs: ShaderDefs) -> String {
         let mut text = self.text();

@@ -5,11 +5,10 @@
 //! stage rebuilds the pixel's ray from its window position. Glyphs crossing the camera plane cover the viewport; glyphs behind
 //! it or around the eye are culled. The box math has an f64 twin in [`crate::twin::sigg`].
 
-use std::ops::Range;
-
 use crate::render::context::GpuContext;
 use crate::render::drawer::Drawer;
 use crate::render::pipeline::{GlyphLayouts, Variant};
+use crate::render::scene_buffers::ChunkBuffers;
 use crate::render::shaders::ShaderSource;
 use crate::render::strip::StripRenderer;
 use crate::request::{GlyphKind, Proxy};
@@ -34,9 +33,9 @@ impl Drawer for SiggRenderer {
         pass: &mut wgpu::RenderPass<'_>,
         variant: Variant,
         _proxy: Proxy,
-        instances: Range<u32>,
+        chunk: &ChunkBuffers,
     ) {
         // The screen-space box is already tight: no proxy options apply.
-        self.0.draw(pass, variant, Proxy::BASELINE, instances);
+        self.0.draw(pass, variant, Proxy::BASELINE, chunk);
     }
 }

@@ -7,6 +7,7 @@ use std::sync::{Mutex, OnceLock};
 
 use crate::render::context::GpuContext;
 use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
+use crate::render::scene_buffers::ChunkBuffers;
 use crate::render::shaders::{ShaderDefs, ShaderSource};
 use crate::request::Proxy;
 
@@ -15,8 +16,9 @@ pub struct StripRenderer {
     layout: wgpu::PipelineLayout,
     source: ShaderSource,
     modules: [OnceLock<wgpu::ShaderModule>; 2],
-    /// Keyed by variant, proxy and whether the vertices come from `instance_input`.
-    pipelines: Mutex<HashMap<(Variant, Proxy, bool), wgpu::RenderPipeline>>,
+    /// Keyed by variant, proxy, whether the vertices come from `instance_input`, and whether
+    /// non-convex superquadrics may be drawn (`SQ_GENERAL`).
+    pipelines: Mutex<HashMap<(Variant, Proxy, bool, bool), wgpu::RenderPipeline>>,
     /// Per-instance vertex input of the `vs_frames` entry point, for shaders that have one.
     instance_input: Option<wgpu::VertexBufferLayout<'static>>,
     /// The shader's splats use 64-bit atomics (splat64.wgsl).
@@ -40,7 +42,7 @@ impl StripRenderer {
             int64_atomics: ctx.int64_atomics,
         };
         // Build the default variant now, so shader errors surface where the drawer is made.
-        r.pipeline(Variant::ALL[0], Proxy::default(), false);
+        r.pipeline(Variant::ALL[0], Proxy::default(), false, true);
         r
     }
 
@@ -62,29 +64,36 @@ impl StripRenderer {
         })
     }
 
-    /// Values of the proxy `override`s, for shaders that have them.
-    pub(crate) fn constants(&self, proxy: Proxy) -> Vec<(&'static str, f64)> {
-        if !self.source.has_proxy_constants() {
-            return Vec::new();
-        }
-        vec![
-            ("PROXY_VERTICES", f64::from(proxy.vertices())),
-            (
+    /// Values of the shader's `override`s: the proxy's, and whether superquadrics that are not
+    /// convex may come (`general`), for the shaders that have them.
+    pub(crate) fn constants(&self, proxy: Proxy, general: bool) -> Vec<(&'static str, f64)> {
+        let mut c = Vec::new();
+        if self.source.has_proxy_constants() {
+            c.push(("PROXY_VERTICES", f64::from(proxy.vertices())));
+            c.push((
                 "CONSERVATIVE_DEPTH",
                 if proxy.conservative { 1.0 } else { 0.0 },
-            ),
-        ]
+            ));
+        }
+        if self.source.is_superquadric() {
+            c.push(("SQ_GENERAL", if general { 1.0 } else { 0.0 }));
+        }
+        c
     }
 
     /// The strip pipeline of `variant` and `proxy`; with `from_instances`, its vertices come
-    /// from the per-instance input (`vs_frames`) instead of the glyph storage buffer.
+    /// from the per-instance input (`vs_frames`) instead of the glyph storage buffer; without
+    /// `general`, superquadric shaders leave out the search for non-convex glyphs.
     pub(crate) fn pipeline(
         &self,
         variant: Variant,
         proxy: Proxy,
         from_instances: bool,
+        general: bool,
     ) -> wgpu::RenderPipeline {
-        let key = (variant, proxy, from_instances);
+        // The flag changes only superquadric shaders: one pipeline serves both for the others.
+        let general = general || !self.source.is_superquadric();
+        let key = (variant, proxy, from_instances, general);
         if let Some(p) = self
             .pipelines
             .lock()
@@ -95,7 +104,7 @@ impl StripRenderer {
         }
         // early_depth_test only means something where the fragment writes depth.
         let module = self.module(proxy.early_depth && variant.depth_correction);
-        let constants = self.constants(proxy);
+        let constants = self.constants(proxy, general);
         let instance_buffers = [self.instance_input.clone()];
         let (entry, buffers): (_, &[_]) = if from_instances {
             ("vs_frames", &instance_buffers)
@@ -123,15 +132,16 @@ impl StripRenderer {
         p
     }
 
-    /// Draw `instances` with `proxy` (callers pass the proxy their shader supports).
+    /// Draw the instances of `chunk` with `proxy` (callers pass the proxy their shader
+    /// supports).
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         variant: Variant,
         proxy: Proxy,
-        instances: std::ops::Range<u32>,
+        chunk: &ChunkBuffers,
     ) {
-        pass.set_pipeline(&self.pipeline(variant, proxy, false));
-        pass.draw(0..proxy.vertices(), instances);
+        pass.set_pipeline(&self.pipeline(variant, proxy, false, chunk.general));
+        pass.draw(0..proxy.vertices(), chunk.instances());
     }
 }

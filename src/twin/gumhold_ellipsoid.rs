@@ -364,8 +364,8 @@ pub fn proxy_shape(
                 return ProxyShape::None;
             }
             // The smallest ball about the centre holding the solid (gumhold_superquadric.wgsl).
-            let s = crate::glyph::superquadric::bounding_scale(geo.exponents.to_array());
-            geo.radii * (s * 1.0001)
+            use crate::glyph::superquadric::{BOUND_MARGIN, bounding_scale};
+            geo.radii * (bounding_scale(geo.exponents.to_array()) * BOUND_MARGIN)
         }
     };
     // The ellipsoid shader works with the symmetric T; the cylinder shader in the glyph's local

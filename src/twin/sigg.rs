@@ -335,8 +335,8 @@ pub fn glyph_proxy(
                     let mut lo = ndc.clone().fold(DVec2::splat(f64::INFINITY), DVec2::min);
                     let mut hi = ndc.fold(DVec2::splat(f64::NEG_INFINITY), DVec2::max);
                     // Clipped to the box of the bounding ellipsoid s·radii.
-                    let s = crate::glyph::superquadric::bounding_scale(geo.exponents.to_array())
-                        * 1.0001;
+                    use crate::glyph::superquadric::{BOUND_MARGIN, bounding_scale};
+                    let s = bounding_scale(geo.exponents.to_array()) * BOUND_MARGIN;
                     let [u, v, w] = axes.map(|a| a * s);
                     if let Some(b) = quadric_box(view_proj, u, v, w, geo.centre).bbox {
                         (lo, hi) = (lo.max(b.lo), hi.min(b.hi));

@@ -210,6 +210,38 @@ pub fn sq_norm_log(a: Vec3, e: Vec3) -> [f32; 4] {
     [n2.x, n2.y + n1.y, n2.y + n1.z, n2.z]
 }
 
+/// `sq_pnorm_grad`: `(N, ∂N/∂a, ∂N/∂b)` of `N_e(a, b)` for `e ≤ 2` (`p = 2/e ≥ 1`, the convex
+/// case), the derivatives without logs of their own: with `r = (lo/hi)^p`, `(hi/N)^p = 1/(1 +
+/// r)`, so `∂N/∂hi = (hi/N)^(p−1) = (N/hi)/(1 + r)` in `[1/2, 1]` and `∂N/∂lo = (lo/hi)^(p−1)
+/// ∂N/∂hi = (r/(lo/hi)) ∂N/∂hi ≤ 1` (`lo/hi` clamped as `r` is). Four transcendentals, as `N`
+/// alone.
+pub fn sq_pnorm_grad(a: f32, b: f32, e: f32) -> Vec3 {
+    let hi = a.max(b);
+    let lo = a.min(b);
+    if hi <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let p = 2.0 / e.max(SQ_EXP_MIN);
+    let ratio = (lo / hi).max(SQ_TINY);
+    let r = select(exp2(p * log2(ratio)), 0.0, lo <= 0.0);
+    let grow = exp2(log2(1.0 + r) / p);
+    let d_hi = grow / (1.0 + r);
+    let d_lo = (r / ratio) * d_hi;
+    if a >= b {
+        Vec3::new(hi * grow, d_hi, d_lo)
+    } else {
+        Vec3::new(hi * grow, d_lo, d_hi)
+    }
+}
+
+/// `sq_norm_grad`: `(G, ∇G)` of Barr's norm at absolute coordinates `a`, convex glyphs: 8
+/// transcendentals.
+pub fn sq_norm_grad(a: Vec3, e: Vec3) -> [f32; 4] {
+    let n1 = sq_pnorm_grad(a.x, a.y, e.x);
+    let n2 = sq_pnorm_grad(n1.x, a.z, e.y);
+    [n2.x, n2.y * n1.y, n2.y * n1.z, n2.z]
+}
+
 /// `sq_gauge`: an inside–outside function of absolute local coordinates, ≤ 1 exactly on the
 /// solid and non-decreasing in each argument: the norm `G` when `c = β` (no profile, so no
 /// cancellation next to the tips), else `H = N_α(|x|/R_β(z), |y|/R_c(z))` ([`SQ_BIG`] where
@@ -317,23 +349,33 @@ fn sq_newton(
     s_a: f32,
     s_b: f32,
     tol: f32,
-    inside: bool,
+    may_start_inside: bool,
     cost: &mut SqCost,
 ) -> SqHit {
-    let dir = select(1.0, -1.0, inside);
-    let s_far = select(s_b, s_a, inside);
-    let mut s = select(s_a, s_b, inside);
+    let mut inside = false;
+    let mut dir = 1.0;
+    let mut s_far = s_b;
+    let mut s = s_a;
     // ∇G at the last point evaluated (each component a ratio ≤ 1 to a power ≥ 0, and
     // |∇G| ≥ G/|q| > 0 off the centre).
     let mut grad = Vec3::Z;
-    for _ in 0..SQ_NEWTON_MAX {
+    for k in 0..SQ_NEWTON_MAX {
         cost.search += 1;
         let q = o + s * v;
-        let g = sq_norm_log(q.abs(), e);
-        grad = sign3(q) * Vec3::new(exp2(g[1]), exp2(g[2]), exp2(g[3]));
+        let g = sq_norm_grad(q.abs(), e);
+        grad = sign3(q) * Vec3::new(g[1], g[2], g[3]);
         // On or in the solid: the box face is the surface (flat faces), or rounding took the
         // last step a hair past the root.
         if g[0] <= 1.0 {
+            // The ray starts in the solid (its first point is the ray's own start): the exit,
+            // backwards from the far end. Testing here costs no evaluation of its own.
+            if k == 0 && may_start_inside {
+                inside = true;
+                dir = -1.0;
+                s_far = s_a;
+                s = s_b;
+                continue;
+            }
             return SqHit {
                 s,
                 n: sq_unit(grad),
@@ -555,7 +597,7 @@ fn sq_secant(
 }
 
 /// [`sq_first`], also reporting its cost.
-pub fn sq_first_cost(o: Vec3, v: Vec3, e: Vec3, s_min: f32) -> (SqHit, SqCost) {
+pub fn sq_first_cost(o: Vec3, v: Vec3, e: Vec3, s_min: f32, bound: f32) -> (SqHit, SqCost) {
     let mut cost = SqCost::default();
     let miss = SqHit {
         s: 0.0,
@@ -572,21 +614,41 @@ pub fn sq_first_cost(o: Vec3, v: Vec3, e: Vec3, s_min: f32) -> (SqHit, SqCost) {
     let s2 = (Vec3::ONE - o) / vs;
     let near = Vec3::select(ok, s1.min(s2), Vec3::splat(-SQ_BIG));
     let far = Vec3::select(ok, s1.max(s2), Vec3::splat(SQ_BIG));
-    let s_in = s_min.max(near.x.max(near.y.max(near.z)));
-    let s_out = far.x.min(far.y.min(far.z));
+    let mut s_in = s_min.max(near.x.max(near.y.max(near.z)));
+    let mut s_out = far.x.min(far.y.min(far.z));
     if !(s_in < s_out && s_out < SQ_BIG) {
         return (miss, cost);
     }
+    // And to the ball about the centre holding the solid: a ray past it misses without an
+    // evaluation, and the search starts next to the surface (stable roots of the quadratic).
+    let qa = v.dot(v);
+    let qb = o.dot(v);
+    let qc = o.dot(o) - bound * bound;
+    let disc = qb * qb - qa * qc;
+    // `!(disc >= 0.0)` in the shader: NaN misses too.
+    if disc.is_nan() || disc < 0.0 {
+        return (miss, cost);
+    }
+    let q = -(qb + select(-1.0, 1.0, qb >= 0.0) * disc.sqrt());
+    let r1 = q / qa;
+    let r2 = if q != 0.0 { qc / q } else { r1 };
+    s_in = s_in.max(r1.min(r2));
+    s_out = s_out.min(r1.max(r2));
+    if s_in.is_nan() || s_out.is_nan() || s_in >= s_out {
+        return (miss, cost);
+    }
     let tol = (SQ_TOL / v.length()).max(SQ_ULP * s_in.abs().max(s_out.abs()));
-    // From inside the solid the first crossing is the exit.
+    // Where the span starts at the ray's start, that point may be inside the solid: then the
+    // first crossing is the exit.
+    let start = s_in == s_min;
+    if sq_convex(e) {
+        let h = sq_newton(o, v, e, s_in, s_out, tol, start, &mut cost);
+        return (if h.hit { h } else { miss }, cost);
+    }
     let mut inside = false;
-    if s_in == s_min {
+    if start {
         cost.other += 1;
         inside = sq_contains(o + s_in * v, e);
-    }
-    if sq_convex(e) {
-        let h = sq_newton(o, v, e, s_in, s_out, tol, inside, &mut cost);
-        return (if h.hit { h } else { miss }, cost);
     }
     let (s, hit) = sq_search(o, v, e, s_in, s_out, tol, inside, &mut cost);
     if !hit {
@@ -606,7 +668,24 @@ pub fn sq_first_cost(o: Vec3, v: Vec3, e: Vec3, s_min: f32) -> (SqHit, SqCost) {
 /// inside the solid, the exit. `hit = false`: no crossing. The caller should put `o` next to the
 /// glyph, as the reference does: the tolerance grows with `|s|` ([`SQ_ULP`]).
 pub fn sq_first(o: Vec3, v: Vec3, e: Vec3, s_min: f32) -> SqHit {
-    sq_first_cost(o, v, e, s_min).0
+    sq_first_cost(o, v, e, s_min, sq_bound(e)).0
+}
+
+/// A hair beyond the solid's farthest point (`SQ_BOUND_MARGIN`).
+pub const SQ_BOUND_MARGIN: f32 = 1.0001;
+
+/// `sq_bound`: [`crate::glyph::superquadric::bounding_scale`] in f32, times
+/// [`SQ_BOUND_MARGIN`]: the radius of a ball about the centre holding the solid, which the
+/// shaders compute once per glyph and pass to `sq_first`.
+pub fn sq_bound(e: Vec3) -> f32 {
+    let beta = e.y.min(e.z);
+    let m = exp2(1.0 - e.x).max(1.0);
+    let mut s2 = m;
+    if beta < 1.0 {
+        let k = 1.0 - beta;
+        s2 = m * exp2(k * log2(1.0 + exp2(-log2(m) / k)));
+    }
+    s2.sqrt().min(1.732_050_8) * SQ_BOUND_MARGIN
 }
 
 /// Vulkan's precision of `exp2` and `log2` (3 + 2|x| ulp; 3 ulp, or 2⁻²¹ absolute for arguments
@@ -707,7 +786,8 @@ mod tests {
         let t0 = (sq.centre - o).dot(d);
         let q0 = sq.to_local((o - sq.centre) + d * t0);
         let v = sq.to_local(d);
-        let (h, cost) = sq_first_cost(q0.as_vec3(), v.as_vec3(), exponents_of(sq), (-t0) as f32);
+        let e = exponents_of(sq);
+        let (h, cost) = sq_first_cost(q0.as_vec3(), v.as_vec3(), e, (-t0) as f32, sq_bound(e));
         assert!(h.s.is_finite() && h.n.is_finite(), "{h:?}");
         assert!((h.n.length() - 1.0).abs() < 1e-5, "{h:?}");
         if !h.hit {
@@ -793,18 +873,26 @@ mod tests {
             ("SQ_BIG", SQ_BIG),
             ("SQ_NEG", SQ_NEG),
             ("SQ_V_MIN", SQ_V_MIN),
+            ("SQ_BOUND_MARGIN", SQ_BOUND_MARGIN),
         ] {
             assert_eq!(f(name), x, "{name}");
         }
         // No other constant in the shader.
         let consts = SHADER.lines().filter(|l| l.starts_with("const ")).count();
-        assert_eq!(consts, 16);
+        assert_eq!(consts, 17);
+        assert_eq!(
+            SQ_BOUND_MARGIN,
+            crate::glyph::superquadric::BOUND_MARGIN as f32
+        );
         for name in [
             "sq_pow",
             "sq_pnorm_log",
             "sq_pnorm",
             "sq_profile",
             "sq_norm_log",
+            "sq_pnorm_grad",
+            "sq_norm_grad",
+            "sq_bound",
             "sq_gauge",
             "sq_contains",
             "sq_convex",
@@ -834,7 +922,7 @@ mod tests {
 @fragment
 fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let e = vec3<f32>(0.5, 3.0, 2.5);
-    let h = sq_first(vec3<f32>(pos.xy * 0.01, -3.0), vec3<f32>(0.0, 0.0, 1.0), e, 0.0);
+    let h = sq_first(vec3<f32>(pos.xy * 0.01, -3.0), vec3<f32>(0.0, 0.0, 1.0), e, 0.0, sq_bound(e));
     let inside = sq_contains(vec3<f32>(pos.xy * 0.01, 0.0), vec3<f32>(1.0));
     return vec4<f32>(h.n * h.s, select(0.0, 1.0, h.hit && inside));
 }

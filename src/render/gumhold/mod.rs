@@ -8,12 +8,10 @@
 
 pub mod prepass;
 
-use std::ops::Range;
-
 use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording, record_chunks};
 use crate::render::pipeline::{GlyphLayouts, Variant};
-use crate::render::scene_buffers::SceneBuffers;
+use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
 use crate::render::shaders::ShaderSource;
 use crate::render::strip::StripRenderer;
 use crate::request::{FrameRequest, GlyphKind, Proxy};
@@ -108,10 +106,10 @@ impl Drawer for GumholdRenderer {
         pass: &mut wgpu::RenderPass<'_>,
         variant: Variant,
         proxy: Proxy,
-        instances: Range<u32>,
+        chunk: &ChunkBuffers,
     ) {
         // The request's configuration gives the solids no conservative proxy.
-        self.strips.draw(pass, variant, proxy, instances);
+        self.strips.draw(pass, variant, proxy, chunk);
     }
 
     fn render_passes(&self, ctx: &GpuContext, buffers: &SceneBuffers, req: &FrameRequest) -> u32 {

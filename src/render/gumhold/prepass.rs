@@ -204,7 +204,7 @@ impl PrepassCache {
         let (frames, splat_ids) = compute
             .entry(key)
             .or_insert_with(|| {
-                let constants = strips.constants(key);
+                let constants = strips.constants(key, true);
                 let make = |entry| {
                     strips
                         .device
@@ -259,7 +259,7 @@ impl PrepassCache {
         PrepassPipelines {
             frames,
             splat_ids,
-            draw: strips.pipeline(variant, proxy, true),
+            draw: strips.pipeline(variant, proxy, true, true),
             resolve,
         }
     }
