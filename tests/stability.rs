@@ -30,6 +30,7 @@ fn quick_suite_has_no_failures() {
             GlyphKind::Ellipsoid,
             GlyphKind::Cylinder,
             GlyphKind::Capsule,
+            GlyphKind::Superquadric,
         ],
         quick: true,
     };
