@@ -66,7 +66,7 @@ pub struct SceneArgs {
     /// Superquadric glyphs (--glyph superquadric): Kindlmann's sharpness γ ≥ 0, default 3 (0:
     /// ellipsoids; larger: boxier, sharper edges). Indefinite tensors take Schultz–Kindlmann's
     /// shapes, whose sharpness is fixed (β_max = 3).
-    #[arg(long, value_name = "GAMMA")]
+    #[arg(long, value_name = "GAMMA", allow_hyphen_values = true)]
     pub sharpness: Option<f64>,
     /// No progress bars.
     #[arg(long, short)]
