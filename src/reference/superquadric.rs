@@ -376,4 +376,4 @@ fn abs_range(q0: f64, v: f64, a: f64, b: f64) -> (f64, f64) {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -509,23 +509,7 @@ pub fn superquadric_frame(
     radii: [f32; 3],
     axes: [usize; 3],
 ) -> ([f32; 4], [f32; 3]) {
-    let q = DQuat::from_xyzw(
-        f64::from(rotation[0]),
-        f64::from(rotation[1]),
-        f64::from(rotation[2]),
-        f64::from(rotation[3]),
-    )
-    .normalize();
-    let m = DMat3::from_quat(q);
-    let mut f = DMat3::from_cols(m.col(axes[0]), m.col(axes[1]), m.col(axes[2]));
-    if f.determinant() < 0.0 {
-        f.y_axis = -f.y_axis;
-    }
-    let q = DQuat::from_mat3(&f).normalize();
-    (
-        [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
-        axes.map(|i| radii[i]),
-    )
+    permuted_frame(rotation, radii, axes, 1)
 }
 
 /// Reorder an eigen frame for a cylinder glyph (cylinder-capsule.md §6): the axis (first column)
@@ -533,14 +517,6 @@ pub fn superquadric_frame(
 /// disc), so the axis does not jump between neighbours whose two largest radii are close.
 /// The frame stays right-handed.
 pub fn cylinder_frame(rotation: [f32; 4], radii: [f32; 3]) -> ([f32; 4], [f32; 3]) {
-    let q = DQuat::from_xyzw(
-        f64::from(rotation[0]),
-        f64::from(rotation[1]),
-        f64::from(rotation[2]),
-        f64::from(rotation[3]),
-    )
-    .normalize();
-    let m = DMat3::from_quat(q);
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]));
     let [a, b, c] = order.map(|i| f64::from(radii[i]));
@@ -554,9 +530,28 @@ pub fn cylinder_frame(rotation: [f32; 4], radii: [f32; 3]) -> ([f32; 4], [f32; 3
     } else {
         [order[0], order[1], order[2]]
     };
+    permuted_frame(rotation, radii, cols, 2)
+}
+
+/// The frame whose columns are columns `cols` of `rotation`'s, column `flip` negated where that
+/// order is a reflection (so it stays a rotation), and the radii in the same order.
+fn permuted_frame(
+    rotation: [f32; 4],
+    radii: [f32; 3],
+    cols: [usize; 3],
+    flip: usize,
+) -> ([f32; 4], [f32; 3]) {
+    let q = DQuat::from_xyzw(
+        f64::from(rotation[0]),
+        f64::from(rotation[1]),
+        f64::from(rotation[2]),
+        f64::from(rotation[3]),
+    )
+    .normalize();
+    let m = DMat3::from_quat(q);
     let mut f = DMat3::from_cols(m.col(cols[0]), m.col(cols[1]), m.col(cols[2]));
     if f.determinant() < 0.0 {
-        f.z_axis = -f.z_axis;
+        *f.col_mut(flip) = -f.col(flip);
     }
     let q = DQuat::from_mat3(&f).normalize();
     (

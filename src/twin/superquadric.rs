@@ -741,6 +741,7 @@ mod tests {
     use super::*;
     use crate::glyph::superquadric::{Sharpness, superquadric_shape};
     use crate::reference::superquadric::Superquadric;
+    use crate::reference::superquadric::tests::{Lcg, random_frame, random_glyph};
     use crate::test_vectors::v3;
     use glam::{DMat3, DVec3};
     use proptest::prelude::*;
@@ -931,25 +932,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         validate(&format!("{SHADER}\n{stub}")).unwrap();
     }
 
-    /// A tiny deterministic generator (as the reference's tests): reproducible sweeps.
-    struct Lcg(u64);
-
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (self.0 >> 11) as f64 / (1u64 << 53) as f64
-        }
-        fn range(&mut self, lo: f64, hi: f64) -> f64 {
-            lo + (hi - lo) * self.next()
-        }
-        fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
-            (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
-        }
-    }
-
+    /// The classes of random glyphs the twin is judged on.
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     enum Kind {
         /// α, β log-uniform in [1e-6, 2], c = β.
@@ -977,36 +960,6 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             }
             Kind::Mixed => [a, rng.range(2.0, 5.0), rng.range(2.0, 5.0)],
             Kind::Wild => [a, rng.log_range(1e-3, 5.0), rng.log_range(1e-3, 5.0)],
-        }
-    }
-
-    fn random_frame(rng: &mut Lcg) -> DMat3 {
-        let q = glam::DQuat::from_xyzw(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        )
-        .normalize();
-        DMat3::from_quat(q)
-    }
-
-    fn random_glyph(rng: &mut Lcg, abc: [f64; 3]) -> Superquadric {
-        Superquadric {
-            centre: DVec3::new(
-                rng.range(-5.0, 5.0),
-                rng.range(-5.0, 5.0),
-                rng.range(-5.0, 5.0),
-            ),
-            frame: random_frame(rng),
-            radii: DVec3::new(
-                rng.range(0.05, 1.0),
-                rng.range(0.05, 1.0),
-                rng.range(0.05, 1.0),
-            ),
-            alpha: abc[0],
-            beta: abc[1],
-            beta_y: abc[2],
         }
     }
 

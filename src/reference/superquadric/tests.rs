@@ -141,22 +141,26 @@ fn unit_exponents_are_the_ellipsoid() {
 }
 
 /// A tiny deterministic generator: the sweeps are reproducible without a seed file.
-struct Lcg(u64);
+/// A tiny deterministic generator: reproducible sweeps (also the twin's tests').
+pub(crate) struct Lcg(pub(crate) u64);
 
 impl Lcg {
-    fn next(&mut self) -> f64 {
+    pub(crate) fn next(&mut self) -> f64 {
         self.0 = self
             .0
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+    pub(crate) fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.next()
+    }
+    pub(crate) fn log_range(&mut self, lo: f64, hi: f64) -> f64 {
+        (lo.ln() + (hi.ln() - lo.ln()) * self.next()).exp()
     }
 }
 
-fn random_frame(rng: &mut Lcg) -> DMat3 {
+pub(crate) fn random_frame(rng: &mut Lcg) -> DMat3 {
     let q = glam::DQuat::from_xyzw(
         rng.range(-1.0, 1.0),
         rng.range(-1.0, 1.0),
@@ -167,7 +171,7 @@ fn random_frame(rng: &mut Lcg) -> DMat3 {
     DMat3::from_quat(q)
 }
 
-fn random_glyph(rng: &mut Lcg, abc: [f64; 3]) -> Superquadric {
+pub(crate) fn random_glyph(rng: &mut Lcg, abc: [f64; 3]) -> Superquadric {
     Superquadric {
         centre: DVec3::new(
             rng.range(-5.0, 5.0),
