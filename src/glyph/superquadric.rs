@@ -445,16 +445,8 @@ const EXPONENT_LOWEST: f64 = 1e-30;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use serde_json::Value;
 
-    fn vectors() -> Value {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/tests/data/superquadric_vectors.json"
-        ))
-        .unwrap();
-        serde_json::from_str(&text).unwrap()
-    }
+    use crate::test_vectors::superquadric_vectors as vectors;
 
     fn close(a: f64, b: f64, tol: f64) -> bool {
         (a - b).abs() <= tol * (1.0 + b.abs())

@@ -741,34 +741,13 @@ mod tests {
     use super::*;
     use crate::glyph::superquadric::{Sharpness, superquadric_shape};
     use crate::reference::superquadric::Superquadric;
-    use crate::reference::superquadric::tests::{Lcg, random_frame, random_glyph};
+    use crate::reference::superquadric::tests::{Lcg, glyph_of, random_frame, random_glyph};
+    use crate::test_vectors::superquadric_vectors as vectors;
     use crate::test_vectors::v3;
     use glam::{DMat3, DVec3};
     use proptest::prelude::*;
-    use serde_json::Value;
 
     const SHADER: &str = include_str!("../../shaders/superquadric.wgsl");
-
-    fn vectors() -> Value {
-        let text = std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/tests/data/superquadric_vectors.json"
-        ))
-        .unwrap();
-        serde_json::from_str(&text).unwrap()
-    }
-
-    fn glyph_of(g: &Value) -> Superquadric {
-        let cols = &g["frame_cols"];
-        Superquadric {
-            centre: v3(&g["centre"]),
-            frame: DMat3::from_cols(v3(&cols[0]), v3(&cols[1]), v3(&cols[2])),
-            radii: v3(&g["radii"]),
-            alpha: g["alpha"].as_f64().unwrap(),
-            beta: g["beta"].as_f64().unwrap(),
-            beta_y: g["c"].as_f64().unwrap(),
-        }
-    }
 
     fn exponents_of(sq: &Superquadric) -> Vec3 {
         Vec3::new(sq.alpha as f32, sq.beta as f32, sq.beta_y as f32)

@@ -1,20 +1,12 @@
 use super::*;
 use crate::glyph::superquadric::{Sharpness, superquadric_shape};
 use crate::reference::intersect::ellipsoid;
-use crate::test_vectors::v3;
+use crate::test_vectors::{superquadric_vectors as vectors, v3};
 use proptest::prelude::*;
 use serde_json::Value;
 
-fn vectors() -> Value {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/superquadric_vectors.json"
-    ))
-    .unwrap();
-    serde_json::from_str(&text).unwrap()
-}
-
-fn glyph_of(g: &Value) -> Superquadric {
+/// A worked case's glyph (also the twin's tests').
+pub(crate) fn glyph_of(g: &Value) -> Superquadric {
     let cols = &g["frame_cols"];
     Superquadric {
         centre: v3(&g["centre"]),
