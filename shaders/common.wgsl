@@ -210,6 +210,63 @@ fn near_plane_point(ndc: vec2<f32>) -> vec3<f32> {
     return h.xyz / h.w;
 }
 
+// The pixel's view-space (x, y) (at view distance 1 when perspective), for a framebuffer
+// position px: measured from the whole image's centre, so a tile's off-centre pixels get their
+// own rays.
+fn pixel_view_xy(px: vec2<f32>) -> vec2<f32> {
+    return vec2<f32>(px.x - camera.pixels.y, camera.pixels.z - px.y) / camera.pixels.x;
+}
+
+// A pixel's ray towards one glyph, with the glyph-near origin of sigg-quadric.md §4 first taken
+// where the ray crosses the plane z_view = c_view.z: the offset from the centre is formed from
+// the pixel's position in screen space, so nothing cancels however far the glyph is (unlike
+// eye + t d − c in world space, or a point interpolated across the screen).
+struct ParamRay {
+    // Origin offset from the centre (view space) and unit direction (view space).
+    off: vec3<f32>,
+    d: vec3<f32>,
+    // The same in parameter space.
+    o_t: vec3<f32>,
+    v_t: vec3<f32>,
+    // Distance from the ray's start (eye, or the camera plane when orthographic) to the origin.
+    t0: f32,
+}
+
+// The ray of the pixel at framebuffer position px towards the glyph centred at c_view (view
+// space), whose parameter space is a · view space (a = diag(1/scale) Oᵀ R_viewᵀ).
+fn glyph_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, a: mat3x3<f32>) -> ParamRay {
+    let xy = pixel_view_xy(px);
+    var r: ParamRay;
+    if is_ortho() {
+        r.off = vec3<f32>(xy - c_view.xy, 0.0);
+        r.d = vec3<f32>(0.0, 0.0, -1.0);
+        r.t0 = -c_view.z;
+    } else {
+        let dv = vec3<f32>(xy, -1.0);
+        let len = length(dv);
+        r.off = vec3<f32>(-c_view.z * dv.xy - c_view.xy, 0.0);
+        r.d = dv / len;
+        r.t0 = -c_view.z * len;
+    }
+    r.v_t = a * r.d;
+    // Then slide it to the ray point closest to the centre in parameter space (β ≈ 0): for
+    // thin glyphs this keeps |o~| ~ 1, so β² − αγ does not cancel near the silhouette.
+    let s = -dot(a * r.off, r.v_t) / dot(r.v_t, r.v_t);
+    r.off += s * r.d;
+    r.t0 += s;
+    r.o_t = a * r.off;
+    return r;
+}
+
+// The NDC depth (standard Z) of view z.
+fn view_depth(z: f32) -> f32 {
+    if is_ortho() {
+        return camera.depth.y * z + camera.depth.x;
+    }
+    // (P22 z + B) / (−z) = B / d − P22 with d = −z.
+    return camera.depth.x / -z - camera.depth.y;
+}
+
 // Radius of a sphere around a glyph drawn as an ellipsoid or as a capped cylinder (axis
 // radii.x): √(r_axis² + r_cross²) ≥ the largest radius.
 fn bounding_radius(r: vec3<f32>) -> f32 {

@@ -500,14 +500,9 @@ fn splat_setup(f: GlyphFrame) -> SplatSetup {
     return s;
 }
 
-// The pixel's view-space offset xy(px) (see SplatSetup).
-fn splat_xy(px: vec2<f32>) -> vec2<f32> {
-    return vec2<f32>(px.x - camera.pixels.y, camera.pixels.z - px.y) / camera.pixels.x;
-}
-
 // q~ at pixel centre `px` (framebuffer coordinates).
 fn splat_q(s: SplatSetup, px: vec2<f32>) -> vec2<f32> {
-    let xy = splat_xy(px);
+    let xy = pixel_view_xy(px);
     let o = xy + s.off0;
     return (s.one_minus_e2 / (dot(s.g.xy, xy) - s.g.z)) * (o.x * s.ux + o.y * s.uy);
 }
@@ -518,7 +513,7 @@ fn splat_q(s: SplatSetup, px: vec2<f32>) -> vec2<f32> {
 // depth test decides each pixel). Every pixel where the quadratic is not convex.
 fn splat_row(s: SplatSetup, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let start = vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5);
-    let xy = splat_xy(start);
+    let xy = pixel_view_xy(start);
     let o = xy + s.off0;
     let k = s.one_minus_e2;
     let l0 = k * (o.x * s.ux + o.y * s.uy);

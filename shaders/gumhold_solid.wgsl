@@ -2,16 +2,19 @@
 // (cylinder-capsule.md §5), in the glyph's local parameter space p~ = diag(1/scale) Oᵀ (p − c).
 // The ray starts at the quad point V, next to the glyph: p = V + t v with v = V − e, in front of
 // the eye for t > −1. When the eye is inside the bounding ellipsoid but outside the solid (near
-// a cap), the proxy becomes the whole near plane. The shape's own file, composed before this one,
-// gives `solid_radius` (a bounding sphere's radius), `solid_of` (scale, bounding ellipsoid, shape parameter), `solid_contains` and
+// a cap), the proxy becomes the whole near plane. Orthographic rays are instead formed from the
+// fragment's position (glyph_pixel_ray, as Sigg's method does): V interpolated across the quad
+// is only as exact as an attribute plane rounded over the whole screen, and at the rims that
+// error moves the nearly tangent ray's hit by more than the depth bound (perspective rays stay
+// within it). The shape's own file, composed before this one, gives `solid_radius` (a bounding
+// sphere's radius), `solid_of` (scale, bounding ellipsoid, shape parameter), `solid_contains` and
 // `solid_entry` (entry t and local normal, discarding on a miss).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
     // The proxy point V in parameter space.
     @location(0) o_t: vec3<f32>,
-    // The ray through V in parameter space: diag(1/scale) Oᵀ (V − e) (perspective) or
-    // diag(1/scale) Oᵀ d (orthographic).
+    // The ray through V in parameter space, diag(1/scale) Oᵀ (V − e) (perspective only).
     @location(1) v_t: vec3<f32>,
     // V in view space.
     @location(2) v_view: vec3<f32>,
@@ -26,6 +29,8 @@ struct VsOut {
     // The shape's parameters (a capsule's segment half-length in units of its radius; a
     // superquadric's exponents and bounding ball).
     @location(9) @interpolate(flat) shape: vec4<f32>,
+    // The glyph centre in view space: the orthographic ray's reference point.
+    @location(10) @interpolate(flat) c_view: vec3<f32>,
 }
 
 @vertex
@@ -77,9 +82,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
         out.position = vec4<f32>(near_plane_ndc(vi), 0.0, 1.0);
     }
     out.o_t = (ot * (v - g.centre)) / sc;
-    if is_ortho() {
-        out.v_t = (ot * camera.forward.xyz) / sc;
-    } else {
+    if !is_ortho() {
         out.v_t = (ot * (v - camera.eye.xyz)) / sc;
     }
     out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
@@ -93,26 +96,23 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
     out.tz = (ot * r2) * sc;
     out.shape = solid.shape;
+    out.c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
     return out;
 }
 
 fn ray_cast(in: VsOut) -> Hit {
-    // From the eye (t = −1) when perspective; orthographic rays are clipped by the depth range.
-    let entry = solid_entry(in.o_t, in.v_t, in.shape, select(-1.0, -3.0e38, is_ortho()));
-    let t = entry.x;
-    var p_view: vec3<f32>;
-    var delta_depth: f32;
     if is_ortho() {
-        p_view = in.v_view - vec3<f32>(0.0, 0.0, t);
-        delta_depth = -camera.depth.y * t;
-    } else {
-        // t > −1 is in front of the eye; t < 0 is in front of the proxy.
-        if t <= -1.0 {
-            discard;
-        }
-        p_view = (1.0 + t) * in.v_view;
-        delta_depth = -(t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
+        return ray_cast_ortho(in);
     }
+    // From the eye (t = −1).
+    let entry = solid_entry(in.o_t, in.v_t, in.shape, -1.0);
+    let t = entry.x;
+    // t > −1 is in front of the eye; t < 0 is in front of the proxy.
+    if t <= -1.0 {
+        discard;
+    }
+    let p_view = (1.0 + t) * in.v_view;
+    let delta_depth = -(t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
     let p_t = in.o_t + t * in.v_t;
     let n_t = entry.yzw;
     let n_view = normalize(in.n0 * n_t.x + in.n1 * n_t.y + in.n2 * n_t.z);
@@ -122,5 +122,26 @@ fn ray_cast(in: VsOut) -> Hit {
     hit.z_rel = dot(in.tz, p_t);
     hit.z_proxy_rel = dot(in.tz, in.o_t);
     hit.depth = in.position.z + delta_depth;
+    return hit;
+}
+
+fn ray_cast_ortho(in: VsOut) -> Hit {
+    // Parameter space from view space is Nᵀ.
+    let n = mat3x3<f32>(in.n0, in.n1, in.n2);
+    let r = glyph_pixel_ray(in.position.xy, in.c_view, transpose(n));
+    // The whole line: orthographic rays are clipped by the depth range.
+    let entry = solid_entry(r.o_t, r.v_t, in.shape, -3.0e38);
+    let t = entry.x;
+    let off = r.off + t * r.d;
+    let p_view = in.c_view + off;
+    let n_view = normalize(n * entry.yzw);
+    var hit: Hit;
+    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
+    hit.n_view = n_view;
+    hit.z_rel = off.z;
+    // The flat variants leave the quad's depth, so the proxy's z stays V's.
+    hit.z_proxy_rel = dot(in.tz, in.o_t);
+    // From the hit's view z: the quad's rasterised depth belongs to V, not to this ray's origin.
+    hit.depth = view_depth(p_view.z);
     return hit;
 }

@@ -130,64 +130,21 @@ fn culled() -> VsOut {
     return out;
 }
 
-// The pixel's ray in view space, with the glyph-near origin of §4 first taken where the ray
-// crosses the plane z_view = c_view.z: the offset from the centre is formed from NDC in screen
-// space, so nothing cancels however far the glyph is (unlike eye + t d − c in world space).
-struct ParamRay {
-    // Origin offset from the centre (view space; z = 0) and unit direction (view space).
-    off: vec3<f32>,
-    d: vec3<f32>,
-    // The same in parameter space.
-    o_t: vec3<f32>,
-    v_t: vec3<f32>,
-    // Distance from the ray's start (eye, or the camera plane when orthographic) to the origin.
-    t0: f32,
-}
-
+// The fragment's ray (glyph_pixel_ray in common.wgsl, shared with Gumhold's orthographic solids).
 fn pixel_ray(in: VsOut) -> ParamRay {
-    // The pixel's view-space offset from the image centre (at unit distance when perspective):
-    // measured from the whole image's centre, so a tile's off-centre pixels get their own rays.
-    let xy = vec2<f32>(in.position.x - camera.pixels.y, camera.pixels.z - in.position.y) / camera.pixels.x;
-    var r: ParamRay;
-    if is_ortho() {
-        r.off = vec3<f32>(xy - in.c_view.xy, 0.0);
-        r.d = vec3<f32>(0.0, 0.0, -1.0);
-        r.t0 = -in.c_view.z;
-    } else {
-        let dv = vec3<f32>(xy, -1.0);
-        let len = length(dv);
-        r.off = vec3<f32>(-in.c_view.z * dv.xy - in.c_view.xy, 0.0);
-        r.d = dv / len;
-        r.t0 = -in.c_view.z * len;
-    }
-    let a = transpose(mat3x3<f32>(in.a0, in.a1, in.a2));
-    r.v_t = a * r.d;
-    // Then slide it to the ray point closest to the centre in parameter space (β ≈ 0): for
-    // thin glyphs this keeps |o~| ~ 1, so β² − αγ does not cancel near the silhouette.
-    let s = -dot(a * r.off, r.v_t) / dot(r.v_t, r.v_t);
-    r.off += s * r.d;
-    r.t0 += s;
-    r.o_t = a * r.off;
-    return r;
+    return glyph_pixel_ray(in.position.xy, in.c_view, transpose(mat3x3<f32>(in.a0, in.a1, in.a2)));
 }
 
 // Shade the hit at t' along the ray from the glyph-near origin with parameter-space normal n_t;
 // depth from the hit point (standard Z).
 fn finish(in: VsOut, r: ParamRay, tp: f32, n_t: vec3<f32>) -> Hit {
     let p_view = in.c_view + r.off + tp * r.d;
-    var depth: f32;
-    if is_ortho() {
-        depth = camera.depth.y * p_view.z + camera.depth.x;
-    } else {
-        // (P22 z + B) / (−z) = B / d − P22 with d = −z.
-        depth = camera.depth.x / -p_view.z - camera.depth.y;
-    }
     let n_view = normalize(mat3x3<f32>(in.a0, in.a1, in.a2) * n_t);
     var hit: Hit;
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;
     hit.z_rel = (r.off + tp * r.d).z;
     hit.z_proxy_rel = in.v_view.z - in.c_view.z;
-    hit.depth = depth;
+    hit.depth = view_depth(p_view.z);
     return hit;
 }
