@@ -185,88 +185,25 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
 }
 
 // --prepass: cs_frames writes the frames of the glyphs that are drawn, compacted, and counts
-// them into draw-indirect arguments; vs_frames draws them.
-struct Slice {
-    // Index of the slice's first glyph in the chunk.
-    first: u32,
-    count: u32,
-    // --splat: glyphs whose proxy spans at most this many pixels across are splats (0: none).
-    splat_max: u32,
-    _pad: u32,
-}
-
-// wgpu's DrawIndirectArgs.
-struct DrawArgs {
-    vertex_count: u32,
-    instance_count: atomic<u32>,
-    first_vertex: u32,
-    first_instance: u32,
-}
-
-@group(1) @binding(0) var<uniform> slice: Slice;
+// them into draw-indirect arguments (prepass.wgsl); vs_frames draws them.
 @group(1) @binding(1) var<storage, read_write> frames_out: array<GlyphFrame>;
-@group(1) @binding(2) var<storage, read_write> draw_args: DrawArgs;
-// The instances (instance_index) of the splats.
-@group(1) @binding(3) var<storage, read_write> splat_list: array<u32>;
-// What the splats left for the draws after them: their count, draw-indirect arguments for the
-// full-screen draw (instance_count 0 when there are none) and the rectangle of pixels they
-// cover (lo as 0xffff − lo, so that zeroed memory starts empty).
-struct SplatInfo {
-    count: atomic<u32>,
-    vertex_count: u32,
-    instance_count: atomic<u32>,
-    first_vertex: u32,
-    first_instance: u32,
-    lo_inv: array<atomic<u32>, 2>,
-    hi: array<atomic<u32>, 2>,
-}
-
-@group(1) @binding(4) var<storage, read_write> splat_info: SplatInfo;
-// Bindings 5, 6 and 8 (the per-pixel splat buffers), splat_keep and splat_id come from
-// splat32.wgsl or splat64.wgsl.
 
 @compute @workgroup_size(64)
 fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x == 0u {
-        draw_args.vertex_count = PROXY_VERTICES;
-        splat_info.vertex_count = 3u;
-    }
-    if gid.x >= slice.count {
+    let ii = prepass_glyph(gid.x);
+    if ii == 0xffffffffu {
         return;
     }
-    let f = glyph_frame(chunk.base + slice.first + gid.x);
+    let f = glyph_frame(ii);
     if !f.ok {
         return;
     }
     if slice.splat_max > 0u {
         let px = splat_pixels(f.frame);
-        let size = px.zw - px.xy + 1;
-        if size.x <= i32(slice.splat_max) && size.y <= i32(slice.splat_max) {
-            if size.x <= 0 || size.y <= 0 {
-                // The glyph covers no pixel centre: nothing to draw.
-                return;
-            }
-            var any = false;
-            let setup = splat_setup(f.frame);
-            for (var y = px.y; y <= px.w; y++) {
-                let span = splat_row(setup, y, px.x, px.z);
-                for (var x = span.x; x <= span.y; x++) {
-                    let c = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
-                    let depth = splat_depth(setup, splat_q(setup, c));
-                    if depth >= 0.0 {
-                        splat_keep(pixel_index(x, y), depth, f.frame.id);
-                        any = true;
-                    }
-                }
-            }
-            if any {
-                // 4 bytes, not the frame's 176: the next passes recompute the frame.
-                splat_list[atomicAdd(&splat_info.count, 1u)] = f.frame.id - 1u;
-                atomicStore(&splat_info.instance_count, 1u);
-                atomicMax(&splat_info.lo_inv[0], 0xffffu - u32(px.x));
-                atomicMax(&splat_info.lo_inv[1], 0xffffu - u32(px.y));
-                atomicMax(&splat_info.hi[0], u32(px.z));
-                atomicMax(&splat_info.hi[1], u32(px.w));
+        if splat_sized(px) {
+            // A glyph covering no pixel centre has nothing to draw.
+            if splat_frame(f.frame, px, false) {
+                splat_noted(ii, px);
             }
             return;
         }
@@ -274,46 +211,33 @@ fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
     frames_out[atomicAdd(&draw_args.instance_count, 1u)] = f.frame;
 }
 
-// The full-screen draw's view of binding 4: lo_inv and hi are words 5..9.
-@group(1) @binding(9) var<storage, read> splat_rect: array<u32, 9>;
-
-// One triangle covering the splats' rectangle of pixels.
-@vertex
-fn vs_splat_rect(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let lo = vec2<f32>(f32(0xffffu - splat_rect[5]), f32(0xffffu - splat_rect[6]));
-    let hi = vec2<f32>(f32(splat_rect[7] + 1u), f32(splat_rect[8] + 1u));
-    // (lo), (lo + 2 size along x), (lo + 2 size along y): the rectangle is its lower half.
-    let corner = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
-    let px = lo + corner * (hi - lo);
-    return vec4<f32>(px.x * 2.0 * camera.viewport.z - 1.0, 1.0 - px.y * 2.0 * camera.viewport.w, 0.0, 1.0);
+// Splat glyph ii's pixels again (cs_splat_ids): the same function on the same glyph, bit for bit
+// the frame cs_frames had.
+fn splat_glyph(ii: u32, second: bool) {
+    let f = glyph_frame(ii).frame;
+    splat_frame(f, splat_pixels(f), second);
 }
 
-// The splat hit at a pixel, or discard.
-fn splat_at(position: vec4<f32>) -> Hit {
-    let id = splat_id(pixel_index(i32(position.x), i32(position.y)));
-    if id == 0u {
-        discard;
+// Ray cast a splat's pixels px and keep its hits (splat_put); whether any pixel was hit.
+fn splat_frame(f: GlyphFrame, px: vec4<i32>, second: bool) -> bool {
+    var any = false;
+    let setup = splat_setup(f);
+    for (var y = px.y; y <= px.w; y++) {
+        let span = splat_row(setup, y, px.x, px.z);
+        for (var x = span.x; x <= span.y; x++) {
+            let depth = splat_depth(setup, splat_q(setup, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5)));
+            if depth >= 0.0 {
+                splat_put(pixel_index(x, y), depth, f.id, second);
+                any = true;
+            }
+        }
     }
-    var hit = pixel_hit(glyph_frame(id - 1u).frame, position.xy);
-    if hit.miss {
-        // The compute passes found a hit here; a differently rounded miss at the very edge is
-        // one.
-        discard;
-    }
-    hit.id = id;
-    return hit;
+    return any;
 }
 
-@fragment
-fn fs_splat(@builtin(position) position: vec4<f32>) -> OutDepth {
-    let hit = splat_at(position);
-    return OutDepth(hit.color, hit.id, hit.depth);
-}
-
-@fragment
-fn fs_splat_aux(@builtin(position) position: vec4<f32>) -> OutDepthAux {
-    let hit = splat_at(position);
-    return OutDepthAux(hit.color, hit.id, vec4<f32>(hit.n_view, hit.z_rel), hit.depth);
+// The splat's hit at pixel centre px (prepass.wgsl's splat_at).
+fn splat_hit(ii: u32, px: vec2<f32>) -> Hit {
+    return pixel_hit(glyph_frame(ii).frame, px);
 }
 
 // A GlyphFrame read as per-instance vertex attributes (vertex fetch is the fast path on
@@ -578,35 +502,13 @@ fn pixel_hit(f: GlyphFrame, px: vec2<f32>) -> Hit {
     return hit;
 }
 
-// Ordered like depths, larger for nearer (0: nothing); depths in [0, 1] order as their bits.
-fn depth_key(depth: f32) -> u32 {
-    return 0xffffffffu - bitcast<u32>(depth);
-}
-
-// The pixels (min and max, inclusive) whose centres a glyph's proxy may cover, or none (x > z).
+// The pixels (first and last, inclusive) whose centres a glyph's proxy may cover, or none.
 fn splat_pixels(f: GlyphFrame) -> vec4<i32> {
-    var lo = vec2<f32>(3.0e38);
-    var hi = vec2<f32>(-3.0e38);
+    var clips: array<vec4<f32>, 4>;
     for (var k = 0u; k < 4u; k++) {
         let s = corner_signs(k);
         let v = f.centre + mat3x3<f32>(f.t0, f.t1, f.t2) * (f.m_t + s.x * f.x_t + s.y * f.y_t);
-        let clip = camera.view_proj * vec4<f32>(v, 1.0);
-        // Behind the eye, in front of the near plane or (eye at the glyph) projected near
-        // infinity or NaN: too big to splat.
-        if !(clip.w > 0.0 && clip.z >= 0.0 && all(abs(clip.xy) < vec2<f32>(1.0e4 * clip.w))) {
-            return vec4<i32>(0, 0, 1 << 30u, 1 << 30u);
-        }
-        let ndc = clip.xy / clip.w;
-        let px = vec2<f32>((ndc.x + 1.0) * 0.5 * camera.viewport.x, (1.0 - ndc.y) * 0.5 * camera.viewport.y);
-        lo = min(lo, px);
-        hi = max(hi, px);
+        clips[k] = camera.view_proj * vec4<f32>(v, 1.0);
     }
-    // Pixel i's centre is at i + 0.5.
-    let first = max(vec2<i32>(ceil(lo - 0.5)), vec2<i32>(0));
-    let last = min(vec2<i32>(floor(hi - 0.5)), vec2<i32>(camera.viewport.xy) - 1);
-    return vec4<i32>(first, last);
-}
-
-fn pixel_index(x: i32, y: i32) -> u32 {
-    return u32(y) * u32(camera.viewport.x) + u32(x);
+    return splat_pixel_rect(clips);
 }

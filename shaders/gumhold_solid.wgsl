@@ -33,51 +33,81 @@ struct VsOut {
     @location(10) @interpolate(flat) c_view: vec3<f32>,
 }
 
+// The quad of a glyph's bounding ellipsoid (g, its rotation o, solid_of): corner s at
+// m + s.x x + s.y y (world), or (near) the whole near plane; not `drawn` when the glyph is
+// degenerate, culled or holds the eye.
+struct SolidQuad {
+    drawn: bool,
+    near: bool,
+    m: vec3<f32>,
+    x: vec3<f32>,
+    y: vec3<f32>,
+}
+
+fn solid_quad(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SolidQuad {
+    var q: SolidQuad;
+    if !drawable(g.radii) || skip_glyph(g.centre, solid_radius(g.radii)) {
+        return q;
+    }
+    let ot = transpose(o);
+    // World offsets from the bounding ellipsoid's parameter space.
+    let t = o * mat3x3<f32>(vec3<f32>(solid.bound.x * solid.scale.x, 0.0, 0.0), vec3<f32>(0.0, solid.bound.y * solid.scale.y, 0.0), vec3<f32>(0.0, 0.0, solid.bound.z * solid.scale.z));
+    var z_hat: vec3<f32>;
+    var radius = 1.0;
+    q.m = g.centre;
+    if is_ortho() {
+        // Gumhold's orthographic quad of the bounding ellipsoid (m~ = 0, r~ = 1).
+        z_hat = normalize((ot * camera.forward.xyz) / solid.scale / solid.bound);
+    } else {
+        let e_c = (ot * (camera.eye.xyz - g.centre)) / solid.scale;
+        if solid_contains(e_c, solid.shape) {
+            // Eye inside the glyph: not drawn (as for ellipsoids; the reference agrees).
+            return q;
+        }
+        let e_b = e_c / solid.bound;
+        let e2 = dot(e_b, e_b);
+        if !(e2 > EYE_INSIDE_E2) {
+            q.drawn = true;
+            q.near = true;
+            return q;
+        }
+        let e = sqrt(e2);
+        z_hat = -e_b / e;
+        q.m += t * (e_b / e2);
+        radius = sqrt((e2 - 1.0) / e2);
+    }
+    let xy = orthonormal_pair(z_hat);
+    q.x = t * (radius * xy[0]);
+    q.y = t * (radius * xy[1]);
+    q.drawn = true;
+    return q;
+}
+
 @vertex
 fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
+    return solid_vertex(vi, ii);
+}
+
+// Vertex vi of glyph ii's proxy.
+fn solid_vertex(vi: u32, ii: u32) -> VsOut {
     var out: VsOut;
     let g = load_glyph(ii);
-    if !drawable(g.radii) || skip_glyph(g.centre, solid_radius(g.radii)) {
+    let o = quat_to_mat3(g.rotation);
+    let solid = solid_of(g, ii);
+    let q = solid_quad(g, o, solid);
+    if !q.drawn {
         out.position = CULLED_POSITION;
         return out;
     }
-    let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
-    let solid = solid_of(g, ii);
     let sc = solid.scale;
-    let bound = solid.bound;
     let s = proxy_corner(vi);
-    let e_c = (ot * (camera.eye.xyz - g.centre)) / sc;
-
-    var v: vec3<f32>;
-    var near = false;
-    if is_ortho() {
-        // Gumhold's orthographic quad of the bounding ellipsoid (m~ = 0, r~ = 1).
-        let d_b = (ot * camera.forward.xyz) / sc / bound;
-        let z_hat = normalize(d_b);
-        let xy = orthonormal_pair(z_hat);
-        v = g.centre + o * ((s.x * xy[0] + s.y * xy[1]) * bound * sc);
-    } else {
-        if solid_contains(e_c, solid.shape) {
-            // Eye inside the glyph: not drawn (as for ellipsoids; the reference agrees).
-            out.position = vec4<f32>(0.0, 0.0, -2.0, 1.0);
-            return out;
-        }
-        let e_b = e_c / bound;
-        let e2 = dot(e_b, e_b);
-        if e2 > EYE_INSIDE_E2 {
-            let e = sqrt(e2);
-            let z_hat = -e_b / e;
-            let xy = orthonormal_pair(z_hat);
-            let vt = e_b / e2 + sqrt((e2 - 1.0) / e2) * (s.x * xy[0] + s.y * xy[1]);
-            v = g.centre + o * (vt * bound * sc);
-        } else {
-            near = true;
-            v = near_plane_point(near_plane_ndc(vi));
-        }
+    var v = q.m + s.x * q.x + s.y * q.y;
+    if q.near {
+        v = near_plane_point(near_plane_ndc(vi));
     }
     out.position = camera.view_proj * vec4<f32>(v, 1.0);
-    if near {
+    if q.near {
         // Exactly on the near plane: a round trip through the inverse could land in front of it.
         out.position = vec4<f32>(near_plane_ndc(vi), 0.0, 1.0);
     }
@@ -100,48 +130,47 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     return out;
 }
 
+// One call of the finder for both projections: a CPU device runs a branch not taken under a
+// mask, so a second call (the orthographic ray's) would cost every perspective fragment.
 fn ray_cast(in: VsOut) -> Hit {
-    if is_ortho() {
-        return ray_cast_ortho(in);
-    }
-    // From the eye (t = −1).
-    let entry = solid_entry(in.o_t, in.v_t, in.shape, -1.0);
-    let t = entry.x;
-    // t > −1 is in front of the eye; t < 0 is in front of the proxy.
-    if t <= -1.0 {
-        discard;
-    }
-    let p_view = (1.0 + t) * in.v_view;
-    let delta_depth = -(t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
-    let p_t = in.o_t + t * in.v_t;
-    let n_t = entry.yzw;
-    let n_view = normalize(in.n0 * n_t.x + in.n1 * n_t.y + in.n2 * n_t.z);
-    var hit: Hit;
-    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
-    hit.n_view = n_view;
-    hit.z_rel = dot(in.tz, p_t);
-    hit.z_proxy_rel = dot(in.tz, in.o_t);
-    hit.depth = in.position.z + delta_depth;
-    return hit;
-}
-
-fn ray_cast_ortho(in: VsOut) -> Hit {
-    // Parameter space from view space is Nᵀ.
     let n = mat3x3<f32>(in.n0, in.n1, in.n2);
-    let r = glyph_pixel_ray(in.position.xy, in.c_view, transpose(n));
-    // The whole line: orthographic rays are clipped by the depth range.
-    let entry = solid_entry(r.o_t, r.v_t, in.shape, -3.0e38);
+    // Perspective: from the quad point V along V − e, in front of the eye for t > −1.
+    var o_t = in.o_t;
+    var v_t = in.v_t;
+    var t_min = -1.0;
+    var r: ParamRay;
+    if is_ortho() {
+        // Parameter space from view space is Nᵀ; the whole line: orthographic rays are
+        // clipped by the depth range.
+        r = glyph_pixel_ray(in.position.xy, in.c_view, transpose(n));
+        o_t = r.o_t;
+        v_t = r.v_t;
+        t_min = -3.0e38;
+    }
+    let entry = solid_entry(o_t, v_t, in.shape, t_min);
     let t = entry.x;
-    let off = r.off + t * r.d;
-    let p_view = in.c_view + off;
-    let n_view = normalize(n * entry.yzw);
+    var p_view: vec3<f32>;
     var hit: Hit;
+    if is_ortho() {
+        let off = r.off + t * r.d;
+        p_view = in.c_view + off;
+        hit.z_rel = off.z;
+        // From the hit's view z: the quad's rasterised depth belongs to V, not to this ray's
+        // origin.
+        hit.depth = view_depth(p_view.z);
+    } else {
+        // t < 0 is in front of the proxy.
+        if t <= -1.0 {
+            discard;
+        }
+        p_view = (1.0 + t) * in.v_view;
+        hit.z_rel = dot(in.tz, in.o_t + t * in.v_t);
+        hit.depth = in.position.z - (t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
+    }
+    let n_view = normalize(n * entry.yzw);
     hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
     hit.n_view = n_view;
-    hit.z_rel = off.z;
     // The flat variants leave the quad's depth, so the proxy's z stays V's.
     hit.z_proxy_rel = dot(in.tz, in.o_t);
-    // From the hit's view z: the quad's rasterised depth belongs to V, not to this ray's origin.
-    hit.depth = view_depth(p_view.z);
     return hit;
 }

@@ -1,13 +1,14 @@
 // Splat depth and id per pixel with one 64-bit atomic max: the depth key in the high word, the
 // glyph id (instance + 1) in the low word, so the nearest hit wins with its id (ties: the
 // highest instance). Needs SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX; composed after
-// gumhold_ellipsoid.wgsl in place of splat32.wgsl.
+// prepass.wgsl in place of splat32.wgsl.
 
 @group(1) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
 // The full-screen draw's view of binding 5: (id, depth key) per pixel.
 @group(1) @binding(8) var<storage, read> splat_words: array<vec2<u32>>;
 
-fn splat_keep(i: u32, depth: f32, id: u32) {
+// Keep a splat's hit at pixel i (one pass: `second` is never set).
+fn splat_put(i: u32, depth: f32, id: u32, second: bool) {
     atomicMax(&splat_keys[i], (u64(depth_key(depth)) << 32u) | u64(id));
 }
 

@@ -176,9 +176,10 @@ impl Default for Proxy {
     }
 }
 
-/// How Gumhold's method draws ellipsoids with their ray-cast depth.
+/// How Gumhold's method draws ellipsoids and superquadrics (with their ray-cast depth, for
+/// splats).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum EllipsoidPath {
+pub enum DrawPath {
     /// A proxy per glyph built in the vertex stage.
     Direct,
     /// Proxy frames built once per glyph in a compute pass; only the glyphs it keeps are drawn.
@@ -200,7 +201,7 @@ pub enum EllipsoidDepth {
         conservative: bool,
         /// Conservative depth declared to the GPU ([`Proxy::early_depth`]).
         early_depth: bool,
-        path: EllipsoidPath,
+        path: DrawPath,
     },
 }
 
@@ -221,10 +222,12 @@ pub enum GumholdConfig {
         shape: ProxyShape,
         depth_correction: bool,
     },
-    /// Superquadrics use the quad of the ball around their unit box.
+    /// Superquadrics use the quad of the ball around their unit box; splats only with depth
+    /// correction.
     Superquadric {
         shape: ProxyShape,
         depth_correction: bool,
+        path: DrawPath,
     },
 }
 
@@ -345,8 +348,11 @@ impl MethodConfig {
         match self {
             MethodConfig::Gumhold(GumholdConfig::Ellipsoid { depth, .. }) => match depth {
                 EllipsoidDepth::Proxy { prepass } => *prepass,
-                EllipsoidDepth::RayCast { path, .. } => *path != EllipsoidPath::Direct,
+                EllipsoidDepth::RayCast { path, .. } => *path != DrawPath::Direct,
             },
+            MethodConfig::Gumhold(GumholdConfig::Superquadric { path, .. }) => {
+                *path != DrawPath::Direct
+            }
             _ => false,
         }
     }
@@ -357,9 +363,13 @@ impl MethodConfig {
             MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
                 depth:
                     EllipsoidDepth::RayCast {
-                        path: EllipsoidPath::Splat(px),
+                        path: DrawPath::Splat(px),
                         ..
                     },
+                ..
+            })
+            | MethodConfig::Gumhold(GumholdConfig::Superquadric {
+                path: DrawPath::Splat(px),
                 ..
             }) => px.get(),
             _ => 0,
@@ -370,13 +380,16 @@ impl MethodConfig {
     /// Draw every glyph from the prepass instead of splatting the small ones (what an image
     /// too large for the splats' per-pixel buffer gets).
     pub fn drop_splats(&mut self) {
-        if let MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
-            depth: EllipsoidDepth::RayCast { path, .. },
-            ..
-        }) = self
-            && matches!(path, EllipsoidPath::Splat(_))
+        if let MethodConfig::Gumhold(
+            GumholdConfig::Ellipsoid {
+                depth: EllipsoidDepth::RayCast { path, .. },
+                ..
+            }
+            | GumholdConfig::Superquadric { path, .. },
+        ) = self
+            && matches!(path, DrawPath::Splat(_))
         {
-            *path = EllipsoidPath::Prepass;
+            *path = DrawPath::Prepass;
         }
     }
 
@@ -406,9 +419,10 @@ pub struct DrawOptions {
     pub proxy: ProxyShape,
     /// Gumhold ellipsoids with depth correction: proxies on the glyph's nearest plane.
     pub conservative: bool,
-    /// Gumhold ellipsoids: the compute prepass (always on with splats).
+    /// Gumhold ellipsoids and superquadrics: the compute prepass (always on with splats).
     pub prepass: bool,
-    /// Gumhold ellipsoids with depth correction: splats up to this many pixels (0: none).
+    /// Gumhold ellipsoids and superquadrics with depth correction: splats up to this many
+    /// pixels (0: none).
     pub splat: u32,
     /// Cull glyphs outside the view frustum (or wholly in front of the near plane).
     pub cull: bool,
@@ -435,9 +449,9 @@ impl DrawOptions {
                             conservative: self.conservative,
                             early_depth: false,
                             path: match NonZeroU32::new(self.splat) {
-                                Some(px) => EllipsoidPath::Splat(px),
-                                None if self.prepass => EllipsoidPath::Prepass,
-                                None => EllipsoidPath::Direct,
+                                Some(px) => DrawPath::Splat(px),
+                                None if self.prepass => DrawPath::Prepass,
+                                None => DrawPath::Direct,
                             },
                         }
                     } else {
@@ -458,6 +472,12 @@ impl DrawOptions {
                 GlyphKind::Superquadric => GumholdConfig::Superquadric {
                     shape: self.proxy,
                     depth_correction,
+                    // Splats need the ray-cast depth: without it the prepass draws them.
+                    path: match NonZeroU32::new(self.splat) {
+                        Some(px) if depth_correction => DrawPath::Splat(px),
+                        _ if self.prepass || self.splat > 0 => DrawPath::Prepass,
+                        _ => DrawPath::Direct,
+                    },
                 },
             }),
             Method::Sigg => MethodConfig::Sigg {
@@ -487,6 +507,7 @@ impl DrawOptions {
     ) -> Result<(), (&'static str, &'static str)> {
         let gumhold = method == Method::Gumhold;
         let ellipsoid = gumhold && glyph == GlyphKind::Ellipsoid;
+        let prepass = ellipsoid || (gumhold && glyph == GlyphKind::Superquadric);
         let rules: [(&str, bool, bool, &str); 4] = [
             (
                 "--proxy",
@@ -503,14 +524,14 @@ impl DrawOptions {
             (
                 "--prepass",
                 self.prepass != baseline.prepass,
-                ellipsoid,
-                "Gumhold ellipsoids",
+                prepass,
+                "Gumhold ellipsoids and superquadrics",
             ),
             (
                 "--splat",
                 self.splat != baseline.splat && self.splat > 0,
-                ellipsoid && depth_correction,
-                "Gumhold ellipsoids with depth correction",
+                prepass && depth_correction,
+                "Gumhold ellipsoids and superquadrics with depth correction",
             ),
         ];
         match rules.into_iter().find(|(_, set, takes, _)| *set && !*takes) {
@@ -538,10 +559,10 @@ pub enum Preset {
     Conservative,
     /// The baseline drawn front to back.
     Sorted,
-    /// The compute prepass with culling (Gumhold ellipsoids).
+    /// The compute prepass with culling (Gumhold ellipsoids and superquadrics).
     Prepass,
     /// Splats up to [`DEFAULT_SPLAT`] pixels across from the prepass, with culling (Gumhold
-    /// ellipsoids; other methods are culled): `render`'s and the viewer's default.
+    /// ellipsoids and superquadrics; other methods are culled): `render`'s and the viewer's default.
     #[default]
     Splat,
 }
@@ -597,13 +618,14 @@ impl Preset {
     /// Whether this preset changes anything for `method` drawing `glyph` (with depth
     /// correction) beyond what the baseline does.
     pub fn applies_to(self, method: Method, glyph: GlyphKind) -> bool {
-        let ellipsoid = method == Method::Gumhold && glyph == GlyphKind::Ellipsoid;
+        let gumhold = method == Method::Gumhold;
+        let ellipsoid = gumhold && glyph == GlyphKind::Ellipsoid;
+        let superquadric = gumhold && glyph == GlyphKind::Superquadric;
         match self {
             Preset::Baseline => true,
-            Preset::Culled | Preset::Octagon | Preset::Triangle | Preset::Sorted => {
-                method == Method::Gumhold
-            }
-            Preset::Conservative | Preset::Prepass | Preset::Splat => ellipsoid,
+            Preset::Culled | Preset::Octagon | Preset::Triangle | Preset::Sorted => gumhold,
+            Preset::Conservative => ellipsoid,
+            Preset::Prepass | Preset::Splat => ellipsoid || superquadric,
         }
     }
 }
@@ -731,7 +753,7 @@ impl Default for FrameRequest {
                 depth: EllipsoidDepth::RayCast {
                     conservative: false,
                     early_depth: false,
-                    path: EllipsoidPath::Direct,
+                    path: DrawPath::Direct,
                 },
             }),
             aux: false,
@@ -768,5 +790,40 @@ mod tests {
             let e = bad.parse::<Method>().unwrap_err();
             assert!(e.contains(bad) && e.contains("mesh:N"), "{bad}: {e}");
         }
+    }
+
+    /// Superquadrics take the prepass and splats as ellipsoids do: splats only with depth
+    /// correction, the prepass drawing them without it, and only with Gumhold's method.
+    #[test]
+    fn superquadrics_take_the_prepass_and_splats() {
+        let sq = GlyphKind::Superquadric;
+        let splat = Preset::Splat.options();
+        let base = Preset::Baseline.options();
+        let with = |depth| splat.config(Method::Gumhold, sq, depth);
+        let mut m = with(true);
+        assert_eq!(m.splat_pixels(), DEFAULT_SPLAT);
+        assert!(m.uses_prepass());
+        m.drop_splats();
+        assert_eq!((m.splat_pixels(), m.uses_prepass()), (0, true));
+        let flat = with(false);
+        assert_eq!((flat.splat_pixels(), flat.uses_prepass()), (0, true));
+        assert!(!base.config(Method::Gumhold, sq, true).uses_prepass());
+        assert!(splat.check(&base, Method::Gumhold, sq, true).is_ok());
+        assert_eq!(
+            splat.check(&base, Method::Sigg, sq, true).unwrap_err().0,
+            "--splat"
+        );
+        assert_eq!(
+            splat
+                .check(&base, Method::Gumhold, sq, false)
+                .unwrap_err()
+                .0,
+            "--splat"
+        );
+        for p in [Preset::Prepass, Preset::Splat] {
+            assert!(p.applies_to(Method::Gumhold, sq));
+            assert!(!p.applies_to(Method::Gumhold, GlyphKind::Cylinder));
+        }
+        assert!(!Preset::Conservative.applies_to(Method::Gumhold, sq));
     }
 }

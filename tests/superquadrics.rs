@@ -22,11 +22,16 @@ const RELEASE: Bounds = Bounds {
     normal_deg: 0.5,
 };
 
-fn check(scene: &[&str], method: &str) {
+/// `render`'s default path for `method` (Gumhold's: splats from the compute prepass), or
+/// `preset`.
+fn check(scene: &[&str], method: &str, preset: Option<&str>) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("sq.png");
     let mut args = vec!["render"];
     args.extend_from_slice(scene);
+    if let Some(p) = preset {
+        args.extend_from_slice(&["--preset", p]);
+    }
     args.extend_from_slice(&[
         "--glyph",
         "superquadric",
@@ -43,7 +48,7 @@ fn check(scene: &[&str], method: &str) {
     let r = tg(&args);
     assert!(r.status.success(), "{args:?}: {}", stderr(&r));
     let j = json(&r);
-    let name = format!("{scene:?} {method}");
+    let name = format!("{scene:?} {method} {preset:?}");
     assert_eq!(j["glyph"], "superquadric", "{name}");
     assert!(j["covered_pixels"].as_u64().unwrap() > 2000, "{name}: {j}");
     let v = |k: &str| j[k].as_f64().unwrap_or(f64::NAN);
@@ -58,7 +63,8 @@ fn check(scene: &[&str], method: &str) {
 }
 
 /// Every scene with both ray casters meets the release bounds (orthographic included: Gumhold's
-/// solids form that ray from the fragment's position, not from the interpolated quad point).
+/// solids form that ray from the fragment's position, not from the interpolated quad point),
+/// Gumhold's both as `render` draws by default (splats) and with every glyph drawn.
 #[test]
 fn superquadrics_meet_the_release_bounds() {
     if common::gpu().is_none() {
@@ -72,8 +78,9 @@ fn superquadrics_meet_the_release_bounds() {
         &["tests/stress/beam.vtu"],
     ];
     for scene in scenes {
-        check(scene, "sigg");
-        check(scene, "gumhold");
+        check(scene, "sigg", None);
+        check(scene, "gumhold", None);
+        check(scene, "gumhold", Some("baseline"));
     }
 }
 

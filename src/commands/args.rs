@@ -341,14 +341,14 @@ pub struct DrawArgs {
     /// The prepass draws in no fixed order: sorting applies to `--splat 0` without --prepass.
     #[arg(long)]
     pub sort: bool,
-    /// Gumhold ellipsoids: build each glyph's proxy once in a compute pass (not once per
-    /// vertex) and draw only the glyphs it keeps, so culled glyphs cost nothing in the draw
-    /// (on whenever --splat is above 0).
+    /// Gumhold ellipsoids and superquadrics: build each glyph's proxy once in a compute pass
+    /// (not once per vertex) and draw only the glyphs it keeps, so culled glyphs cost nothing in
+    /// the draw (on whenever --splat is above 0).
     #[arg(long)]
     pub prepass: bool,
-    /// Gumhold ellipsoids with depth correction: ray cast glyphs whose proxy spans at most PX
-    /// pixels across per pixel in a compute pass instead of drawing them (0: draw every glyph;
-    /// default 32 with the splat preset).
+    /// Gumhold ellipsoids and superquadrics with depth correction: ray cast glyphs whose proxy
+    /// spans at most PX pixels across per pixel in a compute pass instead of drawing them (0:
+    /// draw every glyph; default 32 with the splat preset).
     #[arg(long, value_name = "PX")]
     pub splat: Option<u32>,
 }

@@ -28,6 +28,8 @@ const SUPERQUADRIC: &str = include_str!("../../shaders/superquadric.wgsl");
 const SUPERQUADRIC_MESH: &str = include_str!("../../shaders/superquadric_mesh.wgsl");
 const GUMHOLD_SUPERQUADRIC: &str = include_str!("../../shaders/gumhold_superquadric.wgsl");
 const SIGG_SUPERQUADRIC: &str = include_str!("../../shaders/sigg_superquadric.wgsl");
+const SUPERQUADRIC_SPLAT: &str = include_str!("../../shaders/superquadric_splat.wgsl");
+const PREPASS: &str = include_str!("../../shaders/prepass.wgsl");
 const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
 const SPLAT64: &str = include_str!("../../shaders/splat64.wgsl");
 
@@ -95,7 +97,8 @@ impl ShaderSource {
     /// The composed source, specialised by `defs`.
     pub fn text_with(self, defs: ShaderDefs) -> String {
         let mut text = self.text();
-        // A def changes the shaders that have its text (splats are Gumhold ellipsoids').
+        // A def changes the shaders that have its text (splats are Gumhold ellipsoids' and
+        // superquadrics').
         for (on, from, to) in SWAPS {
             if on(&defs) {
                 text = text.replace(from, to);
@@ -106,15 +109,20 @@ impl ShaderSource {
 
     pub fn text(self) -> String {
         let parts: &[&str] = match self {
-            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID, SPLAT32],
+            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID, PREPASS, SPLAT32],
             ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER, GUMHOLD_SOLID],
             ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
             ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
             ShaderSource::GumholdCapsule => &[CAPSULE, GUMHOLD_CAPSULE, GUMHOLD_SOLID],
             ShaderSource::SiggCapsule => &[CAPSULE, SIGG, SIGG_CAPSULE],
-            ShaderSource::GumholdSuperquadric => {
-                &[SUPERQUADRIC, GUMHOLD_SUPERQUADRIC, GUMHOLD_SOLID]
-            }
+            ShaderSource::GumholdSuperquadric => &[
+                SUPERQUADRIC,
+                GUMHOLD_SUPERQUADRIC,
+                GUMHOLD_SOLID,
+                SUPERQUADRIC_SPLAT,
+                PREPASS,
+                SPLAT32,
+            ],
             ShaderSource::SiggSuperquadric => &[SUPERQUADRIC, SIGG, SIGG_SUPERQUADRIC],
             ShaderSource::Mesh => &[CAPSULE, SUPERQUADRIC_MESH, MESH],
         };
@@ -129,7 +137,7 @@ pub struct ShaderDefs {
     /// The depth-writing fragment entry points declared `@early_depth_test(greater_equal)`: the
     /// written depth is never less than the rasterised one (conservative proxies).
     pub early_depth: bool,
-    /// Gumhold ellipsoids' splats keep depth and id in one 64-bit atomic per pixel
+    /// Gumhold ellipsoids' and superquadrics' splats keep depth and id in one 64-bit atomic per pixel
     /// (splat64.wgsl) instead of two 32-bit passes (splat32.wgsl).
     pub int64_atomics: bool,
 }

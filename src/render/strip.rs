@@ -81,6 +81,12 @@ impl StripRenderer {
         c
     }
 
+    /// `general` as pipelines are keyed: the flag changes only superquadric shaders, so one
+    /// pipeline serves both for the others.
+    pub(crate) fn general_key(&self, general: bool) -> bool {
+        general || !self.source.is_superquadric()
+    }
+
     /// The strip pipeline of `variant` and `proxy`; with `from_instances`, its vertices come
     /// from the per-instance input (`vs_frames`) instead of the glyph storage buffer; without
     /// `general`, superquadric shaders leave out the search for non-convex glyphs.
@@ -91,8 +97,7 @@ impl StripRenderer {
         from_instances: bool,
         general: bool,
     ) -> wgpu::RenderPipeline {
-        // The flag changes only superquadric shaders: one pipeline serves both for the others.
-        let general = general || !self.source.is_superquadric();
+        let general = self.general_key(general);
         let key = (variant, proxy, from_instances, general);
         if let Some(p) = self
             .pipelines

@@ -118,7 +118,7 @@ pub fn is_exact(method: &str) -> bool {
     method == "gumhold" || method == SPLAT_LABEL || method == "sigg"
 }
 
-/// Rows of Gumhold ellipsoids drawn as `render` draws them by default: splats up to
+/// Rows of Gumhold ellipsoids and superquadrics drawn as `render` draws them by default: splats up to
 /// [`crate::request::DEFAULT_SPLAT`] px from the compute prepass, culled.
 pub const SPLAT_LABEL: &str = "gumhold+splat";
 
@@ -202,7 +202,9 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         let mut variants: Vec<(String, FrameRequest)> = Vec::new();
         for &method in &opts.methods {
             variants.push((method.to_string(), request(method, Preset::Baseline)));
-            if method == Method::Gumhold && glyph == GlyphKind::Ellipsoid {
+            if method == Method::Gumhold
+                && matches!(glyph, GlyphKind::Ellipsoid | GlyphKind::Superquadric)
+            {
                 variants.push((SPLAT_LABEL.to_string(), request(method, Preset::Splat)));
             }
         }

@@ -3,7 +3,8 @@
 //! buffer. Ellipsoids use the glyph's own silhouette quad (optionally moved to its nearest plane:
 //! conservative depth, and optionally built once per glyph by the compute prepass, with splats:
 //! [`prepass`]); cylinders the quad of their bounding ellipsoid, capsules that of their
-//! circumscribed cylinder. The f64 twin of the shader is
+//! circumscribed cylinder, superquadrics that of the ball holding them (with the prepass and
+//! splats too). The f64 twin of the shader is
 //! [`crate::twin::gumhold_ellipsoid`].
 
 pub mod prepass;
@@ -15,7 +16,9 @@ use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
 use crate::render::shaders::ShaderSource;
 use crate::render::strip::StripRenderer;
 use crate::request::{FrameRequest, GlyphKind, Proxy};
-use prepass::{PrepassBuffers, PrepassCache, PrepassPipelines, frame_buffer_layout};
+use prepass::{
+    PrepassBuffers, PrepassCache, PrepassPipelines, frame_buffer_layout, glyph_list_layout,
+};
 
 /// The prepass buffers the shadow map's pass keeps (a type of its own for the scene's state).
 struct LightPrepass(PrepassBuffers);
@@ -38,7 +41,7 @@ impl std::ops::Deref for Prepass {
 
 pub struct GumholdRenderer {
     strips: StripRenderer,
-    /// The compute prepass and splats (ellipsoids only).
+    /// The compute prepass and splats (ellipsoids and superquadrics).
     prepass: Option<PrepassCache>,
 }
 
@@ -63,19 +66,25 @@ impl GumholdRenderer {
                 prepass: None,
             },
             GlyphKind::Superquadric => Self {
-                strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdSuperquadric, None),
-                prepass: None,
+                strips: StripRenderer::new(
+                    ctx,
+                    layouts,
+                    ShaderSource::GumholdSuperquadric,
+                    Some(glyph_list_layout()),
+                ),
+                prepass: Some(PrepassCache::new(ctx, &layouts.group)),
             },
         }
     }
 
-    /// The prepass pipelines when `req` asks for the prepass and this glyph has it.
-    fn prepass_pipelines(&self, req: &FrameRequest) -> Option<PrepassPipelines> {
+    /// The prepass pipelines when `req` asks for the prepass and this glyph has it, for a chunk
+    /// that may (`general`) hold superquadrics that are not convex.
+    fn prepass_pipelines(&self, req: &FrameRequest, general: bool) -> Option<PrepassPipelines> {
         if !req.uses_prepass() {
             return None;
         }
         let cache = self.prepass.as_ref()?;
-        Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy()))
+        Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy(), general))
     }
 
     /// The scene's prepass buffers, made on the first frame drawn with the prepass; the key
@@ -123,8 +132,8 @@ impl Drawer for GumholdRenderer {
     /// Without the prepass, one pass over the chunks; with it, per slice of the scene a compute
     /// pass (frames, splats) and a render pass drawing the kept frames and resolving the splats.
     fn record(&self, frame: &FrameRecording<'_>, encoder: &mut wgpu::CommandEncoder) {
-        let (Some(pipelines), Some(prepass)) = (
-            self.prepass_pipelines(frame.req),
+        let (Some(_), Some(prepass)) = (
+            self.prepass_pipelines(frame.req, true),
             self.prepass_buffers(frame.ctx, frame.buffers, frame.light),
         ) else {
             return record_chunks(self, frame, encoder);
@@ -144,7 +153,11 @@ impl Drawer for GumholdRenderer {
         }
         let last = prepass.slices.len() - 1;
         for (k, slice) in prepass.slices.iter().enumerate() {
-            let chunk = frame.group(&frame.buffers.chunks[slice.chunk]);
+            let buffers = &frame.buffers.chunks[slice.chunk];
+            let pipelines = self
+                .prepass_pipelines(req, buffers.general)
+                .expect("checked above");
+            let chunk = frame.group(buffers);
             let compute_stamp =
                 frame
                     .timestamps

@@ -1,8 +1,10 @@
-//! `--prepass` and `--splat` for Gumhold ellipsoids. A compute pass (`cs_frames`) works out each
-//! glyph's proxy frame once (instead of once per proxy vertex) and writes the frames of the
-//! glyphs to draw, compacted, counting them into draw-indirect arguments; the draw reads the
-//! frames as per-instance vertex attributes. A culled glyph costs one compute invocation and
-//! nothing in the draw.
+//! `--prepass` and `--splat` for Gumhold ellipsoids and superquadrics. A compute pass
+//! (`cs_frames`) works out each glyph's proxy frame once (instead of once per proxy vertex) and
+//! writes the frames of the glyphs to draw, compacted, counting them into draw-indirect
+//! arguments; the draw reads the frames as per-instance vertex attributes. A culled glyph costs
+//! one compute invocation and nothing in the draw. Superquadrics keep only the drawn glyphs'
+//! instance indices ([`glyph_list_layout`]): their quad is cheap to rebuild, and what they save
+//! is the splats' ray casting per pixel centre rather than per 4x4 block of the rasteriser.
 //!
 //! With `--splat N`, glyphs whose proxy spans at most N×N pixels are not drawn at all: the
 //! compute pass ray casts their pixels itself (keeping each pixel's nearest depth with an atomic
@@ -116,6 +118,21 @@ pub fn frame_buffer_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
+/// The drawn superquadrics' instance indices (one `u32` per instance, written by their
+/// `cs_frames` into the frame buffer) as `vs_frames` reads them.
+pub fn glyph_list_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 1] = [wgpu::VertexAttribute {
+        format: wgpu::VertexFormat::Uint32,
+        offset: 0,
+        shader_location: 0,
+    }];
+    wgpu::VertexBufferLayout {
+        array_stride: 4,
+        step_mode: wgpu::VertexStepMode::Instance,
+        attributes: &ATTRIBUTES,
+    }
+}
+
 /// Bind group 1 of the compute passes and of the splats' full-screen draw, and their pipeline
 /// layouts (group 0 is the glyph group every method uses).
 #[derive(Clone)]
@@ -167,12 +184,15 @@ impl PrepassLayouts {
     }
 }
 
-/// The prepass's compute pipelines (per proxy) and the splats' full-screen draw (per variant),
-/// built on first use from the Gumhold ellipsoid shader.
+/// Compute pipelines: the frames and, without 64-bit atomics, the splats' id pass.
+type ComputePipelines = (wgpu::ComputePipeline, Option<wgpu::ComputePipeline>);
+
+/// The prepass's compute pipelines (per proxy and `SQ_GENERAL`) and the splats' full-screen
+/// draw (per variant and `SQ_GENERAL`), built on first use from the glyph's Gumhold shader.
 pub struct PrepassCache {
     pub layouts: PrepassLayouts,
-    compute: Mutex<HashMap<Proxy, (wgpu::ComputePipeline, Option<wgpu::ComputePipeline>)>>,
-    resolves: Mutex<HashMap<Variant, wgpu::RenderPipeline>>,
+    compute: Mutex<HashMap<(Proxy, bool), ComputePipelines>>,
+    resolves: Mutex<HashMap<(Variant, bool), wgpu::RenderPipeline>>,
     /// Splats with 64-bit atomics (splat64.wgsl).
     int64_atomics: bool,
 }
@@ -187,14 +207,17 @@ impl PrepassCache {
         }
     }
 
-    /// The pipelines of a frame with `variant` and `proxy`, from `strips`' shader.
+    /// The pipelines of a frame with `variant` and `proxy`, from `strips`' shader; `general`:
+    /// superquadrics that are not convex may come (`SQ_GENERAL`).
     pub fn pipelines(
         &self,
         strips: &StripRenderer,
         variant: Variant,
         proxy: Proxy,
+        general: bool,
     ) -> PrepassPipelines {
         let layouts = &self.layouts;
+        let general = strips.general_key(general);
         // The frames do not depend on the fragment stage's early-depth declaration.
         let key = Proxy {
             early_depth: false,
@@ -202,9 +225,9 @@ impl PrepassCache {
         };
         let mut compute = self.compute.lock().unwrap_or_else(|e| e.into_inner());
         let (frames, splat_ids) = compute
-            .entry(key)
+            .entry((key, general))
             .or_insert_with(|| {
-                let constants = strips.constants(key, true);
+                let constants = strips.constants(key, general);
                 let make = |entry| {
                     strips
                         .device
@@ -230,9 +253,10 @@ impl PrepassCache {
             .resolves
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .get(&variant)
+            .get(&(variant, general))
             .cloned();
         let resolve = resolve.unwrap_or_else(|| {
+            let constants = strips.constants(key, general);
             let p = glyph_pipeline(
                 &strips.device,
                 &layouts.resolve,
@@ -247,19 +271,20 @@ impl PrepassCache {
                     } else {
                         "fs_splat"
                     }),
+                    constants: &constants,
                     ..Default::default()
                 },
             );
             self.resolves
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
-                .insert(variant, p.clone());
+                .insert((variant, general), p.clone());
             p
         });
         PrepassPipelines {
             frames,
             splat_ids,
-            draw: strips.pipeline(variant, proxy, true, true),
+            draw: strips.pipeline(variant, proxy, true, general),
             resolve,
         }
     }

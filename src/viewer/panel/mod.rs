@@ -264,7 +264,10 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
                     "proxy on the glyph's nearest plane (lets a GPU reject hidden fragments early)",
                 );
         }
-        if settings.glyph == GlyphKind::Ellipsoid {
+        if matches!(
+            settings.glyph,
+            GlyphKind::Ellipsoid | GlyphKind::Superquadric
+        ) {
             ui.checkbox(&mut draw.prepass, "compute prepass")
                 .on_hover_text("build each glyph's proxy once in compute; always on with splats");
             ui.horizontal(|ui| {

@@ -1,0 +1,146 @@
+// The compute prepass and splats shared by the glyphs that have them (Gumhold ellipsoids and
+// superquadrics; src/render/gumhold/prepass.rs). The glyph's file, composed before this one,
+// declares binding 1 (what cs_frames keeps of the drawn glyphs) and defines cs_frames,
+// splat_glyph (its pixel loop, again for the second 32-bit pass) and splat_hit (one pixel's hit
+// for the full-screen draw); splat32.wgsl or
+// splat64.wgsl, composed after, gives splat_put and splat_id.
+
+struct Slice {
+    // Index of the slice's first glyph in the chunk.
+    first: u32,
+    count: u32,
+    // --splat: glyphs whose proxy spans at most this many pixels across are splats (0: none).
+    splat_max: u32,
+    _pad: u32,
+}
+
+// wgpu's DrawIndirectArgs.
+struct DrawArgs {
+    vertex_count: u32,
+    instance_count: atomic<u32>,
+    first_vertex: u32,
+    first_instance: u32,
+}
+
+@group(1) @binding(0) var<uniform> slice: Slice;
+@group(1) @binding(2) var<storage, read_write> draw_args: DrawArgs;
+// The instances (instance_index) of the splats.
+@group(1) @binding(3) var<storage, read_write> splat_list: array<u32>;
+// What the splats left for the draws after them: their count, draw-indirect arguments for the
+// full-screen draw (instance_count 0 when there are none) and the rectangle of pixels they
+// cover (lo as 0xffff − lo, so that zeroed memory starts empty).
+struct SplatInfo {
+    count: atomic<u32>,
+    vertex_count: u32,
+    instance_count: atomic<u32>,
+    first_vertex: u32,
+    first_instance: u32,
+    lo_inv: array<atomic<u32>, 2>,
+    hi: array<atomic<u32>, 2>,
+}
+
+@group(1) @binding(4) var<storage, read_write> splat_info: SplatInfo;
+// Bindings 5, 6 and 8 (the per-pixel splat buffers) come from splat32.wgsl or splat64.wgsl.
+
+// The glyph of this invocation of cs_frames (none past the slice's end); the first invocation
+// also sets the draws' vertex counts.
+fn prepass_glyph(gid: u32) -> u32 {
+    if gid == 0u {
+        draw_args.vertex_count = PROXY_VERTICES;
+        splat_info.vertex_count = 3u;
+    }
+    if gid >= slice.count {
+        return 0xffffffffu;
+    }
+    return chunk.base + slice.first + gid;
+}
+
+// Whether pixels `px` (first and last, inclusive) are few enough for a splat (slice.splat_max > 0).
+fn splat_sized(px: vec4<i32>) -> bool {
+    let size = px.zw - px.xy + 1;
+    return size.x <= i32(slice.splat_max) && size.y <= i32(slice.splat_max);
+}
+
+// Record instance ii as a splat that kept some pixel of px.
+fn splat_noted(ii: u32, px: vec4<i32>) {
+    // 4 bytes, not a frame: the next passes recompute what they need.
+    splat_list[atomicAdd(&splat_info.count, 1u)] = ii;
+    atomicStore(&splat_info.instance_count, 1u);
+    atomicMax(&splat_info.lo_inv[0], 0xffffu - u32(px.x));
+    atomicMax(&splat_info.lo_inv[1], 0xffffu - u32(px.y));
+    atomicMax(&splat_info.hi[0], u32(px.z));
+    atomicMax(&splat_info.hi[1], u32(px.w));
+}
+
+// The full-screen draw's view of binding 4: lo_inv and hi are words 5..9.
+@group(1) @binding(9) var<storage, read> splat_rect: array<u32, 9>;
+
+// One triangle covering the splats' rectangle of pixels.
+@vertex
+fn vs_splat_rect(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    let lo = vec2<f32>(f32(0xffffu - splat_rect[5]), f32(0xffffu - splat_rect[6]));
+    let hi = vec2<f32>(f32(splat_rect[7] + 1u), f32(splat_rect[8] + 1u));
+    // (lo), (lo + 2 size along x), (lo + 2 size along y): the rectangle is its lower half.
+    let corner = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
+    let px = lo + corner * (hi - lo);
+    return vec4<f32>(px.x * 2.0 * camera.viewport.z - 1.0, 1.0 - px.y * 2.0 * camera.viewport.w, 0.0, 1.0);
+}
+
+// The splat hit at a pixel, or discard.
+fn splat_at(position: vec4<f32>) -> Hit {
+    let id = splat_id(pixel_index(i32(position.x), i32(position.y)));
+    if id == 0u {
+        discard;
+    }
+    var hit = splat_hit(id - 1u, position.xy);
+    if hit.miss {
+        // The compute passes found a hit here; a differently rounded miss at the very edge is
+        // one.
+        discard;
+    }
+    hit.id = id;
+    return hit;
+}
+
+@fragment
+fn fs_splat(@builtin(position) position: vec4<f32>) -> OutDepth {
+    let hit = splat_at(position);
+    return OutDepth(hit.color, hit.id, hit.depth);
+}
+
+@fragment
+fn fs_splat_aux(@builtin(position) position: vec4<f32>) -> OutDepthAux {
+    let hit = splat_at(position);
+    return OutDepthAux(hit.color, hit.id, vec4<f32>(hit.n_view, hit.z_rel), hit.depth);
+}
+
+// The pixels (first and last, inclusive) whose centres lie within the points' screen rectangle
+// (clip positions), or none (x > z) when a point is behind the eye, in front of the near plane
+// or projected near infinity or NaN: too big to splat.
+fn splat_pixel_rect(clips: array<vec4<f32>, 4>) -> vec4<i32> {
+    var lo = vec2<f32>(3.0e38);
+    var hi = vec2<f32>(-3.0e38);
+    for (var k = 0u; k < 4u; k++) {
+        let clip = clips[k];
+        if !(clip.w > 0.0 && clip.z >= 0.0 && all(abs(clip.xy) < vec2<f32>(1.0e4 * clip.w))) {
+            return vec4<i32>(0, 0, 1 << 30u, 1 << 30u);
+        }
+        let ndc = clip.xy / clip.w;
+        let px = vec2<f32>((ndc.x + 1.0) * 0.5 * camera.viewport.x, (1.0 - ndc.y) * 0.5 * camera.viewport.y);
+        lo = min(lo, px);
+        hi = max(hi, px);
+    }
+    // Pixel i's centre is at i + 0.5.
+    let first = max(vec2<i32>(ceil(lo - 0.5)), vec2<i32>(0));
+    let last = min(vec2<i32>(floor(hi - 0.5)), vec2<i32>(camera.viewport.xy) - 1);
+    return vec4<i32>(first, last);
+}
+
+// Ordered like depths, larger for nearer (0: nothing); depths in [0, 1] order as their bits.
+fn depth_key(depth: f32) -> u32 {
+    return 0xffffffffu - bitcast<u32>(depth);
+}
+
+fn pixel_index(x: i32, y: i32) -> u32 {
+    return u32(y) * u32(camera.viewport.x) + u32(x);
+}

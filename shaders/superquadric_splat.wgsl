@@ -1,0 +1,170 @@
+// The compute prepass and splats (prepass.wgsl) for superquadrics on Gumhold's quad: composed
+// after gumhold_solid.wgsl. cs_frames keeps the drawn glyphs' instance indices (4 bytes each;
+// vs_frames rebuilds the quad from the instance, as vs_main does). A splat's pixels are ray cast
+// as Sigg's fragments are (glyph_pixel_ray in common.wgsl): nothing interpolated, nothing large
+// cancelling.
+
+@group(1) @binding(1) var<storage, read_write> frames_out: array<u32>;
+
+@vertex
+fn vs_frames(@builtin(vertex_index) vi: u32, @location(0) ii: u32) -> VsOut {
+    return solid_vertex(vi, ii);
+}
+
+@compute @workgroup_size(64)
+fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let ii = prepass_glyph(gid.x);
+    if ii == 0xffffffffu {
+        return;
+    }
+    let g = load_glyph(ii);
+    let o = quat_to_mat3(g.rotation);
+    let solid = solid_of(g, ii);
+    let q = solid_quad(g, o, solid);
+    if !q.drawn {
+        return;
+    }
+    if slice.splat_max > 0u && !q.near {
+        let px = sq_splat_pixels(q);
+        if splat_sized(px) {
+            // A glyph covering no pixel centre has nothing to draw.
+            if sq_splat(sq_pixels_of(g, o, solid), ii + 1u, px, false) {
+                splat_noted(ii, px);
+            }
+            return;
+        }
+    }
+    frames_out[atomicAdd(&draw_args.instance_count, 1u)] = ii;
+}
+
+// The pixels whose centres the quad may cover.
+fn sq_splat_pixels(q: SolidQuad) -> vec4<i32> {
+    var clips: array<vec4<f32>, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        let s = corner_signs(k);
+        clips[k] = camera.view_proj * vec4<f32>(q.m + s.x * q.x + s.y * q.y, 1.0);
+    }
+    return splat_pixel_rect(clips);
+}
+
+// Splat glyph ii's pixels again (cs_splat_ids): the same functions on the same glyph, bit for
+// bit the hits cs_frames had.
+fn splat_glyph(ii: u32, second: bool) {
+    let g = load_glyph(ii);
+    let o = quat_to_mat3(g.rotation);
+    let solid = solid_of(g, ii);
+    sq_splat(sq_pixels_of(g, o, solid), ii + 1u, sq_splat_pixels(solid_quad(g, o, solid)), second);
+}
+
+// Ray cast a splat's pixels px and keep its hits (splat_put) under `id`; whether any pixel was
+// hit.
+fn sq_splat(s: SqPixels, id: u32, px: vec4<i32>, second: bool) -> bool {
+    var any = false;
+    for (var y = px.y; y <= px.w; y++) {
+        let span = sq_row(s, y, px.x, px.z);
+        for (var x = span.x; x <= span.y; x++) {
+            let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5));
+            if !hit.miss {
+                splat_put(pixel_index(x, y), hit.depth, id, second);
+                any = true;
+            }
+        }
+    }
+    return any;
+}
+
+// What a glyph's pixels need, once per glyph.
+struct SqPixels {
+    // The centre in view space.
+    c_view: vec3<f32>,
+    // View space from parameter space for normals, R_view O diag(1/radii); its transpose maps
+    // view-space offsets into parameter space.
+    n: mat3x3<f32>,
+    // Exponents and bounding ball (Solid.shape).
+    shape: vec4<f32>,
+    color: u32,
+}
+
+fn sq_pixels_of(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SqPixels {
+    var s: SqPixels;
+    s.c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
+    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
+    s.n = rv * mat3x3<f32>(o[0] / solid.scale.x, o[1] / solid.scale.y, o[2] / solid.scale.z);
+    s.shape = solid.shape;
+    s.color = g.color;
+    return s;
+}
+
+// The pixels of row y within [x0, x1] whose rays may meet the ball holding the glyph (radius
+// shape.w in parameter space), widened by a pixel for rounding (sq_first decides each one):
+// the line through P with direction D meets it where |P × D|² <= w² |D|², and with P and D affine
+// in the pixel's x (perspective: P the eye, D the pixel's direction; orthographic: P the pixel's
+// point, D the view direction) that is a quadratic inequality whose roots bound the row's span.
+// P × D is formed next to the glyph (the eye's distance scales its rounding by 1e-7 only), so the
+// roots are good to a small part of a pixel. Every pixel where the quadratic is not convex.
+fn sq_row(s: SqPixels, y: i32, x0: i32, x1: i32) -> vec2<i32> {
+    let a = transpose(s.n);
+    let xy = pixel_view_xy(vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5));
+    let step = a * vec3<f32>(1.0 / camera.pixels.x, 0.0, 0.0);
+    var w0: vec3<f32>;
+    var w1: vec3<f32>;
+    var d0: vec3<f32>;
+    var d1 = vec3<f32>(0.0);
+    if is_ortho() {
+        let p0 = a * vec3<f32>(xy - s.c_view.xy, 0.0);
+        d0 = a * vec3<f32>(0.0, 0.0, -1.0);
+        w0 = cross(p0, d0);
+        w1 = cross(step, d0);
+    } else {
+        let p = a * -s.c_view;
+        d0 = a * vec3<f32>(xy, -1.0);
+        d1 = step;
+        w0 = cross(p, d0);
+        w1 = cross(p, d1);
+    }
+    let r2 = s.shape.w * s.shape.w;
+    let qa = dot(w1, w1) - r2 * dot(d1, d1);
+    let qb = 2.0 * (dot(w0, w1) - r2 * dot(d0, d1));
+    let qc = dot(w0, w0) - r2 * dot(d0, d0);
+    if !(qa > 0.0) {
+        return vec2<i32>(x0, x1);
+    }
+    let disc = qb * qb - 4.0 * qa * qc;
+    if disc < 0.0 {
+        return vec2<i32>(x0 + 1, x0);
+    }
+    let root = sqrt(disc);
+    let lo = (-qb - root) / (2.0 * qa);
+    let hi = (-qb + root) / (2.0 * qa);
+    return vec2<i32>(max(x0 + i32(floor(lo)) - 1, x0), min(x0 + i32(ceil(hi)) + 1, x1));
+}
+
+// The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
+fn sq_pixel_hit(s: SqPixels, px: vec2<f32>) -> Hit {
+    var hit: Hit;
+    hit.miss = true;
+    let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
+    // From the eye; orthographic rays are clipped by the depth range.
+    let h = sq_first(r.o_t, r.v_t, s.shape.xyz, select(-r.t0, -3.0e38, is_ortho()), s.shape.w);
+    if !h.hit {
+        return hit;
+    }
+    let rel = r.off + h.s * r.d;
+    let p_view = s.c_view + rel;
+    hit.depth = view_depth(p_view.z);
+    // frag_depth is clamped, not clipped: a hit in front of the near plane is not drawn.
+    if !(hit.depth >= 0.0 && hit.depth <= 1.0) {
+        return hit;
+    }
+    hit.miss = false;
+    hit.n_view = normalize(s.n * h.n);
+    hit.color = vec4<f32>(shade(unpack4x8unorm(s.color).rgb, hit.n_view, p_view), 1.0);
+    hit.z_rel = rel.z;
+    return hit;
+}
+
+// The splat's hit at pixel centre px (prepass.wgsl's splat_at).
+fn splat_hit(ii: u32, px: vec2<f32>) -> Hit {
+    let g = load_glyph(ii);
+    return sq_pixel_hit(sq_pixels_of(g, quat_to_mat3(g.rotation), solid_of(g, ii)), px);
+}
