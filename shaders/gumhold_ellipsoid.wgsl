@@ -433,8 +433,7 @@ fn splat_q(s: SplatSetup, px: vec2<f32>) -> vec2<f32> {
 
 // The pixels of row y within [x0, x1] whose centres may see the glyph: |q~| ≤ 1 is
 // (1 − E²)² |L|² ≤ D² with L = o.x ux + o.y uy and D = g · (xy, −1) both affine in the pixel's x,
-// a quadratic inequality whose roots bound the row's span (widened by a pixel for rounding: the
-// depth test decides each pixel). Every pixel where the quadratic is not convex.
+// a quadratic inequality in x (splat_span; the depth test decides each pixel).
 fn splat_row(s: SplatSetup, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let start = vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5);
     let xy = pixel_view_xy(start);
@@ -444,20 +443,7 @@ fn splat_row(s: SplatSetup, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let lx = k * s.ux / camera.pixels.x;
     let d0 = dot(s.g.xy, xy) - s.g.z;
     let dx = s.g.x / camera.pixels.x;
-    let a = dot(lx, lx) - dx * dx;
-    let b = 2.0 * (dot(l0, lx) - d0 * dx);
-    let c = dot(l0, l0) - d0 * d0;
-    if !(a > 0.0) {
-        return vec2<i32>(x0, x1);
-    }
-    let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return vec2<i32>(x0 + 1, x0);
-    }
-    let root = sqrt(disc);
-    let lo = (-b - root) / (2.0 * a);
-    let hi = (-b + root) / (2.0 * a);
-    return vec2<i32>(max(x0 + i32(floor(lo)) - 1, x0), min(x0 + i32(ceil(hi)) + 1, x1));
+    return splat_span(vec3<f32>(dot(lx, lx) - dx * dx, 2.0 * (dot(l0, lx) - d0 * dx), dot(l0, l0) - d0 * d0), x0, x1);
 }
 
 // The hit's depth at quad coordinates q (-1: no hit).

@@ -96,12 +96,11 @@ fn sq_pixels_of(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SqPixels {
 }
 
 // The pixels of row y within [x0, x1] whose rays may meet the ball holding the glyph (radius
-// shape.w in parameter space), widened by a pixel for rounding (sq_first decides each one):
-// the line through P with direction D meets it where |P × D|² <= w² |D|², and with P and D affine
-// in the pixel's x (perspective: P the eye, D the pixel's direction; orthographic: P the pixel's
-// point, D the view direction) that is a quadratic inequality whose roots bound the row's span.
-// P × D is formed next to the glyph (the eye's distance scales its rounding by 1e-7 only), so the
-// roots are good to a small part of a pixel. Every pixel where the quadratic is not convex.
+// shape.w in parameter space; splat_span, sq_first deciding each pixel): the line through P with
+// direction D meets it where |P × D|² <= w² |D|², and with P and D affine in the pixel's x
+// (perspective: P the eye, D the pixel's direction; orthographic: P the pixel's point, D the view
+// direction) that is a quadratic inequality in x. P × D is formed next to the glyph (the eye's
+// distance scales its rounding by 1e-7 only), so the roots are good to a small part of a pixel.
 fn sq_row(s: SqPixels, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let a = transpose(s.n);
     let xy = pixel_view_xy(vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5));
@@ -123,20 +122,8 @@ fn sq_row(s: SqPixels, y: i32, x0: i32, x1: i32) -> vec2<i32> {
         w1 = cross(p, d1);
     }
     let r2 = s.shape.w * s.shape.w;
-    let qa = dot(w1, w1) - r2 * dot(d1, d1);
-    let qb = 2.0 * (dot(w0, w1) - r2 * dot(d0, d1));
-    let qc = dot(w0, w0) - r2 * dot(d0, d0);
-    if !(qa > 0.0) {
-        return vec2<i32>(x0, x1);
-    }
-    let disc = qb * qb - 4.0 * qa * qc;
-    if disc < 0.0 {
-        return vec2<i32>(x0 + 1, x0);
-    }
-    let root = sqrt(disc);
-    let lo = (-qb - root) / (2.0 * qa);
-    let hi = (-qb + root) / (2.0 * qa);
-    return vec2<i32>(max(x0 + i32(floor(lo)) - 1, x0), min(x0 + i32(ceil(hi)) + 1, x1));
+    let quadratic = vec3<f32>(dot(w1, w1) - r2 * dot(d1, d1), 2.0 * (dot(w0, w1) - r2 * dot(d0, d1)), dot(w0, w0) - r2 * dot(d0, d0));
+    return splat_span(quadratic, x0, x1);
 }
 
 // The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
