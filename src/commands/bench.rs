@@ -40,7 +40,7 @@ pub struct BenchArgs {
     /// Only these methods (repeatable; default all GPU methods).
     #[arg(long = "method")]
     pub methods: Vec<Method>,
-    /// Only these glyphs (repeatable; default all).
+    /// Only these glyphs (repeatable; default ellipsoid and cylinder).
     #[arg(long = "glyph", value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
     pub glyphs: Vec<GlyphKind>,
     /// Also run the grid:N demo (N³ tensors) once through the staged pipeline of `render`
