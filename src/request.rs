@@ -438,6 +438,16 @@ impl Default for DrawOptions {
 }
 
 impl DrawOptions {
+    /// The path of the glyphs that have the prepass: splats need the ray-cast depth, so without
+    /// it (`depth_correction` false) the prepass draws them.
+    fn path(&self, depth_correction: bool) -> DrawPath {
+        match NonZeroU32::new(self.splat) {
+            Some(px) if depth_correction => DrawPath::Splat(px),
+            _ if self.prepass || self.splat > 0 => DrawPath::Prepass,
+            _ => DrawPath::Direct,
+        }
+    }
+
     /// The configuration of `method` drawing `glyph` with these options.
     pub fn config(&self, method: Method, glyph: GlyphKind, depth_correction: bool) -> MethodConfig {
         match method {
@@ -448,16 +458,11 @@ impl DrawOptions {
                         EllipsoidDepth::RayCast {
                             conservative: self.conservative,
                             early_depth: false,
-                            path: match NonZeroU32::new(self.splat) {
-                                Some(px) => DrawPath::Splat(px),
-                                None if self.prepass => DrawPath::Prepass,
-                                None => DrawPath::Direct,
-                            },
+                            path: self.path(true),
                         }
                     } else {
-                        // Splats need the ray-cast depth: without it the prepass draws them.
                         EllipsoidDepth::Proxy {
-                            prepass: self.prepass || self.splat > 0,
+                            prepass: self.path(false) != DrawPath::Direct,
                         }
                     },
                 },
@@ -472,12 +477,7 @@ impl DrawOptions {
                 GlyphKind::Superquadric => GumholdConfig::Superquadric {
                     shape: self.proxy,
                     depth_correction,
-                    // Splats need the ray-cast depth: without it the prepass draws them.
-                    path: match NonZeroU32::new(self.splat) {
-                        Some(px) if depth_correction => DrawPath::Splat(px),
-                        _ if self.prepass || self.splat > 0 => DrawPath::Prepass,
-                        _ => DrawPath::Direct,
-                    },
+                    path: self.path(depth_correction),
                 },
             }),
             Method::Sigg => MethodConfig::Sigg {

@@ -137,8 +137,8 @@ pub struct ShaderDefs {
     /// The depth-writing fragment entry points declared `@early_depth_test(greater_equal)`: the
     /// written depth is never less than the rasterised one (conservative proxies).
     pub early_depth: bool,
-    /// Gumhold ellipsoids' and superquadrics' splats keep depth and id in one 64-bit atomic per pixel
-    /// (splat64.wgsl) instead of two 32-bit passes (splat32.wgsl).
+    /// Gumhold ellipsoids' and superquadrics' splats keep depth and id in one 64-bit atomic per
+    /// pixel (splat64.wgsl) instead of two 32-bit passes (splat32.wgsl).
     pub int64_atomics: bool,
 }
 

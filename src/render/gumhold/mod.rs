@@ -132,10 +132,12 @@ impl Drawer for GumholdRenderer {
     /// Without the prepass, one pass over the chunks; with it, per slice of the scene a compute
     /// pass (frames, splats) and a render pass drawing the kept frames and resolving the splats.
     fn record(&self, frame: &FrameRecording<'_>, encoder: &mut wgpu::CommandEncoder) {
-        let (Some(_), Some(prepass)) = (
-            self.prepass_pipelines(frame.req, true),
-            self.prepass_buffers(frame.ctx, frame.buffers, frame.light),
-        ) else {
+        let prepass = frame
+            .req
+            .uses_prepass()
+            .then(|| self.prepass_buffers(frame.ctx, frame.buffers, frame.light))
+            .flatten();
+        let Some(prepass) = prepass else {
             return record_chunks(self, frame, encoder);
         };
         let req = frame.req;
@@ -156,7 +158,7 @@ impl Drawer for GumholdRenderer {
             let buffers = &frame.buffers.chunks[slice.chunk];
             let pipelines = self
                 .prepass_pipelines(req, buffers.general)
-                .expect("checked above");
+                .expect("a glyph with prepass buffers has its pipelines");
             let chunk = frame.group(buffers);
             let compute_stamp =
                 frame
