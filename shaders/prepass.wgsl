@@ -136,9 +136,14 @@ fn splat_pixel_rect(clips: array<vec4<f32>, 4>) -> vec4<i32> {
     return vec4<i32>(first, last);
 }
 
+// How far (pixels) a splat's row span reaches beyond the roots of its quadratic: their f32
+// rounding is a small part of a pixel (the ray casting decides each pixel). A pixel and more each
+// side, as before, cost the superquadrics' whole-field frame 17 %.
+const SPAN_MARGIN: f32 = 0.125;
+
 // The pixels of a row within [x0, x1] whose centres x0 + x satisfy q.x x² + q.y x + q.z <= 0,
-// widened by a pixel for rounding (the ray casting decides each pixel): every pixel where the
-// quadratic is not convex, none where it has no root.
+// widened by SPAN_MARGIN: every pixel where the quadratic is not convex, none where it has no
+// root.
 fn splat_span(q: vec3<f32>, x0: i32, x1: i32) -> vec2<i32> {
     if !(q.x > 0.0) {
         return vec2<i32>(x0, x1);
@@ -150,7 +155,7 @@ fn splat_span(q: vec3<f32>, x0: i32, x1: i32) -> vec2<i32> {
     let root = sqrt(disc);
     let lo = (-q.y - root) / (2.0 * q.x);
     let hi = (-q.y + root) / (2.0 * q.x);
-    return vec2<i32>(max(x0 + i32(floor(lo)) - 1, x0), min(x0 + i32(ceil(hi)) + 1, x1));
+    return vec2<i32>(max(x0 + i32(ceil(lo - SPAN_MARGIN)), x0), min(x0 + i32(floor(hi + SPAN_MARGIN)), x1));
 }
 
 // Ordered like depths, larger for nearer (0: nothing); depths in [0, 1] order as their bits.

@@ -36,3 +36,9 @@ fn cs_splat_ids(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     splat_glyph(splat_list[gid.x], true);
 }
+
+// Whether pixel i already keeps a hit strictly nearer than depth key `key`: a glyph that cannot
+// come nearer than that cannot win the pixel (keys only grow), so its ray need not be cast.
+fn splat_nearer(i: u32, key: u32) -> bool {
+    return atomicLoad(&depth_keys[i]) > key;
+}

@@ -15,3 +15,9 @@ fn splat_put(i: u32, depth: f32, id: u32, second: bool) {
 fn splat_id(i: u32) -> u32 {
     return splat_words[i].x;
 }
+
+// Whether pixel i already keeps a hit strictly nearer than depth key `key`: a glyph that cannot
+// come nearer than that cannot win the pixel (keys only grow), so its ray need not be cast.
+fn splat_nearer(i: u32, key: u32) -> bool {
+    return u32(atomicLoad(&splat_keys[i]) >> 32u) > key;
+}

@@ -459,6 +459,15 @@ fn sq_bound(e: vec3<f32>) -> f32 {
 // per glyph by the caller). The caller should put o next to the glyph (as the reference does):
 // the tolerance grows with |s| (SQ_ULP).
 fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: f32) -> SqHit {
+    return sq_first_within(o, v, e, s_min, bound, 0.0);
+}
+
+// sq_first with the convex finder stopping at steps up to tol_min (local units), for callers
+// that only order hits: a transversal crossing is still found to about tol_min² (Newton
+// converges quadratically from the outside, so the iterate stays before it), and a ray that
+// misses by a clearance δ is taken for a hit only where δ is below about tol_min² (its steps
+// stay above √δ). The search of the other glyphs keeps its tolerance.
+fn sq_first_within(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: f32, tol_min: f32) -> SqHit {
     let miss = SqHit(0.0, vec3<f32>(0.0, 0.0, 1.0), false);
     // Slab-clip to the unit box and to s >= s_min.
     let ok = abs(v) >= vec3<f32>(SQ_V_MIN);
@@ -500,7 +509,7 @@ fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: f32) ->
     // first crossing is the exit.
     let start = s_in == s_min;
     if !SQ_GENERAL || sq_convex(e) {
-        let h = sq_newton(o, v, e, s_in, s_out, tol, start);
+        let h = sq_newton(o, v, e, s_in, s_out, max(tol, tol_min / length(v)), start);
         if h.hit {
             return h;
         }

@@ -6,6 +6,11 @@
 
 @group(1) @binding(1) var<storage, read_write> frames_out: array<u32>;
 
+// The compute passes only order the splats' hits (the full-screen draw casts each pixel's
+// winner again at full accuracy): the convex finder may stop at steps this long (sq_first_within),
+// which leaves the hit within about its square.
+const SQ_SPLAT_TOL: f32 = 1e-3;
+
 @vertex
 fn vs_frames(@builtin(vertex_index) vi: u32, @location(0) ii: u32) -> VsOut {
     return solid_vertex(vi, ii);
@@ -28,7 +33,7 @@ fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
         let px = sq_splat_pixels(q);
         if splat_sized(px) {
             // A glyph covering no pixel centre has nothing to draw.
-            if sq_splat(sq_pixels_of(g, o, solid), ii + 1u, px, false) {
+            if sq_splat(g, o, solid, ii + 1u, px, false) {
                 splat_noted(ii, px);
             }
             return;
@@ -53,17 +58,24 @@ fn splat_glyph(ii: u32, second: bool) {
     let g = load_glyph(ii);
     let o = quat_to_mat3(g.rotation);
     let solid = solid_of(g, ii);
-    sq_splat(sq_pixels_of(g, o, solid), ii + 1u, sq_splat_pixels(solid_quad(g, o, solid)), second);
+    sq_splat(g, o, solid, ii + 1u, sq_splat_pixels(solid_quad(g, o, solid)), second);
 }
 
 // Ray cast a splat's pixels px and keep its hits (splat_put) under `id`; whether any pixel was
-// hit.
-fn sq_splat(s: SqPixels, id: u32, px: vec4<i32>, second: bool) -> bool {
+// hit. Only the pixels whose rays may meet the ball holding the glyph (sq_row) are cast, and of
+// them only those where no hit already kept is nearer than the glyph can be (the atomics only
+// bring hits nearer, so a pixel skipped could not have been won).
+fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, second: bool) -> bool {
+    let s = sq_pixels_of(g, o, solid);
+    let near_key = depth_key(max(view_depth(sq_near_z(s, o, solid)), 0.0));
     var any = false;
     for (var y = px.y; y <= px.w; y++) {
         let span = sq_row(s, y, px.x, px.z);
         for (var x = span.x; x <= span.y; x++) {
-            let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5));
+            if splat_nearer(pixel_index(x, y), near_key) {
+                continue;
+            }
+            let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), SQ_SPLAT_TOL);
             if !hit.miss {
                 splat_put(pixel_index(x, y), hit.depth, id, second);
                 any = true;
@@ -71,6 +83,17 @@ fn sq_splat(s: SqPixels, id: u32, px: vec4<i32>, second: bool) -> bool {
         }
     }
     return any;
+}
+
+// The largest view z of the glyph (its nearest point; the view looks along −z): the nearer of
+// the box's nearest corner and the ball's front, moved towards the eye by a hair more than the
+// rounding of the centre's z.
+fn sq_near_z(s: SqPixels, o: mat3x3<f32>, solid: Solid) -> f32 {
+    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
+    let axes = rv * o;
+    let box_reach = dot(abs(vec3<f32>(axes[0].z, axes[1].z, axes[2].z)), solid.scale);
+    let ball_reach = s.shape.w * max(solid.scale.x, max(solid.scale.y, solid.scale.z));
+    return s.c_view.z + min(box_reach, ball_reach) * 1.0001 + 1e-6 * abs(s.c_view.z);
 }
 
 // What a glyph's pixels need, once per glyph.
@@ -127,12 +150,12 @@ fn sq_row(s: SqPixels, y: i32, x0: i32, x1: i32) -> vec2<i32> {
 }
 
 // The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
-fn sq_pixel_hit(s: SqPixels, px: vec2<f32>) -> Hit {
+fn sq_pixel_hit(s: SqPixels, px: vec2<f32>, tol_min: f32) -> Hit {
     var hit: Hit;
     hit.miss = true;
     let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
     // From the eye; orthographic rays are clipped by the depth range.
-    let h = sq_first(r.o_t, r.v_t, s.shape.xyz, select(-r.t0, -3.0e38, is_ortho()), s.shape.w);
+    let h = sq_first_within(r.o_t, r.v_t, s.shape.xyz, select(-r.t0, -3.0e38, is_ortho()), s.shape.w, tol_min);
     if !h.hit {
         return hit;
     }
@@ -153,5 +176,5 @@ fn sq_pixel_hit(s: SqPixels, px: vec2<f32>) -> Hit {
 // The splat's hit at pixel centre px (prepass.wgsl's splat_at).
 fn splat_hit(ii: u32, px: vec2<f32>) -> Hit {
     let g = load_glyph(ii);
-    return sq_pixel_hit(sq_pixels_of(g, quat_to_mat3(g.rotation), solid_of(g, ii)), px);
+    return sq_pixel_hit(sq_pixels_of(g, quat_to_mat3(g.rotation), solid_of(g, ii)), px, 0.0);
 }
