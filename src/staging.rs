@@ -313,8 +313,8 @@ pub fn decompose(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
     )
 }
 
-/// Every stage once: read, decompose, select, style and build; the field and glyphs are gone
-/// when this returns.
+/// Every stage once: read, decompose, select, style and build; the field's tensors are freed
+/// once decomposed, the rest of the field and the glyphs when this returns.
 pub fn stage(
     source: &Source,
     recipe: &Recipe,
@@ -332,6 +332,7 @@ pub fn stage(
 
     let t = Instant::now();
     let set = decompose(&field, progress);
+    let field = field.into_geometry();
     timings.eigen = ms(t);
     timings.peak_rss_after[1] = crate::mem::peak_rss_bytes();
 
