@@ -363,7 +363,7 @@ fn hit_depth(alpha: f32, zw: vec2<f32>, z_view: f32, u: f32) -> f32 {
 // --splat: glyphs whose proxy spans few pixels are ray cast per pixel in compute, not drawn.
 // cs_frames finds each splat glyph's nearest hit per pixel and which glyph made it (one 64-bit
 // atomic max, or a 32-bit one on depth and a second pass for the id: splat64.wgsl,
-// splat32.wgsl), and one triangle over their pixels (vs_splat_rect + fs_splat*) shades them,
+// splat32.wgsl), and a quad per 16-pixel tile they touch (vs_splat_tile + fs_splat*) shades them,
 // depth-tested against the drawn glyphs.
 
 // A glyph's quad coordinates q~ and depth as functions of the pixel: everything per glyph that

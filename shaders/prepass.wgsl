@@ -2,7 +2,7 @@
 // superquadrics; src/render/gumhold/prepass.rs). The glyph's file, composed before this one,
 // declares binding 1 (what cs_frames keeps of the drawn glyphs) and defines cs_frames,
 // splat_glyph (its pixel loop, again for the second 32-bit pass) and splat_hit (one pixel's hit
-// for the full-screen draw); splat32.wgsl or
+// for the splat tiles' draw); splat32.wgsl or
 // splat64.wgsl, composed after, gives splat_put and splat_id.
 
 struct Slice {
@@ -26,28 +26,40 @@ struct DrawArgs {
 @group(1) @binding(2) var<storage, read_write> draw_args: DrawArgs;
 // The instances (instance_index) of the splats.
 @group(1) @binding(3) var<storage, read_write> splat_list: array<u32>;
-// What the splats left for the draws after them: their count, draw-indirect arguments for the
-// full-screen draw (instance_count 0 when there are none) and the rectangle of pixels they
-// cover (lo as 0xffff − lo, so that zeroed memory starts empty).
+// What the splats left for the draw after them: their count and the draw-indirect arguments of
+// the splat tiles' quads (instance_count: the tiles listed).
 struct SplatInfo {
     count: atomic<u32>,
     vertex_count: u32,
     instance_count: atomic<u32>,
     first_vertex: u32,
     first_instance: u32,
-    lo_inv: array<atomic<u32>, 2>,
-    hi: array<atomic<u32>, 2>,
 }
 
 @group(1) @binding(4) var<storage, read_write> splat_info: SplatInfo;
 // Bindings 5, 6 and 8 (the per-pixel splat buffers) come from splat32.wgsl or splat64.wgsl.
+
+// The splats are shaded by a quad per SPLAT_TILE × SPLAT_TILE block of pixels that some splat
+// touches (not one rectangle round them all: a few splats scattered over the image would shade
+// every pixel between them). tile_marks: per tile, whether it is listed yet; tile_list: the
+// tiles listed, in the order the splats reached them.
+const SPLAT_TILE: u32 = 16u;
+@group(1) @binding(7) var<storage, read_write> tile_marks: array<atomic<u32>>;
+@group(1) @binding(10) var<storage, read_write> tile_list: array<u32>;
+// The draw's view of tile_list.
+@group(1) @binding(9) var<storage, read> splat_tiles: array<u32>;
+
+// Tiles per row of the image.
+fn tiles_across() -> u32 {
+    return (u32(camera.viewport.x) + SPLAT_TILE - 1u) / SPLAT_TILE;
+}
 
 // The glyph of this invocation of cs_frames (none past the slice's end); the first invocation
 // also sets the draws' vertex counts.
 fn prepass_glyph(gid: u32) -> u32 {
     if gid == 0u {
         draw_args.vertex_count = PROXY_VERTICES;
-        splat_info.vertex_count = 3u;
+        splat_info.vertex_count = 4u;
     }
     if gid >= slice.count {
         return 0xffffffffu;
@@ -61,28 +73,33 @@ fn splat_sized(px: vec4<i32>) -> bool {
     return size.x <= i32(slice.splat_max) && size.y <= i32(slice.splat_max);
 }
 
-// Record instance ii as a splat that kept some pixel of px.
+// Record instance ii as a splat that kept some pixel of px (within the image), listing the
+// tiles px touches that are not listed yet (at most 3 × 3 for splats up to 32 pixels).
 fn splat_noted(ii: u32, px: vec4<i32>) {
     // 4 bytes, not a frame: the next passes recompute what they need.
     splat_list[atomicAdd(&splat_info.count, 1u)] = ii;
-    atomicStore(&splat_info.instance_count, 1u);
-    atomicMax(&splat_info.lo_inv[0], 0xffffu - u32(px.x));
-    atomicMax(&splat_info.lo_inv[1], 0xffffu - u32(px.y));
-    atomicMax(&splat_info.hi[0], u32(px.z));
-    atomicMax(&splat_info.hi[1], u32(px.w));
+    let lo = vec2<u32>(px.xy) / SPLAT_TILE;
+    let hi = vec2<u32>(px.zw) / SPLAT_TILE;
+    let across = tiles_across();
+    for (var ty = lo.y; ty <= hi.y; ty++) {
+        for (var tx = lo.x; tx <= hi.x; tx++) {
+            let t = ty * across + tx;
+            // Most tiles are listed already: look before the slower atomic.
+            if atomicLoad(&tile_marks[t]) == 0u && atomicOr(&tile_marks[t], 1u) == 0u {
+                tile_list[atomicAdd(&splat_info.instance_count, 1u)] = t;
+            }
+        }
+    }
 }
 
-// The full-screen draw's view of binding 4: lo_inv and hi are words 5..9.
-@group(1) @binding(9) var<storage, read> splat_rect: array<u32, 9>;
-
-// One triangle covering the splats' rectangle of pixels.
+// A strip of two triangles covering tile splat_tiles[k].
 @vertex
-fn vs_splat_rect(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let lo = vec2<f32>(f32(0xffffu - splat_rect[5]), f32(0xffffu - splat_rect[6]));
-    let hi = vec2<f32>(f32(splat_rect[7] + 1u), f32(splat_rect[8] + 1u));
-    // (lo), (lo + 2 size along x), (lo + 2 size along y): the rectangle is its lower half.
-    let corner = vec2<f32>(f32((vi << 1u) & 2u), f32(vi & 2u));
-    let px = lo + corner * (hi - lo);
+fn vs_splat_tile(@builtin(vertex_index) vi: u32, @builtin(instance_index) k: u32) -> @builtin(position) vec4<f32> {
+    let t = splat_tiles[k];
+    let across = tiles_across();
+    let corner = vec2<f32>(f32(vi & 1u), f32(vi >> 1u));
+    let lo = vec2<f32>(f32(t % across), f32(t / across)) * f32(SPLAT_TILE);
+    let px = min(lo + corner * f32(SPLAT_TILE), camera.viewport.xy);
     return vec4<f32>(px.x * 2.0 * camera.viewport.z - 1.0, 1.0 - px.y * 2.0 * camera.viewport.w, 0.0, 1.0);
 }
 

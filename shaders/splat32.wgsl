@@ -4,7 +4,7 @@
 
 @group(1) @binding(5) var<storage, read_write> depth_keys: array<atomic<u32>>;
 @group(1) @binding(6) var<storage, read_write> splat_ids_out: array<atomic<u32>>;
-// The full-screen draw's view of binding 6: the glyph id (instance + 1) per pixel, 0 for none.
+// The splat tiles' draw's view of binding 6: the glyph id (instance + 1) per pixel, 0 for none.
 @group(1) @binding(8) var<storage, read> splat_ids: array<u32>;
 
 // Keep a splat's hit at pixel i: its depth (first pass), or its id where that depth is the

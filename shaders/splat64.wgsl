@@ -4,7 +4,7 @@
 // prepass.wgsl in place of splat32.wgsl.
 
 @group(1) @binding(5) var<storage, read_write> splat_keys: array<atomic<u64>>;
-// The full-screen draw's view of binding 5: (id, depth key) per pixel.
+// The splat tiles' draw's view of binding 5: (id, depth key) per pixel.
 @group(1) @binding(8) var<storage, read> splat_words: array<vec2<u32>>;
 
 // Keep a splat's hit at pixel i (one pass: `second` is never set).

@@ -6,7 +6,7 @@
 
 @group(1) @binding(1) var<storage, read_write> frames_out: array<u32>;
 
-// The compute passes only order the splats' hits (the full-screen draw casts each pixel's
+// The compute passes only order the splats' hits (the splat tiles' draw casts each pixel's
 // winner again at full accuracy): the convex finder may stop at steps this long (sq_first_within),
 // which leaves the hit within about its square.
 const SQ_SPLAT_TOL: f32 = 1e-3;

@@ -405,5 +405,18 @@ mod tests {
             u64::from(wgsl_size(&gumhold, "SplatInfo")),
             crate::render::gumhold::prepass::SPLAT_INFO_SIZE
         );
+        let tile = gumhold
+            .constants
+            .iter()
+            .find(|(_, c)| c.name.as_deref() == Some("SPLAT_TILE"))
+            .map(|(_, c)| &gumhold.global_expressions[c.init]);
+        assert!(
+            matches!(
+                tile,
+                Some(wgpu::naga::Expression::Literal(wgpu::naga::Literal::U32(t)))
+                    if *t == crate::render::gumhold::prepass::SPLAT_TILE
+            ),
+            "{tile:?}"
+        );
     }
 }
