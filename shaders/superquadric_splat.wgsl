@@ -72,12 +72,13 @@ fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, seco
     for (var y = px.y; y <= px.w; y++) {
         let span = sq_row(s, y, px.x, px.z);
         for (var x = span.x; x <= span.y; x++) {
-            if splat_nearer(pixel_index(x, y), near_key) {
+            let i = pixel_index(x, y);
+            if splat_nearer(i, near_key) {
                 continue;
             }
             let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), SQ_SPLAT_TOL);
             if !hit.miss {
-                splat_put(pixel_index(x, y), hit.depth, id, second);
+                splat_put(i, hit.depth, id, second);
                 any = true;
             }
         }

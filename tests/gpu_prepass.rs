@@ -9,6 +9,7 @@ use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::field::synthetic::grid;
 use tensorglyph::frame::Frame;
 use tensorglyph::glyph::{GlyphStyle, derive_glyphs};
+use tensorglyph::render::gumhold::prepass::SPLAT_TILE;
 use tensorglyph::render::{GpuContext, GpuRenderer};
 use tensorglyph::request::{
     DrawOptions, FrameRequest, GlyphKind, Method, Preset, Proxy, ProxyShape,
@@ -136,8 +137,8 @@ fn splats_match_the_reference() {
                 let label = format!("{glyph:?} {label} zoom {zoom} ortho {ortho} splat {splat}");
                 common::assert_scene_bounds(&label, &frame, &scene, &cam, &req);
                 // Splats skip the rasteriser: at the whole-field view every ellipsoid is one, and
-                // the only vertices are the quads (4-vertex strips) of the 16-pixel tiles the
-                // splats touch, which hold every covered pixel; a few superquadrics, whose quad is
+                // the only vertices are the quads (4-vertex strips) of the SPLAT_TILE-pixel tiles
+                // the splats touch, which hold every covered pixel; a few superquadrics, whose quad is
                 // that of the larger ball holding them, are drawn. (Closer, the tiles of larger
                 // splats may outnumber the glyphs they stand for.)
                 let plain = gpu.render(&scene, &cam, &request(glyph, false, 0)).unwrap();
@@ -148,9 +149,12 @@ fn splats_match_the_reference() {
                         assert!(s < p, "{label}");
                     }
                     if zoom == 1.0 && glyph == GlyphKind::Ellipsoid {
-                        let tiles = u64::from(frame.width.div_ceil(16) * frame.height.div_ceil(16));
+                        let tile = SPLAT_TILE;
+                        let tiles =
+                            u64::from(frame.width.div_ceil(tile) * frame.height.div_ceil(tile));
                         assert!(s % 4 == 0, "{label}: {s}");
-                        assert!(frame.covered_pixels() as u64 <= s / 4 * 256, "{label}");
+                        let tile_px = u64::from(tile * tile);
+                        assert!(frame.covered_pixels() as u64 <= s / 4 * tile_px, "{label}");
                         // Not the whole image: the tiles follow the splats.
                         assert!(s / 4 < tiles, "{label}: {s}");
                     }

@@ -778,11 +778,23 @@ mod tests {
     /// The world ray in local unit coordinates next to the glyph, in f64 as the reference does
     /// (origin moved to the point nearest the centre), then the f32 twin with s ≥ −t0 (t ≥ 0).
     fn twin(sq: &Superquadric, o: DVec3, d: DVec3) -> (Option<Twin>, SqCost) {
+        twin_within(sq, o, d, 0.0)
+    }
+
+    /// [`twin`] with the convex finder stopping at steps up to `tol_min` (`sq_first_within`).
+    fn twin_within(sq: &Superquadric, o: DVec3, d: DVec3, tol_min: f32) -> (Option<Twin>, SqCost) {
         let t0 = (sq.centre - o).dot(d);
         let q0 = sq.to_local((o - sq.centre) + d * t0);
         let v = sq.to_local(d);
         let e = exponents_of(sq);
-        let (h, cost) = sq_first_cost(q0.as_vec3(), v.as_vec3(), e, (-t0) as f32, sq_bound(e));
+        let (h, cost) = sq_first_within_cost(
+            q0.as_vec3(),
+            v.as_vec3(),
+            e,
+            (-t0) as f32,
+            sq_bound(e),
+            tol_min,
+        );
         assert!(h.s.is_finite() && h.n.is_finite(), "{h:?}");
         assert!((h.n.length() - 1.0).abs() < 1e-5, "{h:?}");
         if !h.hit {
@@ -1481,31 +1493,37 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 
     /// Glyphs from the mapping: Kindlmann's for definite tensors at γ, Schultz–Kindlmann's for
     /// indefinite ones (β_max 3), eigenvalue magnitudes as radii.
+    /// A glyph of random eigenvalues (magnitudes 0.05–1 as radii) through the mapping:
+    /// Kindlmann's for definite tensors at γ, Schultz–Kindlmann's for indefinite ones (β_max 3).
+    fn mapped_glyph(rng: &mut Lcg, definite: bool, gamma: f64) -> Superquadric {
+        let mut ev = [
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+            rng.range(0.05, 1.0),
+        ];
+        if !definite {
+            ev[0] = -ev[0];
+            ev[1] *= if rng.next() < 0.5 { -1.0 } else { 1.0 };
+        }
+        ev.sort_by(|a, b| b.total_cmp(a));
+        let shape = superquadric_shape(
+            ev,
+            Sharpness {
+                gamma,
+                beta_max: 3.0,
+            },
+        );
+        let centre = DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), 0.0);
+        let frame = random_frame(rng);
+        let radii = DVec3::from(ev.map(f64::abs));
+        Superquadric::from_shape(centre, frame, radii, &shape)
+    }
+
     fn sweep_mapped(definite: bool, gamma: f64, n: usize, seed: u64) -> Sweep {
         let mut rng = Lcg(seed);
         let mut out = Sweep::default();
         for _ in 0..n {
-            let mut ev = [
-                rng.range(0.05, 1.0),
-                rng.range(0.05, 1.0),
-                rng.range(0.05, 1.0),
-            ];
-            if !definite {
-                ev[0] = -ev[0];
-                ev[1] *= if rng.next() < 0.5 { -1.0 } else { 1.0 };
-            }
-            ev.sort_by(|a, b| b.total_cmp(a));
-            let shape = superquadric_shape(
-                ev,
-                Sharpness {
-                    gamma,
-                    beta_max: 3.0,
-                },
-            );
-            let centre = DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), 0.0);
-            let frame = random_frame(&mut rng);
-            let radii = DVec3::from(ev.map(f64::abs));
-            let sq = Superquadric::from_shape(centre, frame, radii, &shape);
+            let sq = mapped_glyph(&mut rng, definite, gamma);
             let (o, d) = random_ray(&mut rng, &sq);
             let j = judge(&sq, o, d);
             check(&j).unwrap();
@@ -1566,35 +1584,16 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
                 let abc = exponents(&mut rng, Kind::Convex);
                 random_glyph(&mut rng, abc)
             } else {
-                let mut ev = [
-                    rng.range(0.05, 1.0),
-                    rng.range(0.05, 1.0),
-                    rng.range(0.05, 1.0),
-                ];
-                ev.sort_by(|a, b| b.total_cmp(a));
-                let shape = superquadric_shape(
-                    ev,
-                    Sharpness {
-                        gamma: 3.0,
-                        beta_max: 3.0,
-                    },
-                );
-                let centre = DVec3::new(rng.range(-5.0, 5.0), rng.range(-5.0, 5.0), 0.0);
-                let frame = random_frame(&mut rng);
-                Superquadric::from_shape(centre, frame, DVec3::from(ev), &shape)
+                mapped_glyph(&mut rng, true, 3.0)
             };
             let (o, d) = random_ray(&mut rng, &sq);
-            let t0 = (sq.centre - o).dot(d);
-            let q0 = sq.to_local((o - sq.centre) + d * t0).as_vec3();
-            let v = sq.to_local(d).as_vec3();
-            let e = exponents_of(&sq);
-            let (loose, cost) = sq_first_within_cost(q0, v, e, (-t0) as f32, sq_bound(e), tol_min);
-            let (_, full_cost) = sq_first_cost(q0, v, e, (-t0) as f32, sq_bound(e));
+            let (loose, cost) = twin_within(&sq, o, d, tol_min);
+            let (_, full_cost) = twin(&sq, o, d);
             loose_evals += cost.search + cost.other;
             full_evals += full_cost.search + full_cost.other;
             rays += 1;
             let want = sq.intersect(o, d);
-            if want.is_some() != loose.hit {
+            if want.is_some() != loose.is_some() {
                 disagree += 1;
                 let tangency = (min_gauge(&sq, o, d) - 1.0).abs();
                 assert!(
@@ -1603,10 +1602,11 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
                 );
                 continue;
             }
-            let Some(w) = want else { continue };
+            let (Some(w), Some(loose)) = (want, loose) else {
+                continue;
+            };
             hits += 1;
-            let hd = sq.radii.length();
-            let err = (t0 + f64::from(loose.s) - w.t) / hd;
+            let err = (loose.t - w.t) / sq.radii.length();
             if w.normal.dot(d).abs() >= 1e-3 {
                 errs.push(err.abs());
             }
