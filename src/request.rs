@@ -562,7 +562,8 @@ pub enum Preset {
     /// The compute prepass with culling (Gumhold ellipsoids and superquadrics).
     Prepass,
     /// Splats up to [`DEFAULT_SPLAT`] pixels across from the prepass, with culling (Gumhold
-    /// ellipsoids and superquadrics; other methods are culled): `render`'s and the viewer's default.
+    /// ellipsoids and superquadrics; other methods are culled), front to back in depth layers
+    /// (the viewer draws them in file order): `render`'s and the viewer's default.
     #[default]
     Splat,
 }
@@ -610,9 +611,11 @@ impl Preset {
         }
     }
 
-    /// Whether the instances are drawn front to back (sorted on the CPU before upload).
+    /// Whether the instances are drawn front to back (sorted on the CPU before upload,
+    /// [`crate::scene::Scene::sort_front_to_back`]): `sorted` for early depth tests, `splat` so
+    /// that its compute pass meets nearer glyphs first and skips pixels they have won.
     pub fn sorts(self) -> bool {
-        self == Preset::Sorted
+        matches!(self, Preset::Sorted | Preset::Splat)
     }
 
     /// Whether this preset changes anything for `method` drawing `glyph` (with depth

@@ -336,9 +336,9 @@ pub struct DrawArgs {
     /// (0: draw all; glyphs under ~0.3 px rarely cover a pixel centre).
     #[arg(long, default_value_t = 0.0, value_name = "PX")]
     pub min_pixel_radius: f32,
-    /// Draw front to back (sorted by view depth) instead of in file order: pays where early
-    /// depth tests reject hidden fragments; on lavapipe it measured slower (see the README).
-    /// The prepass draws in no fixed order: sorting applies to `--splat 0` without --prepass.
+    /// Draw front to back (in depth layers of a few glyph diameters) instead of in file order:
+    /// pays where early depth tests reject hidden fragments, and in the splats' compute pass
+    /// (the splat preset sorts already); the prepass's drawn glyphs keep no fixed order.
     #[arg(long)]
     pub sort: bool,
     /// Gumhold ellipsoids and superquadrics: build each glyph's proxy once in a compute pass
@@ -390,9 +390,16 @@ impl DrawArgs {
         Ok(opts)
     }
 
-    /// Whether to sort the instances front to back before upload.
+    /// Whether to sort the instances front to back before upload (--sort, or a preset that
+    /// sorts: sorted, splat).
     pub fn sort(&self) -> bool {
         self.sort || self.preset().sorts()
+    }
+
+    /// Whether front-to-back order was asked for itself (--sort, --preset sorted), which the
+    /// viewer refuses; its splats are drawn in file order.
+    pub fn sort_asked(&self) -> bool {
+        self.sort || self.preset() == Preset::Sorted
     }
 }
 

@@ -63,7 +63,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
             cam.method
         );
     }
-    if args.draw.sort() {
+    if args.draw.sort_asked() {
         bail!("the viewer draws in file order: --sort (and --preset sorted) are for render");
     }
     let depth_correction = !cam.no_depth_correction;

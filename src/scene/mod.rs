@@ -473,16 +473,51 @@ impl<'c> Culling<'c> {
     }
 }
 
+/// Thickness of [`Scene::sort_front_to_back`]'s depth layers, in mean glyph diameters: 2–5
+/// measured alike on grid40's splats, 8 slower (nearer glyphs come later within a layer).
+pub const LAYER_DIAMETERS: f32 = 3.0;
+
+/// The mean of the instances' largest diameters (finite ones; 0 for none).
+fn mean_diameter(instances: &[GlyphInstance]) -> f32 {
+    use rayon::prelude::*;
+    let (sum, n) = instances
+        .par_iter()
+        .map(|g| 2.0 * f64::from(g.radii[0].max(g.radii[1]).max(g.radii[2])))
+        .filter(|d| d.is_finite())
+        .map(|d| (d, 1u64))
+        .reduce(|| (0.0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
+    if n == 0 { 0.0 } else { (sum / n as f64) as f32 }
+}
+
 impl Scene {
-    /// Reorder the instances front to back (by the view depth of their centres; stable, so
-    /// ties keep file order): with early depth testing, nearer glyphs then hide later ones
-    /// before they are shaded. Ids and picking follow `GlyphInstance::glyph`.
+    /// Reorder the instances front to back in depth layers [`LAYER_DIAMETERS`] mean glyph
+    /// diameters thick (by the view depth of their centres), file order within a layer. Nearer
+    /// glyphs then come first: with early depth testing they hide later ones before those are
+    /// shaded, and the splats' compute pass skips the pixels a nearer splat has already won.
+    /// Layers rather than exact depths because consecutive glyphs of an exact order lie on one
+    /// plane across the whole image, which a CPU device pays for in lanes and caches: grid40's
+    /// superquadric splats took 150 ms in exact order, 133 ms in layers and 160 ms in file
+    /// order (lavapipe).
+    /// Ids and picking follow `GlyphInstance::glyph`.
     pub fn sort_front_to_back(&mut self, camera: &crate::camera::Camera) {
         use rayon::prelude::*;
         let eye = (camera.eye - self.origin).as_vec3();
         let f = camera.forward().as_vec3();
-        let key = |g: &GlyphInstance| (glam::Vec3::from(g.centre) - eye).dot(f);
-        self.instances.par_sort_by(|a, b| key(a).total_cmp(&key(b)));
+        let depth = |g: &GlyphInstance| (glam::Vec3::from(g.centre) - eye).dot(f);
+        let thickness = LAYER_DIAMETERS * mean_diameter(&self.instances);
+        let nearest = self
+            .instances
+            .par_iter()
+            .map(depth)
+            .reduce(|| f32::INFINITY, f32::min);
+        if thickness > 0.0 && thickness.is_finite() && nearest.is_finite() {
+            // Saturating: a NaN depth goes to the front layer, an overflow to the last.
+            self.instances
+                .par_sort_by_key(|g| ((depth(g) - nearest) / thickness) as u32);
+        } else {
+            self.instances
+                .par_sort_by(|a, b| depth(a).total_cmp(&depth(b)));
+        }
     }
 
     /// Whether Gumhold's ellipsoid shader moves every drawable glyph's proxy to its nearest
@@ -607,6 +642,69 @@ mod tests {
         assert!(
             (half - reach).max_element() <= 2e-3 * r,
             "{reach} vs {half}"
+        );
+    }
+
+    /// Front to back in layers: every glyph's layer (its view depth past the nearest centre,
+    /// in layer thicknesses computed here from the radii) is at most the next one's, file order
+    /// within a layer, and the instances are the same ones.
+    #[test]
+    fn front_to_back_goes_by_layers_in_file_order() {
+        let field = crate::field::synthetic::grid(9);
+        let set = derive_glyphs(&field, &crate::progress::Silent);
+        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
+        let scene = Scene::build(&set, &style, GlyphKind::Superquadric);
+        let framing = crate::camera::Framing {
+            azimuth: 37.0,
+            elevation: 21.0,
+            ..Default::default()
+        };
+        let cam = crate::camera::Camera::frame(&framing, scene.centre, scene.radius, 320, 240);
+        let mut sorted = scene.clone();
+        sorted.sort_front_to_back(&cam);
+        let depth = |g: &GlyphInstance| {
+            (DVec3::from(g.centre.map(f64::from)) + scene.origin - cam.eye).dot(cam.forward())
+        };
+        let diameters: Vec<f64> = scene
+            .instances
+            .iter()
+            .map(|g| 2.0 * f64::from(g.radii.into_iter().fold(0.0, f32::max)))
+            .collect();
+        let thickness =
+            f64::from(LAYER_DIAMETERS) * diameters.iter().sum::<f64>() / diameters.len() as f64;
+        let nearest = scene
+            .instances
+            .iter()
+            .map(depth)
+            .fold(f64::INFINITY, f64::min);
+        let layer = |g: &GlyphInstance| (depth(g) - nearest) / thickness;
+        let mut layers_seen = 0;
+        for w in sorted.instances.windows(2) {
+            let (a, b) = (layer(&w[0]), layer(&w[1]));
+            // The sort's f32 depths: a glyph within 1e-4 of a layer's boundary may fall on
+            // either side of it.
+            let clear = |x: f64| (1e-4..1.0 - 1e-4).contains(&x.fract());
+            assert!(a.floor() <= b.floor() || a - b < 1e-4, "{a} then {b}");
+            if a.floor() == b.floor() && clear(a) && clear(b) {
+                assert!(w[0].glyph < w[1].glyph, "file order within a layer");
+            } else {
+                layers_seen += 1;
+            }
+        }
+        assert!(layers_seen >= 3, "{layers_seen} layer changes");
+        let mut ids: Vec<u32> = sorted.instances.iter().map(|g| g.glyph).collect();
+        ids.sort_unstable();
+        assert_eq!(ids, (0..scene.instances.len() as u32).collect::<Vec<_>>());
+        // Glyphs of no size have no layers: exact depth order.
+        let mut flat = scene.clone();
+        for g in &mut flat.instances {
+            g.radii = [0.0; 3];
+        }
+        flat.sort_front_to_back(&cam);
+        assert!(
+            flat.instances
+                .windows(2)
+                .all(|w| depth(&w[0]) <= depth(&w[1]) + 1e-9)
         );
     }
 

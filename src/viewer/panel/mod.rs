@@ -236,11 +236,16 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
             Preset::VALUES
                 .iter()
                 .copied()
-                .find(|p| !p.sorts() && p.options() == settings.draw)
+                .find(|&p| p != Preset::Sorted && p.options() == settings.draw)
                 .map_or("custom", Preset::name),
         )
         .show_ui(ui, |ui| {
-            for p in Preset::VALUES.iter().copied().filter(|p| !p.sorts()) {
+            // Sorted differs from the baseline only in order, which the viewer keeps.
+            for p in Preset::VALUES
+                .iter()
+                .copied()
+                .filter(|&p| p != Preset::Sorted)
+            {
                 if ui.selectable_label(false, p.name()).clicked() {
                     settings.draw = p.options();
                 }
