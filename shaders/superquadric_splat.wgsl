@@ -69,19 +69,36 @@ fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, seco
     let s = sq_pixels_of(g, o, solid);
     let near_key = depth_key(max(view_depth(sq_near_z(s, o, solid)), 0.0));
     var any = false;
-    for (var y = px.y; y <= px.w; y++) {
-        let span = sq_row(s, y, px.x, px.z);
-        for (var x = span.x; x <= span.y; x++) {
-            let i = pixel_index(x, y);
-            if splat_nearer(i, near_key) {
+    var y = px.y;
+    var span = sq_row(s, y, px.x, px.z);
+    var x = span.x;
+    loop {
+        // To the next pixel to cast. Skipping is cheap and casting dear: lanes that skip run on
+        // to their next cast here instead of idling while the others cast.
+        loop {
+            if x > span.y {
+                y++;
+                if y > px.w {
+                    break;
+                }
+                span = sq_row(s, y, px.x, px.z);
+                x = span.x;
                 continue;
             }
-            let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), SQ_SPLAT_TOL);
-            if !hit.miss {
-                splat_put(i, hit.depth, id, second);
-                any = true;
+            if !splat_nearer(pixel_index(x, y), near_key) {
+                break;
             }
+            x++;
         }
+        if y > px.w {
+            break;
+        }
+        let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), SQ_SPLAT_TOL);
+        if !hit.miss {
+            splat_put(pixel_index(x, y), hit.depth, id, second);
+            any = true;
+        }
+        x++;
     }
     return any;
 }
