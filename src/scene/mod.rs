@@ -602,6 +602,14 @@ mod tests {
     use crate::staging::field_spacing;
     use std::sync::atomic::{AtomicU64, Ordering};
 
+    /// The synthetic n³ grid's glyphs with the default style.
+    fn grid_scene(n: usize, glyph: GlyphKind) -> Scene {
+        let field = crate::field::synthetic::grid(n);
+        let set = derive_glyphs(&field, &crate::progress::Silent);
+        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
+        Scene::build(&set, &style, glyph)
+    }
+
     /// The capsule reaches the cylinder's half-length along the axis, with the cross-section's
     /// mean as radius: isotropic radii give the sphere, planar ones (R > r1) the ball of R.
     #[test]
@@ -650,10 +658,7 @@ mod tests {
     /// within a layer, and the instances are the same ones.
     #[test]
     fn front_to_back_goes_by_layers_in_file_order() {
-        let field = crate::field::synthetic::grid(9);
-        let set = derive_glyphs(&field, &crate::progress::Silent);
-        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
-        let scene = Scene::build(&set, &style, GlyphKind::Superquadric);
+        let scene = grid_scene(9, GlyphKind::Superquadric);
         let framing = crate::camera::Framing {
             azimuth: 37.0,
             elevation: 21.0,
