@@ -497,7 +497,7 @@ impl Scene {
     /// Layers rather than exact depths because consecutive glyphs of an exact order lie on one
     /// plane across the whole image, which a CPU device pays for in lanes and caches: grid40's
     /// superquadric splats took 150 ms in exact order, 133 ms in layers and 160 ms in file
-    /// order (lavapipe).
+    /// order (lavapipe, before their skip-ahead).
     /// Ids and picking follow `GlyphInstance::glyph`.
     pub fn sort_front_to_back(&mut self, camera: &crate::camera::Camera) {
         use rayon::prelude::*;

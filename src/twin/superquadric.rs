@@ -1491,8 +1491,6 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         out
     }
 
-    /// Glyphs from the mapping: Kindlmann's for definite tensors at γ, Schultz–Kindlmann's for
-    /// indefinite ones (β_max 3), eigenvalue magnitudes as radii.
     /// A glyph of random eigenvalues (magnitudes 0.05–1 as radii) through the mapping:
     /// Kindlmann's for definite tensors at γ, Schultz–Kindlmann's for indefinite ones (β_max 3).
     fn mapped_glyph(rng: &mut Lcg, definite: bool, gamma: f64) -> Superquadric {
@@ -1519,6 +1517,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         Superquadric::from_shape(centre, frame, radii, &shape)
     }
 
+    /// The sweep over glyphs from the mapping ([`mapped_glyph`]).
     fn sweep_mapped(definite: bool, gamma: f64, n: usize, seed: u64) -> Sweep {
         let mut rng = Lcg(seed);
         let mut out = Sweep::default();
