@@ -22,7 +22,7 @@ struct DrawArgs {
     first_instance: u32,
 }
 
-@group(1) @binding(0) var<uniform> slice: Slice;
+@group(1) @binding(0) var<storage, read> slice: Slice;
 @group(1) @binding(2) var<storage, read_write> draw_args: DrawArgs;
 // The instances (instance_index) of the splats.
 @group(1) @binding(3) var<storage, read_write> splat_list: array<u32>;

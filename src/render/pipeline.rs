@@ -80,15 +80,16 @@ pub fn buffer_entry(
 /// too (the `--prepass` reads the glyphs there).
 pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
     let all = wgpu::ShaderStages::VERTEX_FRAGMENT.union(wgpu::ShaderStages::COMPUTE);
-    let uniform = wgpu::BufferBindingType::Uniform;
+    // The chunk is a storage buffer: see flag_index in shaders/common.wgsl.
+    let read = wgpu::BufferBindingType::Storage { read_only: true };
     ctx.device
         .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("glyphs"),
             entries: &[
-                buffer_entry(0, all, uniform),
-                buffer_entry(1, all, wgpu::BufferBindingType::Storage { read_only: true }),
-                buffer_entry(2, all, uniform),
-                buffer_entry(3, all, wgpu::BufferBindingType::Storage { read_only: true }),
+                buffer_entry(0, all, wgpu::BufferBindingType::Uniform),
+                buffer_entry(1, all, read),
+                buffer_entry(2, all, read),
+                buffer_entry(3, all, read),
             ],
         })
 }

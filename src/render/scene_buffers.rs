@@ -242,7 +242,7 @@ impl ChunkBuffers {
         let uniform = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("chunk"),
             size: std::mem::size_of::<ChunkUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let group = |camera: &wgpu::Buffer| {

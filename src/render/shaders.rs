@@ -192,6 +192,180 @@ mod tests {
         }
     }
 
+    use wgpu::naga::{AddressSpace, Block, Expression, Function, Handle, Module, Statement};
+
+    /// What `e` in `f` depends on: `None` if on something varying, else whether on some
+    /// uniform-buffer word at a fixed offset (beside constants). `Some(true)` deciding an `if` is
+    /// what lavapipe inlines (flag_index in shaders/common.wgsl). Arguments and local variables
+    /// count as varying, so this sees the direct cases only (a uniform passed through an argument
+    /// or a local is missed).
+    fn uniform_words(m: &Module, f: &Function, e: Handle<Expression>, depth: u32) -> Option<bool> {
+        use Expression as E;
+        if depth > 64 {
+            return None;
+        }
+        let all = |xs: &[Handle<Expression>]| {
+            xs.iter().try_fold(false, |any, &x| {
+                uniform_words(m, f, x, depth + 1).map(|u| any || u)
+            })
+        };
+        match f.expressions[e] {
+            E::Literal(_) | E::Constant(_) | E::Override(_) | E::ZeroValue(_) => Some(false),
+            E::GlobalVariable(g) => {
+                (m.global_variables[g].space == AddressSpace::Uniform).then_some(true)
+            }
+            E::AccessIndex { base, .. } => all(&[base]),
+            E::Access { base, index } => match f.expressions[index] {
+                E::Literal(_) | E::Constant(_) => all(&[base]),
+                _ => None,
+            },
+            E::Load { pointer } => all(&[pointer]),
+            E::Unary { expr, .. } | E::As { expr, .. } => all(&[expr]),
+            E::Binary { left, right, .. } => all(&[left, right]),
+            E::Select {
+                condition,
+                accept,
+                reject,
+            } => all(&[condition, accept, reject]),
+            E::Relational { argument, .. } => all(&[argument]),
+            E::Math {
+                arg,
+                arg1,
+                arg2,
+                arg3,
+                ..
+            } => all(&[Some(arg), arg1, arg2, arg3]
+                .into_iter()
+                .flatten()
+                .collect::<Vec<_>>()),
+            E::Splat { value, .. } => all(&[value]),
+            E::Swizzle { vector, .. } => all(&[vector]),
+            E::Compose { ref components, .. } => all(components),
+            E::CallResult(g) => {
+                let g = &m.functions[g];
+                let mut values = Vec::new();
+                returns(&g.body, &mut values);
+                if values.is_empty() {
+                    return None;
+                }
+                values.into_iter().try_fold(false, |any, v| {
+                    uniform_words(m, g, v, depth + 1).map(|u| any || u)
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// The values `block` returns.
+    fn returns(block: &Block, out: &mut Vec<Handle<Expression>>) {
+        for s in block.iter() {
+            match s {
+                Statement::Return { value: Some(v) } => out.push(*v),
+                Statement::Block(b) => returns(b, out),
+                Statement::If { accept, reject, .. } => {
+                    returns(accept, out);
+                    returns(reject, out);
+                }
+                Statement::Loop {
+                    body, continuing, ..
+                } => {
+                    returns(body, out);
+                    returns(continuing, out);
+                }
+                Statement::Switch { cases, .. } => cases.iter().for_each(|c| returns(&c.body, out)),
+                _ => {}
+            }
+        }
+    }
+
+    /// The conditions in `block` (of `f`) that uniform words alone decide.
+    fn uniform_conditions(m: &Module, f: &Function, block: &Block, out: &mut Vec<String>) {
+        let mut check = |c: Handle<Expression>, out: &mut Vec<String>| {
+            if uniform_words(m, f, c, 0) == Some(true) {
+                out.push(format!("{:?}", f.expressions[c]));
+            }
+        };
+        for s in block.iter() {
+            match s {
+                Statement::Block(b) => uniform_conditions(m, f, b, out),
+                Statement::If {
+                    condition,
+                    accept,
+                    reject,
+                } => {
+                    check(*condition, out);
+                    uniform_conditions(m, f, accept, out);
+                    uniform_conditions(m, f, reject, out);
+                }
+                Statement::Loop {
+                    body,
+                    continuing,
+                    break_if,
+                } => {
+                    if let Some(c) = break_if {
+                        check(*c, out);
+                    }
+                    uniform_conditions(m, f, body, out);
+                    uniform_conditions(m, f, continuing, out);
+                }
+                Statement::Switch { selector, cases } => {
+                    check(*selector, out);
+                    for c in cases {
+                        uniform_conditions(m, f, &c.body, out);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Every function's conditions that uniform words alone decide, named by function.
+    fn uniform_decided(text: &str) -> Vec<String> {
+        let m = parse(text).expect("parses");
+        let functions = m.functions.iter().map(|(_, f)| f);
+        let entries = m.entry_points.iter().map(|e| &e.function);
+        let mut found = Vec::new();
+        for f in functions.chain(entries) {
+            let mut out = Vec::new();
+            uniform_conditions(&m, f, &f.body, &mut out);
+            let name = f.name.as_deref().unwrap_or("?");
+            found.extend(out.into_iter().map(|c| format!("{name}: {c}")));
+        }
+        found
+    }
+
+    #[test]
+    fn the_uniform_condition_finder_finds_them() {
+        let text = "struct U { v: vec4<f32>, n: u32 }
+            @group(0) @binding(0) var<uniform> u: U;
+            fn flag() -> bool { return u.v.w > 0.5; }
+            fn hidden() -> bool { return u.v[3u + u32(u.v.w > 2.0)] > 0.5; }
+            @compute @workgroup_size(1) fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+                var x = 0u;
+                if flag() { x = 1u; }
+                if u.n > 2u { x = 2u; }
+                if hidden() { x = 3u; }
+                if id.x > u.n { x = 4u; }
+            }";
+        let found = uniform_decided(text);
+        assert_eq!(found.len(), 2, "{found:#?}");
+        assert!(found.iter().all(|f| f.starts_with("main: ")));
+    }
+
+    #[test]
+    fn no_if_decided_by_uniform_words_alone() {
+        for s in ShaderSource::ALL {
+            for int64 in [false, true] {
+                let defs = ShaderDefs {
+                    int64_atomics: int64,
+                    ..ShaderDefs::default()
+                };
+                let found = uniform_decided(&s.text_with(defs));
+                assert!(found.is_empty(), "{}: {found:#?}", s.name());
+            }
+        }
+    }
+
     #[test]
     fn early_depth_declared_on_both_depth_entry_points() {
         let text = ShaderSource::GumholdEllipsoid.text_with(ShaderDefs {

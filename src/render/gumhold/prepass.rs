@@ -158,7 +158,8 @@ impl PrepassLayouts {
         let compute_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("prepass compute"),
             entries: &[
-                buffer_entry(0, compute, wgpu::BufferBindingType::Uniform),
+                // Storage, not uniform: see flag_index in shaders/common.wgsl.
+                buffer_entry(0, compute, ro),
                 buffer_entry(1, compute, rw),
                 buffer_entry(2, compute, rw),
                 buffer_entry(3, compute, rw),
@@ -390,7 +391,7 @@ impl PrepassBuffers {
                     uniform: buffer(
                         "prepass slice",
                         SLICE_UNIFORM_SIZE,
-                        wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                     ),
                 });
                 first += n;
