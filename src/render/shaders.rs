@@ -280,7 +280,7 @@ mod tests {
 
     /// The conditions in `block` (of `f`) that uniform words alone decide.
     fn uniform_conditions(m: &Module, f: &Function, block: &Block, out: &mut Vec<String>) {
-        let mut check = |c: Handle<Expression>, out: &mut Vec<String>| {
+        let check = |c: Handle<Expression>, out: &mut Vec<String>| {
             if uniform_words(m, f, c, 0) == Some(true) {
                 out.push(format!("{:?}", f.expressions[c]));
             }
