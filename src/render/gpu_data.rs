@@ -128,7 +128,7 @@ const QUAT_SCALE: f32 = (std::f64::consts::SQRT_2 / QUAT_MAX) as f32;
 /// Per draw of one chunk of instances. Keep in sync with `Chunk` in shaders/common.wgsl.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct ChunkUniform {
+pub struct ChunkParams {
     /// instance_index of the chunk's first glyph.
     pub base: u32,
     /// Glyphs projected smaller than this many pixels (radius) are not drawn (0: all are).
@@ -138,8 +138,8 @@ pub struct ChunkUniform {
     pub _pad: u32,
 }
 
-pub const CHUNK_UNIFORM_SIZE: usize = 16;
-const _: () = assert!(std::mem::size_of::<ChunkUniform>() == CHUNK_UNIFORM_SIZE);
+pub const CHUNK_PARAMS_SIZE: usize = 16;
+const _: () = assert!(std::mem::size_of::<ChunkParams>() == CHUNK_PARAMS_SIZE);
 
 /// Per-frame camera and lighting. Keep in sync with `Camera` in shaders/common.wgsl.
 #[repr(C)]
@@ -361,7 +361,7 @@ mod tests {
         assert_offsets(
             &module,
             "Chunk",
-            &fields!(ChunkUniform: base, min_pixel_radius, cull, _pad),
+            &fields!(ChunkParams: base, min_pixel_radius, cull, _pad),
         );
         let underlay =
             shaders::parse(crate::render::underlay::SHADER).expect("underlay.wgsl parses");
@@ -388,7 +388,7 @@ mod tests {
         let module = shaders::parse(shaders::COMMON).expect("common.wgsl parses");
         assert_eq!(wgsl_size(&module, "GpuGlyph") as usize, GPU_GLYPH_SIZE);
         assert_eq!(wgsl_size(&module, "Camera") as usize, CAMERA_UNIFORM_SIZE);
-        assert_eq!(wgsl_size(&module, "Chunk") as usize, CHUNK_UNIFORM_SIZE);
+        assert_eq!(wgsl_size(&module, "Chunk") as usize, CHUNK_PARAMS_SIZE);
         let underlay =
             shaders::parse(crate::render::underlay::SHADER).expect("underlay.wgsl parses");
         assert_eq!(

@@ -96,7 +96,7 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
 
 /// The layouts every glyph pipeline is built with.
 pub struct GlyphLayouts {
-    /// Group 0: camera, one chunk of instances, the chunk's uniform.
+    /// Group 0: camera, one chunk of instances, the chunk's parameters, its exponents.
     pub group: wgpu::BindGroupLayout,
     /// A pipeline layout of group 0 alone.
     pub pipeline: wgpu::PipelineLayout,

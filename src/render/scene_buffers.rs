@@ -1,5 +1,5 @@
 //! A scene on the GPU: its packed instances in chunks that each fit one storage binding, the
-//! camera and chunk uniforms, and the per-scene state a method keeps (Gumhold's prepass
+//! camera and each chunk's parameters, and the per-scene state a method keeps (Gumhold's prepass
 //! buffers). Built by upload, drawn by [`crate::render::GpuRenderer`] as often as the camera or
 //! the request change.
 
@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
-use crate::render::gpu_data::{CameraUniform, ChunkUniform, GPU_GLYPH_SIZE, GpuGlyph};
+use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGlyph};
 use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
 use crate::request::FrameRequest;
 use crate::scene::{GlyphInstance, Scene};
@@ -31,7 +31,7 @@ pub struct SceneBuffers {
     method_state: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
 }
 
-/// One storage buffer of packed instances and its uniform, bound as group 0.
+/// One storage buffer of packed instances and its parameters, bound as group 0.
 pub struct ChunkBuffers {
     pub(crate) base: u32,
     pub(crate) count: u32,
@@ -40,7 +40,7 @@ pub struct ChunkBuffers {
     pub(crate) general: bool,
     _glyphs: wgpu::Buffer,
     _shapes: wgpu::Buffer,
-    uniform: wgpu::Buffer,
+    params: wgpu::Buffer,
     pub(crate) bind_group: wgpu::BindGroup,
     /// The same chunk seen by the key light's camera (the shadow map's pass).
     pub(crate) light_bind_group: wgpu::BindGroup,
@@ -130,20 +130,20 @@ impl SceneBuffers {
         self.chunks.len()
     }
 
-    /// Write the camera and chunk uniforms of a frame (through the queue: they take effect at
+    /// Write the camera and the chunks' parameters of a frame (through the queue: they take effect at
     /// the next submit).
     pub(crate) fn write_uniforms(&self, queue: &wgpu::Queue, camera: &Camera, req: &FrameRequest) {
         let mut uniform = CameraUniform::new(camera, self.origin, &req.lighting);
         uniform.pixels[3] = if req.effects.deferred() { 1.0 } else { 0.0 };
         queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&uniform));
         for c in &self.chunks {
-            let u = ChunkUniform {
+            let u = ChunkParams {
                 base: c.base,
                 min_pixel_radius: req.min_pixel_radius,
                 cull: u32::from(req.cull),
                 _pad: 0,
             };
-            queue.write_buffer(&c.uniform, 0, bytemuck::bytes_of(&u));
+            queue.write_buffer(&c.params, 0, bytemuck::bytes_of(&u));
         }
         if let Some(u) = &self.underlay {
             u.write_uniforms(queue, camera, self.origin, &req.underlay);
@@ -239,9 +239,9 @@ impl ChunkBuffers {
                 usage: wgpu::BufferUsages::STORAGE,
             },
         );
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("chunk"),
-            size: std::mem::size_of::<ChunkUniform>() as u64,
+            size: std::mem::size_of::<ChunkParams>() as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -260,7 +260,7 @@ impl ChunkBuffers {
                     },
                     wgpu::BindGroupEntry {
                         binding: 2,
-                        resource: uniform.as_entire_binding(),
+                        resource: params.as_entire_binding(),
                     },
                     wgpu::BindGroupEntry {
                         binding: 3,
@@ -279,7 +279,7 @@ impl ChunkBuffers {
             }),
             _glyphs: glyphs,
             _shapes: shapes,
-            uniform,
+            params,
         })
     }
 }

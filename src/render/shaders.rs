@@ -256,67 +256,50 @@ mod tests {
         }
     }
 
-    /// The values `block` returns.
-    fn returns(block: &Block, out: &mut Vec<Handle<Expression>>) {
+    /// Every statement of `block`, nested ones included, in order.
+    fn visit(block: &Block, each: &mut dyn FnMut(&Statement)) {
         for s in block.iter() {
+            each(s);
             match s {
-                Statement::Return { value: Some(v) } => out.push(*v),
-                Statement::Block(b) => returns(b, out),
+                Statement::Block(b) => visit(b, each),
                 Statement::If { accept, reject, .. } => {
-                    returns(accept, out);
-                    returns(reject, out);
+                    visit(accept, each);
+                    visit(reject, each);
                 }
                 Statement::Loop {
                     body, continuing, ..
                 } => {
-                    returns(body, out);
-                    returns(continuing, out);
+                    visit(body, each);
+                    visit(continuing, each);
                 }
-                Statement::Switch { cases, .. } => cases.iter().for_each(|c| returns(&c.body, out)),
+                Statement::Switch { cases, .. } => cases.iter().for_each(|c| visit(&c.body, each)),
                 _ => {}
             }
         }
     }
 
+    /// The values `block` returns.
+    fn returns(block: &Block, out: &mut Vec<Handle<Expression>>) {
+        visit(block, &mut |s| {
+            if let Statement::Return { value: Some(v) } = s {
+                out.push(*v);
+            }
+        });
+    }
+
     /// The conditions in `block` (of `f`) that uniform words alone decide.
     fn uniform_conditions(m: &Module, f: &Function, block: &Block, out: &mut Vec<String>) {
-        let check = |c: Handle<Expression>, out: &mut Vec<String>| {
-            if uniform_words(m, f, c, 0) == Some(true) {
+        visit(block, &mut |s| {
+            let condition = match s {
+                Statement::If { condition, .. } => Some(*condition),
+                Statement::Loop { break_if, .. } => *break_if,
+                Statement::Switch { selector, .. } => Some(*selector),
+                _ => None,
+            };
+            if let Some(c) = condition.filter(|&c| uniform_words(m, f, c, 0) == Some(true)) {
                 out.push(format!("{:?}", f.expressions[c]));
             }
-        };
-        for s in block.iter() {
-            match s {
-                Statement::Block(b) => uniform_conditions(m, f, b, out),
-                Statement::If {
-                    condition,
-                    accept,
-                    reject,
-                } => {
-                    check(*condition, out);
-                    uniform_conditions(m, f, accept, out);
-                    uniform_conditions(m, f, reject, out);
-                }
-                Statement::Loop {
-                    body,
-                    continuing,
-                    break_if,
-                } => {
-                    if let Some(c) = break_if {
-                        check(*c, out);
-                    }
-                    uniform_conditions(m, f, body, out);
-                    uniform_conditions(m, f, continuing, out);
-                }
-                Statement::Switch { selector, cases } => {
-                    check(*selector, out);
-                    for c in cases {
-                        uniform_conditions(m, f, &c.body, out);
-                    }
-                }
-                _ => {}
-            }
-        }
+        });
     }
 
     /// Every function's conditions that uniform words alone decide, named by function.

@@ -69,8 +69,8 @@ pub const SPLAT_INFO_SIZE: u64 = 20;
 /// `SPLAT_TILE` (shaders/prepass.wgsl): the splats are shaded by a quad per tile of this many
 /// pixels square that one touches.
 pub const SPLAT_TILE: u32 = 16;
-/// Bytes of the `Slice` uniform.
-const SLICE_UNIFORM_SIZE: u64 = 16;
+/// Bytes of `Slice` (shaders/prepass.wgsl), a read-only storage buffer.
+const SLICE_PARAMS_SIZE: u64 = 16;
 
 /// [`GlyphFrame`] as the per-instance vertex attributes of `vs_frames` (`FrameInput`, one
 /// location each; a `vec4` location reads a `vec3` with the scalar after it).
@@ -315,7 +315,7 @@ pub struct Slice {
     pub chunk: usize,
     pub first: u32,
     pub count: u32,
-    uniform: wgpu::Buffer,
+    params: wgpu::Buffer,
 }
 
 /// Per-pixel splat buffers for one target size, and the bind groups that use them.
@@ -388,9 +388,9 @@ impl PrepassBuffers {
                     chunk,
                     first,
                     count: n,
-                    uniform: buffer(
+                    params: buffer(
                         "prepass slice",
-                        SLICE_UNIFORM_SIZE,
+                        SLICE_PARAMS_SIZE,
                         wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                     ),
                 });
@@ -410,11 +410,11 @@ impl PrepassBuffers {
         }
     }
 
-    /// Write the slice uniforms of the next submission: splats up to `splat_max` pixels across.
+    /// Write the slices' parameters for the next submission: splats up to `splat_max` pixels across.
     pub fn write_uniforms(&self, queue: &wgpu::Queue, splat_max: u32) {
         for s in &self.slices {
             let words = [s.first, s.count, splat_max, 0];
-            queue.write_buffer(&s.uniform, 0, bytemuck::cast_slice(&words));
+            queue.write_buffer(&s.params, 0, bytemuck::cast_slice(&words));
         }
     }
 
@@ -461,7 +461,7 @@ impl PrepassBuffers {
                         label: Some("prepass compute"),
                         layout: &self.layouts.compute_group,
                         entries: &[
-                            bind(0, &s.uniform),
+                            bind(0, &s.params),
                             bind(1, &self.frames),
                             bind(2, &self.args),
                             bind(3, &self.splat_list),
