@@ -128,6 +128,11 @@ pub fn nearest_to_centre(scene: &Scene, n: usize) -> Scene {
 /// Slower frames are timed alone: a few milliseconds do not show beside a second.
 pub const WARM_UP_BELOW_MS: f64 = 1000.0;
 
+/// The frames of `f` after its first, or its one frame.
+pub(crate) fn steady_ms(f: &Frame) -> &[f64] {
+    &f.frame_ms[f.frame_ms.len().saturating_sub(1).min(1)..]
+}
+
 /// A measured configuration: one CSV row.
 #[derive(Debug, Clone, Serialize)]
 pub struct Row {
@@ -306,8 +311,7 @@ pub fn run(
                 };
                 match gpu.render(scene, &view.camera, &req) {
                     Ok(f) => {
-                        let warm = f.frame_ms.len().saturating_sub(1).min(1);
-                        st.times.extend(&f.frame_ms[warm..]);
+                        st.times.extend(steady_ms(&f));
                         st.fragments = f.fragments.or(st.fragments);
                         st.vertices = f.vertices.or(st.vertices);
                     }
