@@ -100,7 +100,8 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
         let mut times = vec![Vec::new(); configs.len()];
         for _ in 0..frames.max(1) {
             for (k, (_, effects)) in configs.iter().enumerate() {
-                // Two frames, the second timed (bench's WARM_UP_BELOW_MS).
+                // Two frames, the second timed, as `run` in bench/mod.rs times frames below
+                // WARM_UP_BELOW_MS.
                 let req = FrameRequest {
                     effects: *effects,
                     frames: 2,

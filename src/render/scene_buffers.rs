@@ -130,8 +130,8 @@ impl SceneBuffers {
         self.chunks.len()
     }
 
-    /// Write the camera and the chunks' parameters of a frame (through the queue: they take effect at
-    /// the next submit).
+    /// Write the camera uniform and the chunks' parameters of a frame (through the queue: they
+    /// take effect at the next submit).
     pub(crate) fn write_uniforms(&self, queue: &wgpu::Queue, camera: &Camera, req: &FrameRequest) {
         let mut uniform = CameraUniform::new(camera, self.origin, &req.lighting);
         uniform.pixels[3] = if req.effects.deferred() { 1.0 } else { 0.0 };

@@ -143,7 +143,7 @@ impl Drawer for GumholdRenderer {
         let req = frame.req;
         let views = frame.views;
         let splats = req.splat_pixels() > 0;
-        prepass.write_uniforms(&frame.ctx.queue, req.splat_pixels());
+        prepass.write_params(&frame.ctx.queue, req.splat_pixels());
         if prepass.slices.is_empty() {
             views.begin_pass(
                 encoder,

@@ -411,7 +411,7 @@ impl PrepassBuffers {
     }
 
     /// Write the slices' parameters for the next submission: splats up to `splat_max` pixels across.
-    pub fn write_uniforms(&self, queue: &wgpu::Queue, splat_max: u32) {
+    pub fn write_params(&self, queue: &wgpu::Queue, splat_max: u32) {
         for s in &self.slices {
             let words = [s.first, s.count, splat_max, 0];
             queue.write_buffer(&s.params, 0, bytemuck::cast_slice(&words));
