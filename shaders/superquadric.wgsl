@@ -160,9 +160,11 @@ fn sq_norm_grad(a: vec3<f32>, e: vec3<f32>) -> vec4<f32> {
 
 // Inside–outside function of absolute coordinates, <= 1 exactly on the solid and non-decreasing
 // in each argument: G when c = β (no profile, no cancellation at the tips), else
-// H = N_α(|x|/R_β(z), |y|/R_c(z)) (SQ_BIG where |z| >= 1 off the axis).
+// H = N_α(|x|/R_β(z), |y|/R_c(z)) (SQ_BIG where |z| >= 1 off the axis). Without SQ_GENERAL every
+// glyph is convex (c = β): the test folds away, and with it H, which a CPU device would otherwise
+// run under a mask (the eye test of every glyph).
 fn sq_gauge(a: vec3<f32>, e: vec3<f32>) -> f32 {
-    if e.z == e.y {
+    if !SQ_GENERAL || e.z == e.y {
         return sq_pnorm(sq_pnorm(a.x, a.y, e.x), a.z, e.y);
     }
     if a.z >= 1.0 {
