@@ -1,6 +1,6 @@
-//! Sigg et al.'s method on the GPU against the exact f64 reference, on the scenes Gumhold's
-//! method is checked on (tests/gpu_vs_reference.rs) plus the cases special to a screen-space
-//! box: glyphs crossing the camera plane, and the fragment count the box predicts.
+//! Sigg et al.'s method on the GPU against the exact f64 reference, on the checks Gumhold's
+//! method shares (tests/common/cases.rs) plus the cases special to a screen-space box: glyphs
+//! crossing the camera plane, and the fragment count the box predicts.
 //! Bounds are stated beside each check with their reason.
 
 mod common;
@@ -22,65 +22,18 @@ fn tight(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) {
     common::check_tight(name, scene, camera, Method::Sigg, glyph);
 }
 
-#[test]
-fn sphere() {
-    let scene = scenes::sphere();
-    let cam = framed(&scene, Framing::default());
-    tight("sphere", &scene, &cam, GlyphKind::Ellipsoid);
-}
+common::cases::ray_caster_cases!(Method::Sigg);
 
 #[test]
-fn rotated_cigar() {
-    let scene = scenes::cigar();
-    let cam = framed(&scene, Framing::default());
-    tight("cigar", &scene, &cam, GlyphKind::Ellipsoid);
-}
-
-#[test]
-fn thin_pancake() {
-    // 1 : 1 : 0.01 seen obliquely: the normal varies fastest near the rim.
-    let scene = scenes::pancake();
-    let cam = framed(&scene, Framing::default());
-    tight("pancake", &scene, &cam, GlyphKind::Ellipsoid);
-}
-
-#[test]
-fn intersecting_glyphs_need_depth_correction() {
-    let scene = scenes::intersecting();
-    let cam = framed(&scene, Framing::default());
-    let Some(with) = check("intersecting", &scene, &cam, GlyphKind::Ellipsoid) else {
-        return;
-    };
-    assert_tight("intersecting", &with);
-    let without = common::check(
-        "intersecting flat",
-        &scene,
-        &cam,
-        Method::Sigg,
-        GlyphKind::Ellipsoid,
-        false,
-    )
-    .unwrap();
-    // Without correction each box sits at its centre's depth, so the later-drawn or nearer-
-    // centred glyph wins whole boxes: the intersection curve is lost.
-    assert!(
-        without.id_mismatch > 10.0 * with.id_mismatch.max(1e-4),
-        "depth correction should matter: {with:?} vs {without:?}"
-    );
-}
-
-#[test]
-fn glyph_in_the_corner_of_a_wide_view() {
-    // A 100° field of view with the glyph near the image corner: strong perspective distortion,
-    // where a box from the projected bounding sphere's centre would clip the silhouette.
-    let (scene, cam) = scenes::corner_of_a_wide_view();
-    eprintln!(
-        "corner proxies: {:?}",
-        (0..2)
-            .map(|i| scene_proxy(&scene, &cam, i, GlyphKind::Ellipsoid))
-            .collect::<Vec<_>>()
-    );
-    tight("corner", &scene, &cam, GlyphKind::Ellipsoid);
+fn near_a_cap_the_box_stands() {
+    // The eye is just outside the solids (beyond the capsule's +x ball, 5 % of the half-length
+    // above the cylinder's cap), and both balls and both discs lie in front of the camera plane:
+    // eq. 5 still gives a (huge, viewport-clamped) box (eye_near_a_* check the pixels).
+    let (scene, cam) = scenes::near_a_cap();
+    for glyph in [GlyphKind::Capsule, GlyphKind::Cylinder] {
+        let proxy = scene_proxy(&scene, &cam, 0, glyph);
+        assert!(matches!(proxy, Proxy::Box(_)), "{glyph:?}: {proxy:?}");
+    }
 }
 
 #[test]
@@ -152,14 +105,6 @@ fn distant_glyph() {
     // The aux target stores view z in f32: at |z| = 1000 one ulp is 6.1e-5 glyph sizes, just
     // inside the tight depth bound.
     assert_tight("distant", &a);
-}
-
-#[test]
-fn orthographic_views() {
-    let (scene, cam) = scenes::ortho_intersecting();
-    tight("ortho", &scene, &cam, GlyphKind::Ellipsoid);
-    let (scene, cam) = scenes::ortho_along_an_eigenvector();
-    tight("ortho axis", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
 #[test]
@@ -291,40 +236,6 @@ fn eye_inside_a_grid_of_cylinders() {
 #[test]
 fn eye_inside_a_grid_of_capsules() {
     eye_inside_a_grid(GlyphKind::Capsule);
-}
-
-#[test]
-fn cylinders_and_capsules_side_on_end_on_and_oblique() {
-    // Cap rims are creases: a pixel centre within f32 rounding of the rim may pick the cap or
-    // the side (normal jumps 90°), hence max is not bounded, the p99 is.
-    for (glyph, name, scene, cam) in scenes::solid_views() {
-        tight(name, &scene, &cam, glyph);
-    }
-}
-
-#[test]
-fn eye_near_a_capsule_end() {
-    // Just outside the +x ball; both balls lie in front of the camera plane, so their boxes
-    // (huge, viewport-clamped) stand.
-    let (scene, cam) = scenes::near_a_cap();
-    assert!(matches!(
-        scene_proxy(&scene, &cam, 0, GlyphKind::Capsule),
-        Proxy::Box(_)
-    ));
-    tight("near end", &scene, &cam, GlyphKind::Capsule);
-}
-
-#[test]
-fn eye_near_a_cylinder_cap() {
-    // The eye sits 5 % of the half-length above a cap, just outside the glyph. Both discs lie
-    // in front of the camera plane, so eq. 5 still gives a (huge, viewport-clamped) box; the
-    // cap fills most of the view.
-    let (scene, cam) = scenes::near_a_cap();
-    assert!(matches!(
-        scene_proxy(&scene, &cam, 0, GlyphKind::Cylinder),
-        Proxy::Box(_)
-    ));
-    tight("near cap", &scene, &cam, GlyphKind::Cylinder);
 }
 
 #[test]
