@@ -756,7 +756,9 @@ mod tests {
     use super::*;
     use crate::glyph::superquadric::{Sharpness, superquadric_shape};
     use crate::reference::superquadric::Superquadric;
-    use crate::reference::superquadric::tests::{Lcg, glyph_of, random_frame, random_glyph};
+    use crate::reference::superquadric::tests::{
+        Lcg, glyph_of, random_frame, random_glyph, random_ray,
+    };
     use crate::test_vectors::superquadric_vectors as vectors;
     use crate::test_vectors::v3;
     use glam::{DMat3, DVec3};
@@ -970,25 +972,11 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
 
-    /// A ray from outside the box aimed at a random point of 1.1 × the box.
-    fn random_ray(rng: &mut Lcg, sq: &Superquadric) -> (DVec3, DVec3) {
-        let target = sq.centre
-            + sq.frame
-                * (DVec3::new(
-                    rng.range(-1.1, 1.1),
-                    rng.range(-1.1, 1.1),
-                    rng.range(-1.1, 1.1),
-                ) * sq.radii);
-        let dir = DVec3::new(
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-            rng.range(-1.0, 1.0),
-        )
-        .normalize_or(DVec3::Z);
-        (
-            target - dir * (sq.radii.length() + rng.range(0.5, 5.0)),
-            dir,
-        )
+    /// A ray from outside the box aimed at a random point of 1.1 × the box, starting 0.5 to 5
+    /// beyond the box's half-diagonal.
+    fn near_ray(rng: &mut Lcg, sq: &Superquadric) -> (DVec3, DVec3) {
+        let reach = sq.radii.length();
+        random_ray(rng, sq, |rng| reach + rng.range(0.5, 5.0))
     }
 
     /// The reference on the very ray the twin was given (its f32 coordinates in the glyph's
@@ -1137,7 +1125,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             let mut rng = Lcg(seed);
             let abc = exponents(&mut rng, KINDS[kind]);
             let sq = random_glyph(&mut rng, abc);
-            let (o, d) = random_ray(&mut rng, &sq);
+            let (o, d) = near_ray(&mut rng, &sq);
             check(&judge(&sq, o, d))?;
         }
 
@@ -1483,7 +1471,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         for _ in 0..n {
             let abc = exponents(&mut rng, kind);
             let sq = random_glyph(&mut rng, abc);
-            let (o, d) = random_ray(&mut rng, &sq);
+            let (o, d) = near_ray(&mut rng, &sq);
             let j = judge(&sq, o, d);
             check(&j).unwrap();
             out.add(&j);
@@ -1523,7 +1511,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let mut out = Sweep::default();
         for _ in 0..n {
             let sq = mapped_glyph(&mut rng, definite, gamma);
-            let (o, d) = random_ray(&mut rng, &sq);
+            let (o, d) = near_ray(&mut rng, &sq);
             let j = judge(&sq, o, d);
             check(&j).unwrap();
             out.add(&j);
@@ -1585,7 +1573,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
             } else {
                 mapped_glyph(&mut rng, true, 3.0)
             };
-            let (o, d) = random_ray(&mut rng, &sq);
+            let (o, d) = near_ray(&mut rng, &sq);
             let (loose, cost) = twin_within(&sq, o, d, tol_min);
             let (_, full_cost) = twin(&sq, o, d);
             loose_evals += cost.search + cost.other;
