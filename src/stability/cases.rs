@@ -60,21 +60,13 @@ pub fn oblique() -> DQuat {
     DQuat::from_axis_angle(DVec3::new(0.3, -0.5, 0.8).normalize(), 1.1)
 }
 
-/// A perspective camera looking from `eye` at `target` with depth planes fitted to the scene.
-fn look(scene: &Scene, eye: DVec3, target: DVec3, fov_deg: f64) -> Camera {
-    let fwd = (target - eye).normalize();
-    let up = if fwd.cross(DVec3::Z).length() > 1e-3 {
-        DVec3::Z
-    } else {
-        DVec3::Y
-    };
+/// A camera of the probes' size from `eye` towards `target`, its depth planes fitted to the scene.
+fn fitted(scene: &Scene, eye: DVec3, target: DVec3, up: DVec3, projection: Projection) -> Camera {
     let mut cam = Camera {
         eye,
         target,
         up,
-        projection: Projection::Perspective {
-            fov_y: fov_deg.to_radians(),
-        },
+        projection,
         near: 0.0,
         far: 0.0,
         width: W,
@@ -85,20 +77,22 @@ fn look(scene: &Scene, eye: DVec3, target: DVec3, fov_deg: f64) -> Camera {
     cam
 }
 
-fn ortho(scene: &Scene, dir: DVec3, up: DVec3, height: f64) -> Camera {
-    let mut cam = Camera {
-        eye: scene.centre - dir * 10.0 * scene.radius,
-        target: scene.centre,
-        up,
-        projection: Projection::Orthographic { height },
-        near: 0.0,
-        far: 0.0,
-        width: W,
-        height: H,
-        crop: None,
+/// A perspective camera looking from `eye` at `target` with depth planes fitted to the scene.
+fn look(scene: &Scene, eye: DVec3, target: DVec3, fov_deg: f64) -> Camera {
+    let fwd = (target - eye).normalize();
+    let up = if fwd.cross(DVec3::Z).length() > 1e-3 {
+        DVec3::Z
+    } else {
+        DVec3::Y
     };
-    cam.fit_depth_range(scene.centre, scene.radius);
-    cam
+    let fov_y = fov_deg.to_radians();
+    fitted(scene, eye, target, up, Projection::Perspective { fov_y })
+}
+
+fn ortho(scene: &Scene, dir: DVec3, up: DVec3, height: f64) -> Camera {
+    let eye = scene.centre - dir * 10.0 * scene.radius;
+    let projection = Projection::Orthographic { height };
+    fitted(scene, eye, scene.centre, up, projection)
 }
 
 fn sweep(quick: bool, full: &[f64], subset: &[f64]) -> Vec<f64> {
@@ -175,18 +169,9 @@ pub fn grazing(quick: bool) -> Vec<Probe> {
             ),
         ];
         let scene = Scene::from_specs(&specs);
-        let mut cam = Camera {
-            eye: DVec3::new(0.0, 0.0, 10.0),
-            target: DVec3::ZERO,
-            up: DVec3::Y,
-            projection: Projection::Orthographic { height: 2.0 },
-            near: 0.0,
-            far: 0.0,
-            width: W,
-            height: H,
-            crop: None,
-        };
-        cam.fit_depth_range(scene.centre, scene.radius);
+        let eye = DVec3::new(0.0, 0.0, 10.0);
+        let projection = Projection::Orthographic { height: 2.0 };
+        let cam = fitted(&scene, eye, DVec3::ZERO, DVec3::Y, projection);
         let mut p = probe(
             "3-grazing",
             "rim offset δ (ortho)",
@@ -380,18 +365,9 @@ pub fn sub_pixel(quick: bool) -> Vec<Probe> {
                 }
             }
             let scene = Scene::from_specs(&specs);
-            let mut cam = Camera {
-                eye: DVec3::new(0.0, 0.0, 5.0),
-                target: DVec3::ZERO,
-                up: DVec3::Y,
-                projection: Projection::Orthographic { height: 2.0 },
-                near: 0.0,
-                far: 0.0,
-                width: W,
-                height: H,
-                crop: None,
-            };
-            cam.fit_depth_range(scene.centre, scene.radius);
+            let eye = DVec3::new(0.0, 0.0, 5.0);
+            let projection = Projection::Orthographic { height: 2.0 };
+            let cam = fitted(&scene, eye, DVec3::ZERO, DVec3::Y, projection);
             probe("8-sub-pixel", "projected size px", s, scene, cam)
         })
         .collect()
