@@ -95,6 +95,26 @@ fn quadric_box(u: vec3<f32>, v: vec3<f32>, w: vec3<f32>, c: vec3<f32>) -> SiggBo
     return b;
 }
 
+// The box of the hull of a solid's two end pieces (a cylinder's discs, a capsule's balls) from
+// theirs: their union where both are boxes, the viewport where one crosses the camera plane or
+// they lie on both sides of it, PROXY_CULL where both are culled or the hull lies outside the
+// frustum (outside a plane iff both pieces are).
+fn hull_box(b1: SiggBox, b2: SiggBox) -> SiggBox {
+    var b = b1;
+    b.reach_a = max(b1.reach_a, b2.reach_a);
+    b.reach_b = max(b1.reach_b, b2.reach_b);
+    if outside_frustum(b) || (b1.kind == PROXY_CULL && b2.kind == PROXY_CULL) {
+        b.kind = PROXY_CULL;
+    } else if b1.kind == PROXY_BOX && b2.kind == PROXY_BOX {
+        b.lo = min(b1.lo, b2.lo);
+        b.hi = max(b1.hi, b2.hi);
+        b.z = clamp(0.5 * (b1.z + b2.z), 0.0, 1.0);
+    } else {
+        b.kind = PROXY_VIEWPORT;
+    }
+    return b;
+}
+
 fn view_rotation() -> mat3x3<f32> {
     return mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
 }

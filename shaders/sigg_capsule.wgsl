@@ -28,22 +28,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let w = o[0] * (cap.x * cap.y);
     let b1 = quadric_box(o[0] * cap.y, o[1] * cap.y, o[2] * cap.y, g.centre - w);
     let b2 = quadric_box(o[0] * cap.y, o[1] * cap.y, o[2] * cap.y, g.centre + w);
-    var b = b1;
-    // The hull of the balls is outside a plane iff both balls are.
-    b.reach_a = max(b1.reach_a, b2.reach_a);
-    b.reach_b = max(b1.reach_b, b2.reach_b);
-    if outside_frustum(b) {
+    let b = hull_box(b1, b2);
+    if b.kind == PROXY_CULL {
         return culled();
-    }
-    if b1.kind == PROXY_BOX && b2.kind == PROXY_BOX {
-        b.lo = min(b1.lo, b2.lo);
-        b.hi = max(b1.hi, b2.hi);
-        b.z = clamp(0.5 * (b1.z + b2.z), 0.0, 1.0);
-    } else if b1.kind == PROXY_CULL && b2.kind == PROXY_CULL {
-        return culled();
-    } else {
-        // A ball crosses the camera plane, or the balls lie on both sides of it.
-        b.kind = PROXY_VIEWPORT;
     }
     emit_corner(&out, vi, b);
     return out;

@@ -25,22 +25,9 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> 
     let v = o[2] * g.radii.z;
     let b1 = quadric_box(u, v, vec3<f32>(0.0), g.centre - w);
     let b2 = quadric_box(u, v, vec3<f32>(0.0), g.centre + w);
-    var b = b1;
-    // The hull of the discs is outside a plane iff both discs are.
-    b.reach_a = max(b1.reach_a, b2.reach_a);
-    b.reach_b = max(b1.reach_b, b2.reach_b);
-    if outside_frustum(b) {
+    let b = hull_box(b1, b2);
+    if b.kind == PROXY_CULL {
         return culled();
-    }
-    if b1.kind == PROXY_BOX && b2.kind == PROXY_BOX {
-        b.lo = min(b1.lo, b2.lo);
-        b.hi = max(b1.hi, b2.hi);
-        b.z = clamp(0.5 * (b1.z + b2.z), 0.0, 1.0);
-    } else if b1.kind == PROXY_CULL && b2.kind == PROXY_CULL {
-        return culled();
-    } else {
-        // A disc crosses the camera plane, or the discs lie on both sides of it.
-        b.kind = PROXY_VIEWPORT;
     }
     emit_corner(&out, vi, b);
     return out;
