@@ -69,8 +69,9 @@ fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, seco
     let s = sq_pixels_of(g, o, solid);
     let near_key = depth_key(max(view_depth(sq_near_z(s, o, solid)), 0.0));
     var any = false;
+    let rows = sq_rows(s, px.y, px.x);
     var y = px.y;
-    var span = sq_row(s, y, px.x, px.z);
+    var span = sq_row(rows, y, px.z);
     var x = span.x;
     loop {
         // To the next pixel to cast. Skipping is cheap and casting dear: lanes that skip run on
@@ -81,7 +82,7 @@ fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, seco
                 if y > px.w {
                     break;
                 }
-                span = sq_row(s, y, px.x, px.z);
+                span = sq_row(rows, y, px.z);
                 x = span.x;
                 continue;
             }
@@ -136,35 +137,66 @@ fn sq_pixels_of(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SqPixels {
     return s;
 }
 
-// The pixels of row y within [x0, x1] whose rays may meet the ball holding the glyph (radius
-// shape.w in parameter space; splat_span, sq_first deciding each pixel): the line through P with
-// direction D meets it where |P × D|² <= w² |D|², and with P and D affine in the pixel's x
-// (perspective: P the eye, D the pixel's direction; orthographic: P the pixel's point, D the view
-// direction) that is a quadratic inequality in x. P × D is formed next to the glyph (the eye's
-// distance scales its rounding by 1e-7 only), so the roots are good to a small part of a pixel.
-fn sq_row(s: SqPixels, y: i32, x0: i32, x1: i32) -> vec2<i32> {
-    let a = transpose(s.n);
-    let xy = pixel_view_xy(vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5));
-    let step = a * vec3<f32>(1.0 / camera.pixels.x, 0.0, 0.0);
-    var w0: vec3<f32>;
-    var w1: vec3<f32>;
-    var d0: vec3<f32>;
-    var d1 = vec3<f32>(0.0);
+// The rows of a splat's pixels whose rays may meet the ball holding the glyph (radius shape.w in
+// parameter space; splat_span, sq_first deciding each pixel): the line through P with direction
+// D meets it where |P × D|² <= w² |D|². P and D are affine in the pixel's x and y (perspective: P
+// the eye, D the pixel's direction; orthographic: P the pixel's point, D the view direction), so
+// in row y0 + t that is the quadratic a x² + b x + c <= 0 in x with b affine and c quadratic in t:
+// their coefficients are formed once per glyph, a row costs three multiply-adds and its roots.
+// P × D is formed next to the glyph (the eye's distance scales its rounding by 1e-7 only), so the
+// roots are good to a small part of a pixel.
+struct SqRows {
+    // a; b's coefficients (1, t); c's (1, t, t²).
+    a: f32,
+    b: vec2<f32>,
+    c: vec3<f32>,
+    // The first row and the first column (x counts from it).
+    y0: i32,
+    x0: i32,
+}
+
+fn sq_rows(s: SqPixels, y0: i32, x0: i32) -> SqRows {
+    let m = transpose(s.n);
+    let xy = pixel_view_xy(vec2<f32>(f32(x0) + 0.5, f32(y0) + 0.5));
+    // Parameter-space steps of one pixel along x and down y.
+    let step_x = m * vec3<f32>(1.0 / camera.pixels.x, 0.0, 0.0);
+    let step_y = m * vec3<f32>(0.0, -1.0 / camera.pixels.x, 0.0);
+    // P × D = w + t dw + x wx and D = d + t dd + x dx.
+    var w: vec3<f32>;
+    var dw: vec3<f32>;
+    var wx: vec3<f32>;
+    var d: vec3<f32>;
+    var dd = vec3<f32>(0.0);
+    var dx = vec3<f32>(0.0);
     if is_ortho() {
-        let p0 = a * vec3<f32>(xy - s.c_view.xy, 0.0);
-        d0 = a * vec3<f32>(0.0, 0.0, -1.0);
-        w0 = cross(p0, d0);
-        w1 = cross(step, d0);
+        d = m * vec3<f32>(0.0, 0.0, -1.0);
+        w = cross(m * vec3<f32>(xy - s.c_view.xy, 0.0), d);
+        dw = cross(step_y, d);
+        wx = cross(step_x, d);
     } else {
-        let p = a * -s.c_view;
-        d0 = a * vec3<f32>(xy, -1.0);
-        d1 = step;
-        w0 = cross(p, d0);
-        w1 = cross(p, d1);
+        let p = m * -s.c_view;
+        d = m * vec3<f32>(xy, -1.0);
+        dd = step_y;
+        dx = step_x;
+        w = cross(p, d);
+        dw = cross(p, dd);
+        wx = cross(p, dx);
     }
     let r2 = s.shape.w * s.shape.w;
-    let quadratic = vec3<f32>(dot(w1, w1) - r2 * dot(d1, d1), 2.0 * (dot(w0, w1) - r2 * dot(d0, d1)), dot(w0, w0) - r2 * dot(d0, d0));
-    return splat_span(quadratic, x0, x1);
+    var rows: SqRows;
+    rows.a = dot(wx, wx) - r2 * dot(dx, dx);
+    rows.b = 2.0 * vec2<f32>(dot(w, wx) - r2 * dot(d, dx), dot(dw, wx) - r2 * dot(dd, dx));
+    rows.c = vec3<f32>(dot(w, w) - r2 * dot(d, d), 2.0 * (dot(w, dw) - r2 * dot(d, dd)), dot(dw, dw) - r2 * dot(dd, dd));
+    rows.y0 = y0;
+    rows.x0 = x0;
+    return rows;
+}
+
+// The pixels of row y within [rows.x0, x1] whose rays may meet the ball (sq_rows).
+fn sq_row(rows: SqRows, y: i32, x1: i32) -> vec2<i32> {
+    let t = f32(y - rows.y0);
+    let c = rows.c.x + t * (rows.c.y + t * rows.c.z);
+    return splat_span(vec3<f32>(rows.a, rows.b.x + t * rows.b.y, c), rows.x0, x1);
 }
 
 // The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
