@@ -235,8 +235,9 @@ fn splat_frame(f: GlyphFrame, px: vec4<i32>, second: bool) -> bool {
     return any;
 }
 
-// The splat's hit at pixel centre px (prepass.wgsl's splat_at).
-fn splat_hit(ii: u32, px: vec2<f32>) -> Hit {
+// The splat's hit at pixel centre px (prepass.wgsl's splat_at), cast again from the glyph's
+// frame: the closed form costs less than starting from the kept depth key would save.
+fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
     return pixel_hit(glyph_frame(ii).frame, px);
 }
 

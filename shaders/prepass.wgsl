@@ -105,11 +105,12 @@ fn vs_splat_tile(@builtin(vertex_index) vi: u32, @builtin(instance_index) k: u32
 
 // The splat hit at a pixel, or discard.
 fn splat_at(position: vec4<f32>) -> Hit {
-    let id = splat_id(pixel_index(i32(position.x), i32(position.y)));
+    let i = pixel_index(i32(position.x), i32(position.y));
+    let id = splat_id(i);
     if id == 0u {
         discard;
     }
-    var hit = splat_hit(id - 1u, position.xy);
+    var hit = splat_hit(id - 1u, position.xy, splat_depth_key(i));
     if hit.miss {
         // The compute passes found a hit here; a differently rounded miss at the very edge is
         // one.

@@ -6,6 +6,8 @@
 @group(1) @binding(6) var<storage, read_write> splat_ids_out: array<atomic<u32>>;
 // The splat tiles' draw's view of binding 6: the glyph id (instance + 1) per pixel, 0 for none.
 @group(1) @binding(8) var<storage, read> splat_ids: array<u32>;
+// And of binding 5: the depth key per pixel.
+@group(1) @binding(11) var<storage, read> splat_depths: array<u32>;
 
 // Keep a splat's hit at pixel i: its depth (first pass), or its id where that depth is the
 // pixel's nearest (`second`; ties: the highest instance).
@@ -25,6 +27,11 @@ fn splat_put(i: u32, depth: f32, id: u32, second: bool) {
 
 fn splat_id(i: u32) -> u32 {
     return splat_ids[i];
+}
+
+// The depth key of pixel i's hit (the splat tiles' draw).
+fn splat_depth_key(i: u32) -> u32 {
+    return splat_depths[i];
 }
 
 // After cs_frames: the same pixel loop on the same glyph (bit for bit the hits cs_frames had),

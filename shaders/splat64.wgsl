@@ -16,6 +16,11 @@ fn splat_id(i: u32) -> u32 {
     return splat_words[i].x;
 }
 
+// The depth key of pixel i's hit (the splat tiles' draw).
+fn splat_depth_key(i: u32) -> u32 {
+    return splat_words[i].y;
+}
+
 // Whether pixel i already keeps a hit strictly nearer than depth key `key`: a glyph that cannot
 // come nearer than that cannot win the pixel (keys only grow), so its ray need not be cast.
 fn splat_nearer(i: u32, key: u32) -> bool {

@@ -470,11 +470,22 @@ fn sq_first(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: f32) ->
 // misses by a clearance δ is taken for a hit only where δ is below about tol_min² (its steps
 // stay above √δ). The search of the other glyphs keeps its tolerance.
 fn sq_first_within(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: f32, tol_min: f32) -> SqHit {
-    let miss = SqHit(0.0, vec3<f32>(0.0, 0.0, 1.0), false);
+    let span = sq_clip(o, v, s_min, bound);
+    if span.z == 0.0 {
+        return SqHit(0.0, vec3<f32>(0.0, 0.0, 1.0), false);
+    }
+    return sq_first_in(o, v, e, s_min, span.xy, tol_min);
+}
+
+// The stretch (s_in, s_out, 1) of o + s v with s >= s_min inside the unit box and inside the
+// ball of radius `bound` about the centre, or (0, 0, 0) when there is none: a ray past them
+// misses without an evaluation, and a search starts next to the surface.
+fn sq_clip(o: vec3<f32>, v: vec3<f32>, s_min: f32, bound: f32) -> vec3<f32> {
+    let none = vec3<f32>(0.0);
     // Slab-clip to the unit box and to s >= s_min.
     let ok = abs(v) >= vec3<f32>(SQ_V_MIN);
     if any(!ok & (abs(o) > vec3<f32>(1.0))) {
-        return miss;
+        return none;
     }
     let vs = select(vec3<f32>(1.0), v, ok);
     let s1 = (vec3<f32>(-1.0) - o) / vs;
@@ -484,16 +495,15 @@ fn sq_first_within(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: 
     var s_in = max(s_min, max(near.x, max(near.y, near.z)));
     var s_out = min(far.x, min(far.y, far.z));
     if !(s_in < s_out && s_out < SQ_BIG) {
-        return miss;
+        return none;
     }
-    // And to the ball about the centre holding the solid: a ray past it misses without an
-    // evaluation, and the search starts next to the surface (stable roots of the quadratic).
+    // The ball, by the stable roots of the quadratic.
     let qa = dot(v, v);
     let qb = dot(o, v);
     let qc = dot(o, o) - bound * bound;
     let disc = qb * qb - qa * qc;
     if !(disc >= 0.0) {
-        return miss;
+        return none;
     }
     let q = -(qb + select(-1.0, 1.0, qb >= 0.0) * sqrt(disc));
     var r1 = q / qa;
@@ -504,8 +514,17 @@ fn sq_first_within(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, bound: 
     s_in = max(s_in, min(r1, r2));
     s_out = min(s_out, max(r1, r2));
     if !(s_in < s_out) {
-        return miss;
+        return none;
     }
+    return vec3<f32>(s_in, s_out, 1.0);
+}
+
+// sq_first_within on a stretch `span` = (s_in, s_out) of the ray that holds its first crossing
+// (sq_clip's, or one known to hold it); where s_in is s_min that point may be inside the solid.
+fn sq_first_in(o: vec3<f32>, v: vec3<f32>, e: vec3<f32>, s_min: f32, span: vec2<f32>, tol_min: f32) -> SqHit {
+    let miss = SqHit(0.0, vec3<f32>(0.0, 0.0, 1.0), false);
+    let s_in = span.x;
+    let s_out = span.y;
     let tol = max(SQ_TOL / length(v), SQ_ULP * max(abs(s_in), abs(s_out)));
     // Where the span starts at the ray's start, that point may be inside the solid: then the
     // first crossing is the exit.

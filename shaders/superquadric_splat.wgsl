@@ -67,7 +67,7 @@ fn splat_glyph(ii: u32, second: bool) {
 // bring hits nearer, so a pixel skipped could not have been won).
 fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, second: bool) -> bool {
     let s = sq_pixels_of(g, o, solid);
-    let near_key = depth_key(max(view_depth(sq_near_z(s, o, solid)), 0.0));
+    let near_key = depth_key(max(-sq_near_z(s, o, solid), 0.0));
     var any = false;
     let rows = sq_rows(s, px.y, px.x);
     var y = px.y;
@@ -96,12 +96,20 @@ fn sq_splat(g: Glyph, o: mat3x3<f32>, solid: Solid, id: u32, px: vec4<i32>, seco
         }
         let hit = sq_pixel_hit(s, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5), SQ_SPLAT_TOL);
         if !hit.miss {
-            splat_put(pixel_index(x, y), hit.depth, id, second);
+            splat_put(pixel_index(x, y), sq_key_distance(s, hit), id, second);
             any = true;
         }
         x++;
     }
     return any;
+}
+
+// What a superquadric splat's depth key orders by (depth_key's argument): the hit's distance
+// along the view axis, −z, not its depth. Both order alike, but the splat tiles' draw recovers the
+// crossing from the key, and an f32 depth holds a point far from the near plane to only a few
+// 1e-4 of the glyph's size, where −z holds it to 6e-8 of the distance.
+fn sq_key_distance(s: SqPixels, hit: Hit) -> f32 {
+    return -(s.c_view.z + hit.z_rel);
 }
 
 // The largest view z of the glyph (its nearest point; the view looks along −z): the nearer of
@@ -201,15 +209,22 @@ fn sq_row(rows: SqRows, y: i32, x1: i32) -> vec2<i32> {
 
 // The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
 fn sq_pixel_hit(s: SqPixels, px: vec2<f32>, tol_min: f32) -> Hit {
-    var hit: Hit;
-    hit.miss = true;
     let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
     // From the eye; orthographic rays are clipped by the depth range.
     let h = sq_first_within(r.o_t, r.v_t, s.shape.xyz, select(-r.t0, -3.0e38, is_ortho()), s.shape.w, tol_min);
     if !h.hit {
+        var hit: Hit;
+        hit.miss = true;
         return hit;
     }
-    let rel = r.off + h.s * r.d;
+    return sq_hit_at(s, r, h.s, h.n);
+}
+
+// The hit at ray r's point t with local normal n (the gauge's gradient).
+fn sq_hit_at(s: SqPixels, r: ParamRay, t: f32, n: vec3<f32>) -> Hit {
+    var hit: Hit;
+    hit.miss = true;
+    let rel = r.off + t * r.d;
     let p_view = s.c_view + rel;
     hit.depth = view_depth(p_view.z);
     // frag_depth is clamped, not clipped: a hit in front of the near plane is not drawn.
@@ -217,14 +232,40 @@ fn sq_pixel_hit(s: SqPixels, px: vec2<f32>, tol_min: f32) -> Hit {
         return hit;
     }
     hit.miss = false;
-    hit.n_view = normalize(s.n * h.n);
+    hit.n_view = normalize(s.n * n);
     hit.color = vec4<f32>(shade(unpack4x8unorm(s.color).rgb, hit.n_view, p_view), 1.0);
     hit.z_rel = rel.z;
     return hit;
 }
 
-// The splat's hit at pixel centre px (prepass.wgsl's splat_at).
-fn splat_hit(ii: u32, px: vec2<f32>) -> Hit {
+// The splat's hit at pixel centre px (prepass.wgsl's splat_at), from the key the compute pass
+// kept there (sq_key_distance): the finder at full tolerance, on the short stretch of the ray
+// around the crossing the compute pass found, recovered from the key.
+fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
+    var hit: Hit;
+    hit.miss = true;
+    // No key: a discarded pixel, which a CPU device may still run (a helper invocation).
+    if key == 0u {
+        return hit;
+    }
     let g = load_glyph(ii);
-    return sq_pixel_hit(sq_pixels_of(g, quat_to_mat3(g.rotation), solid_of(g, ii)), px, 0.0);
+    let s = sq_pixels_of(g, quat_to_mat3(g.rotation), solid_of(g, ii));
+    let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
+    // View z from the key, then the ray's t.
+    let z = -bitcast<f32>(0xffffffffu - key);
+    let t = (z - s.c_view.z - r.off.z) / r.d.z;
+    // The crossing lies within rounding of t: z to half an ulp (z − c_view.z is then exact), the
+    // rest to a few ulps of its terms; δ before it the ray is outside, and from there the finder
+    // converges as from the box entry, in about two evaluations. The compute pass's crossing was
+    // before the true one by at most its tolerance (a nearly grazing ray).
+    let delta = 2.4e-7 * (abs(z) + abs(r.off.z) + abs(t * r.d.z)) / abs(r.d.z);
+    let span = vec2<f32>(t - delta, t + delta + 2.0 * SQ_SPLAT_TOL / length(r.v_t));
+    if !(span.x < span.y) {
+        return hit;
+    }
+    let h = sq_first_in(r.o_t, r.v_t, s.shape.xyz, -3.0e38, span, 0.0);
+    if !h.hit {
+        return hit;
+    }
+    return sq_hit_at(s, r, h.s, h.n);
 }

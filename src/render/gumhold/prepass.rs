@@ -175,6 +175,8 @@ impl PrepassLayouts {
             entries: &[
                 buffer_entry(8, wgpu::ShaderStages::FRAGMENT, ro),
                 buffer_entry(9, wgpu::ShaderStages::VERTEX, ro),
+                // The depth keys, for 32-bit atomics (64-bit ones read them at binding 8).
+                buffer_entry(11, wgpu::ShaderStages::FRAGMENT, ro),
             ],
         });
         let layout = |label, group: &wgpu::BindGroupLayout| {
@@ -487,6 +489,7 @@ impl PrepassBuffers {
                         },
                     ),
                     bind(9, &tile_list),
+                    bind(11, &depth_keys),
                 ],
             });
             *pixels = Some(PixelBuffers {
