@@ -1586,13 +1586,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let (mut errs, mut behind) = (Vec::new(), 0.0f64);
         let (mut loose_evals, mut full_evals) = (0u32, 0u32);
         for n in 0..40_000 {
-            // Convex glyphs of every exponent, and Kindlmann's mapped glyphs at γ = 3.
-            let sq = if n % 2 == 0 {
-                let abc = exponents(&mut rng, Kind::Convex);
-                random_glyph(&mut rng, abc)
-            } else {
-                mapped_glyph(&mut rng, true, 3.0)
-            };
+            let sq = splat_test_glyph(&mut rng, n);
             let (o, d) = near_ray(&mut rng, &sq);
             let (loose, cost) = twin_within(&sq, o, d, tol_min);
             let (_, full_cost) = twin(&sq, o, d);
@@ -1632,6 +1626,17 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         assert!(loose_evals < full_evals);
     }
 
+    /// The splat tests' glyph `n`: convex glyphs of every exponent (even `n`), and Kindlmann's
+    /// mapped glyphs at γ = 3.
+    fn splat_test_glyph(rng: &mut Lcg, n: usize) -> Superquadric {
+        if n.is_multiple_of(2) {
+            let abc = exponents(rng, Kind::Convex);
+            random_glyph(rng, abc)
+        } else {
+            mapped_glyph(rng, true, 3.0)
+        }
+    }
+
     /// A constant of superquadric_splat.wgsl.
     fn splat_constant(name: &str) -> f32 {
         const SPLAT: &str = include_str!("../../shaders/superquadric_splat.wgsl");
@@ -1657,12 +1662,7 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         let (mut errs, mut hits) = (Vec::new(), 0usize);
         let (mut tile_evals, mut full_evals) = (0u32, 0u32);
         for n in 0..40_000 {
-            let sq = if n % 2 == 0 {
-                let abc = exponents(&mut rng, Kind::Convex);
-                random_glyph(&mut rng, abc)
-            } else {
-                mapped_glyph(&mut rng, true, 3.0)
-            };
+            let sq = splat_test_glyph(&mut rng, n);
             let (o, d) = near_ray(&mut rng, &sq);
             let t0 = (sq.centre - o).dot(d);
             let q0 = sq.to_local((o - sq.centre) + d * t0).as_vec3();
