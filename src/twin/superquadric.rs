@@ -676,7 +676,6 @@ pub fn sq_first_in(
     tol_min: f32,
     cost: &mut SqCost,
 ) -> SqHit {
-    let miss = MISS;
     let tol = (SQ_TOL / v.length()).max(SQ_ULP * s_in.abs().max(s_out.abs()));
     // Where the span starts at the ray's start, that point may be inside the solid: then the
     // first crossing is the exit.
@@ -684,7 +683,7 @@ pub fn sq_first_in(
     if sq_convex(e) {
         let tol = tol.max(tol_min / v.length());
         let h = sq_newton(o, v, e, s_in, s_out, tol, start, cost);
-        return if h.hit { h } else { miss };
+        return if h.hit { h } else { MISS };
     }
     let mut inside = false;
     if start {
@@ -693,7 +692,7 @@ pub fn sq_first_in(
     }
     let (s, hit) = sq_search(o, v, e, s_in, s_out, tol, inside, cost);
     if !hit {
-        return miss;
+        return MISS;
     }
     cost.other += 1;
     SqHit {
@@ -997,8 +996,9 @@ fn fs_sq_stub(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
         }
     }
 
-    /// A ray from outside the box aimed at a random point of 1.1 × the box, starting 0.5 to 5
-    /// beyond the box's half-diagonal.
+    /// A ray aimed at a random point of 1.1 × the box, starting 0.5 to 5 plus the box's
+    /// half-diagonal before it: mostly outside the glyph, but it may start inside the box, and
+    /// now and then inside the solid (then its first crossing is an exit).
     fn near_ray(rng: &mut Lcg, sq: &Superquadric) -> (DVec3, DVec3) {
         let reach = sq.radii.length();
         random_ray(rng, sq, |rng| reach + rng.range(0.5, 5.0))

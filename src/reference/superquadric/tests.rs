@@ -182,8 +182,9 @@ pub(crate) fn random_glyph(rng: &mut Lcg, abc: [f64; 3]) -> Superquadric {
     }
 }
 
-/// A ray aimed at a random point of 1.1 × the glyph's box, starting `back(rng)` before it (from
-/// outside the glyph when that is at least the box's half-diagonal).
+/// A ray aimed at a random point of 1.1 × the glyph's box, starting `back(rng)` before it (the
+/// caller's choice how far: the start is outside the box only when that is well beyond the box's
+/// half-diagonal).
 pub(crate) fn random_ray(
     rng: &mut Lcg,
     sq: &Superquadric,
