@@ -6,8 +6,8 @@
 //! ```
 
 use tensorglyph::{
-    Camera, Demo, FrameRequest, Framing, GlyphKind, GpuContext, GpuRenderer, Method, Recipe,
-    ReferenceScene, Silent, Source, compare, stage,
+    Camera, Demo, FrameRequest, Framing, GpuContext, GpuRenderer, Method, Recipe, ReferenceScene,
+    Silent, Source, compare, stage,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -17,10 +17,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The aux target carries normals and depth, which the comparison needs.
     let request = |method| FrameRequest {
         aux: true,
-        ..FrameRequest::new(method, GlyphKind::Ellipsoid)
+        ..FrameRequest::new(method)
     };
-    let reference = ReferenceScene::new(scene, &camera, GlyphKind::Ellipsoid)
-        .render(&request(Method::Reference));
+    let reference = ReferenceScene::new(scene, &camera).render(&request(Method::Reference));
     let gpu = GpuRenderer::new(GpuContext::new()?)?;
     println!(
         "{} glyphs on {}",

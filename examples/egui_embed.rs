@@ -9,8 +9,8 @@
 
 use tensorglyph::viewer::view3d::View3d;
 use tensorglyph::{
-    Camera, Demo, FrameRequest, Framing, GlyphKind, GpuContext, GpuRenderer, Method, Preset,
-    Recipe, Silent, Source, Staged, stage,
+    Camera, Demo, FrameRequest, Framing, GpuContext, GpuRenderer, Method, Preset, Recipe, Silent,
+    Source, Staged, stage,
 };
 
 struct App {
@@ -72,8 +72,7 @@ impl eframe::App for App {
             };
             let s = &self.staged;
             let camera = Camera::frame(&framing, s.frame_centre, s.frame_radius, w, h);
-            let req =
-                FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT);
+            let req = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
             if self.view.draw(&self.gpu, &camera, &req).is_ok()
                 && let Some(tex) = self.view.texture
             {

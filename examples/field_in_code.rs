@@ -8,8 +8,8 @@
 //! ```
 
 use tensorglyph::{
-    Backend, Camera, ColorScheme, FrameRequest, Framing, GlyphKind, GlyphStyle, Method, Preset,
-    Recipe, Silent, TensorField, ViewPreset, build, decompose, field_spacing, write_png_atomic,
+    Backend, Camera, ColorScheme, FrameRequest, Framing, GlyphStyle, Method, Preset, Recipe,
+    Silent, TensorField, ViewPreset, build, decompose, field_spacing, write_png_atomic,
 };
 
 /// Applied stress, hole radius and Poisson's ratio.
@@ -66,8 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let camera = Camera::frame(&framing, built.frame_centre, built.frame_radius, 800, 800);
     let (backend, _) = Backend::for_method(Method::Gumhold)?;
-    let request =
-        FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT);
+    let request = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
     let request = backend.adapt(request, &built.scene, &camera);
     let frame = backend.render(
         &built.scene,

@@ -6,8 +6,8 @@
 //! ```
 
 use tensorglyph::{
-    Backend, Camera, FrameRequest, Framing, GlyphKind, Method, Preset, Recipe, Silent, Source,
-    stage, write_png_atomic,
+    Backend, Camera, FrameRequest, Framing, Method, Preset, Recipe, Silent, Source, stage,
+    write_png_atomic,
 };
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -28,8 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if fell_back {
         eprintln!("no GPU adapter: rendering with the exact reference");
     }
-    let request =
-        FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT);
+    let request = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
     let request = backend.adapt(request, &staged.scene, &camera);
     let mut timings = staged.timings;
     let frame = backend.render(&staged.scene, &camera, &request, &mut timings, &Silent)?;

@@ -97,6 +97,43 @@ fn load_glyph(instance: u32) -> Glyph {
     return g;
 }
 
+// The shape interface. Every kind's file, shaders/shape/<kind>.wgsl, defines these functions,
+// which every method calls (Gumhold's solids, Sigg's boxes, the meshes):
+//
+//   shape_radius(radii) -> f32         radius of a sphere about the centre holding the glyph
+//                                      (the vertex stages cull with it)
+//   shape_of(g, ii) -> Solid           the glyph's parameter space and parameters
+//   shape_contains(p, shape) -> bool   p (parameter space) is in the glyph: the eye rule
+//   shape_entry(o, v, shape, t_min) -> vec4<f32>
+//                                      Gumhold's solids: (t, parameter-space normal) where the
+//                                      ray o + t v enters, discarding on a miss
+//   shape_box(g, o, solid) -> SiggBox  Sigg's screen box (shaders/shape/screen_box.wgsl),
+//                                      PROXY_CULL outside the frustum
+//   shape_cast(r, shape) -> vec4<f32>  Sigg: (t, normal) of the first crossing in front of the
+//                                      ray's start (r may be moved along itself), or discard
+//   shape_mesh_point(p, n, g, solid) -> MeshPoint
+//                                      mesh:N: a unit-mesh vertex placed in the glyph's frame
+//   shape_box_half(g, solid) -> vec3<f32>
+//                                      box: the half sizes of the box drawn for the glyph
+//
+// Twins: src/twin/<kind>.rs; the exact geometry: src/shape/<kind>.rs.
+
+// A glyph in its parameter space p~ = diag(1/scale) Oᵀ (p − c).
+struct Solid {
+    scale: vec3<f32>,
+    // Semi-axes of the ellipsoid (parameter space) whose quad Gumhold's method draws.
+    bound: vec3<f32>,
+    // The kind's parameters (a capsule's segment half-length in units of its radius; a
+    // superquadric's exponents and bounding ball).
+    shape: vec4<f32>,
+}
+
+// A mesh vertex in the glyph's frame (not yet rotated) and its normal there (not unit).
+struct MeshPoint {
+    local: vec3<f32>,
+    n_local: vec3<f32>,
+}
+
 // The exponents (α, β, c) of superquadric instance `instance` (unpack_exponents in
 // src/glyph/superquadric.rs).
 fn load_exponents(instance: u32) -> vec3<f32> {

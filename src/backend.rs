@@ -58,7 +58,7 @@ impl Backend {
         match self {
             Backend::Gpu(gpu) => gpu.with_early_depth(req, scene, camera),
             Backend::Reference => FrameRequest {
-                method: MethodConfig::Reference { glyph: req.glyph() },
+                method: MethodConfig::Reference,
                 ..req
             },
         }
@@ -153,7 +153,7 @@ fn render_reference(
 ) -> Frame {
     progress.begin("reference frame", None);
     let t = Instant::now();
-    let rs = ReferenceScene::new(scene, camera, req.glyph());
+    let rs = ReferenceScene::new(scene, camera);
     let mut frame = rs.render(req);
     timings.upload = 0.0;
     timings.first_frame = ms(t);

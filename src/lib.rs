@@ -15,12 +15,12 @@
 //! hold the rest.
 //!
 //! ```no_run
-//! use tensorglyph::{Backend, Camera, Demo, FrameRequest, Framing, GlyphKind, Method, Preset,
-//!                   Recipe, Silent, Source, stage};
+//! use tensorglyph::{Backend, Camera, Demo, FrameRequest, Framing, Method, Preset, Recipe,
+//!                   Silent, Source, stage};
 //! let staged = stage(&Source::Demo(Demo { n: 40 }), &Recipe::default(), &Silent)?;
 //! let camera = Camera::frame(&Framing::default(), staged.frame_centre, staged.frame_radius, 800, 600);
 //! let (backend, _fell_back) = Backend::for_method(Method::Gumhold)?;
-//! let req = FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT);
+//! let req = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
 //! let frame = backend.render(&staged.scene, &camera, &req, &mut Default::default(), &Silent)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -35,6 +35,7 @@ pub mod frame;
 mod names;
 pub mod progress;
 pub mod request;
+pub mod shape;
 
 // The flow: file → field → glyphs → scene.
 pub mod defaults;
@@ -79,11 +80,10 @@ pub use metrics::{Accuracy, compare, diff_image};
 pub use progress::{Progress, Silent};
 pub use reference::ReferenceScene;
 pub use render::{GpuContext, GpuRenderer};
-pub use request::{
-    DrawOptions, FrameRequest, GlyphKind, Method, MethodConfig, Preset, Proxy, ProxyShape,
-};
+pub use request::{DrawOptions, FrameRequest, Method, MethodConfig, Preset, Proxy, ProxyShape};
 pub use scene::Scene;
 pub use select::{Plane, Selection, Slicing};
+pub use shape::{GlyphKind, Shape};
 pub use staging::{
     Built, Demo, Recipe, Source, StageError, Staged, Timings, build, decompose, field_spacing,
     read, stage,

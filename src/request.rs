@@ -8,6 +8,7 @@ use std::str::FromStr;
 
 use crate::effects::Effects;
 use crate::frame::Lighting;
+use crate::shape::Capabilities;
 
 /// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
 /// to 32 px across measured fastest in every view (README, "Doing less work").
@@ -91,29 +92,7 @@ impl serde::Serialize for Method {
     }
 }
 
-/// The glyph shape.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum GlyphKind {
-    #[default]
-    Ellipsoid,
-    /// Capped elliptic cylinder along the principal axis (or along e3 for planar tensors).
-    Cylinder,
-    /// The cylinder's axis with rounded ends: a segment swept by a ball of radius R = the mean
-    /// of the cross-section's semi-axes, total half-length max(axis half-length, R); an
-    /// isotropic tensor gives a sphere ([`crate::scene::capsule_of`]).
-    Capsule,
-    /// Kindlmann's superquadric (Schultz–Kindlmann's for indefinite tensors), shaped by the
-    /// tensor and `--sharpness` ([`crate::glyph::superquadric`]).
-    Superquadric,
-}
-
-crate::names::named_values!(GlyphKind {
-    Ellipsoid => "ellipsoid",
-    Cylinder => "cylinder",
-    Capsule => "capsule",
-    Superquadric => "superquadric",
-});
+pub use crate::shape::GlyphKind;
 
 /// The polygon around the unit circle that Gumhold's proxy is made of (gumhold-ellipsoid.md §10).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -189,10 +168,10 @@ pub enum DrawPath {
     Splat(NonZeroU32),
 }
 
-/// Gumhold ellipsoids' depth: the proxy's own, or the ray-cast one (which conservative proxies
-/// and splats need).
+/// Gumhold's depth: the proxy's own, or the ray-cast one (which conservative proxies and splats
+/// need).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum EllipsoidDepth {
+pub enum GumholdDepth {
     /// The proxy's rasterised depth (`--no-depth-correction`), optionally from the prepass.
     Proxy { prepass: bool },
     /// Per-pixel ray-cast depth.
@@ -205,57 +184,37 @@ pub enum EllipsoidDepth {
     },
 }
 
-/// Gumhold's method, per glyph shape: only what that shape can be drawn with.
+/// Gumhold's method with the options it takes. A glyph kind takes those its [`Capabilities`]
+/// allow ([`MethodConfig::for_kind`]): every kind the proxy polygon, conservative depth and the
+/// prepass and splats only where the table says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum GumholdConfig {
-    Ellipsoid {
-        shape: ProxyShape,
-        depth: EllipsoidDepth,
-    },
-    /// Cylinders use the quad of their bounding ellipsoid, drawn per glyph.
-    Cylinder {
-        shape: ProxyShape,
-        depth_correction: bool,
-    },
-    /// Capsules use the quad of the bounding ellipsoid of their circumscribed cylinder.
-    Capsule {
-        shape: ProxyShape,
-        depth_correction: bool,
-    },
-    /// Superquadrics use the quad of the ball around their unit box; splats only with depth
-    /// correction.
-    Superquadric {
-        shape: ProxyShape,
-        depth_correction: bool,
-        path: DrawPath,
-    },
+pub struct GumholdConfig {
+    pub shape: ProxyShape,
+    pub depth: GumholdDepth,
 }
 
-/// A method with the options it takes, and only those: a request for Sigg's method with splats,
-/// or for cylinders from the prepass, cannot be written.
+/// A method with the options it takes, and only those: a request for Sigg's method with splats
+/// cannot be written. Independent of the glyph kind, which is the scene's
+/// ([`crate::scene::Scene::kind`]): back ends draw [`MethodConfig::for_kind`] of it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MethodConfig {
     Gumhold(GumholdConfig),
     Sigg {
-        glyph: GlyphKind,
         depth_correction: bool,
     },
     /// The triangle-mesh baselines: `Method::Mesh(level)` or `Method::Box`; a mesh's depth is
     /// its rasterised depth.
     Mesh {
         method: MeshMethod,
-        glyph: GlyphKind,
     },
     /// The exact CPU reference.
-    Reference {
-        glyph: GlyphKind,
-    },
+    Reference,
 }
 
 /// Which tessellated baseline.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum MeshMethod {
-    /// An icosphere (a prism for cylinders) subdivided this many times, 0..=[`Method::MAX_MESH_LEVEL`].
+    /// The kind's unit mesh at this level, 0..=[`Method::MAX_MESH_LEVEL`].
     Level(u8),
     /// The glyph's oriented box.
     Box,
@@ -268,60 +227,61 @@ impl MethodConfig {
             MethodConfig::Sigg { .. } => Method::Sigg,
             MethodConfig::Mesh {
                 method: MeshMethod::Level(n),
-                ..
             } => Method::Mesh(*n),
             MethodConfig::Mesh {
                 method: MeshMethod::Box,
-                ..
             } => Method::Box,
-            MethodConfig::Reference { .. } => Method::Reference,
+            MethodConfig::Reference => Method::Reference,
         }
     }
 
-    pub fn glyph(&self) -> GlyphKind {
-        match self {
-            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { .. }) => GlyphKind::Ellipsoid,
-            MethodConfig::Gumhold(GumholdConfig::Cylinder { .. }) => GlyphKind::Cylinder,
-            MethodConfig::Gumhold(GumholdConfig::Capsule { .. }) => GlyphKind::Capsule,
-            MethodConfig::Gumhold(GumholdConfig::Superquadric { .. }) => GlyphKind::Superquadric,
-            MethodConfig::Sigg { glyph, .. }
-            | MethodConfig::Mesh { glyph, .. }
-            | MethodConfig::Reference { glyph } => *glyph,
-        }
+    /// This configuration as glyphs of `kind` are drawn with it: the options the kind does not
+    /// take (its [`Capabilities`]) left out.
+    pub fn for_kind(self, kind: GlyphKind) -> Self {
+        let caps: Capabilities = kind.caps();
+        let MethodConfig::Gumhold(GumholdConfig { shape, depth }) = self else {
+            return self;
+        };
+        let depth = match depth {
+            GumholdDepth::Proxy { prepass } => GumholdDepth::Proxy {
+                prepass: prepass && caps.prepass,
+            },
+            GumholdDepth::RayCast {
+                conservative,
+                early_depth,
+                path,
+            } => GumholdDepth::RayCast {
+                conservative: conservative && caps.conservative_depth,
+                early_depth: early_depth && caps.conservative_depth,
+                path: match path {
+                    DrawPath::Splat(_) if !caps.splats && caps.prepass => DrawPath::Prepass,
+                    DrawPath::Splat(_) | DrawPath::Prepass if !caps.prepass => DrawPath::Direct,
+                    path => path,
+                },
+            },
+        };
+        MethodConfig::Gumhold(GumholdConfig { shape, depth })
     }
 
     /// Whether fragments write the ray-cast depth (meshes and the reference write their exact
     /// surface depth, which counts as corrected).
     pub fn depth_correction(&self) -> bool {
         match self {
-            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { depth, .. }) => {
-                matches!(depth, EllipsoidDepth::RayCast { .. })
-            }
-            MethodConfig::Gumhold(GumholdConfig::Cylinder {
-                depth_correction, ..
-            })
-            | MethodConfig::Gumhold(GumholdConfig::Capsule {
-                depth_correction, ..
-            })
-            | MethodConfig::Gumhold(GumholdConfig::Superquadric {
-                depth_correction, ..
-            })
-            | MethodConfig::Sigg {
-                depth_correction, ..
-            } => *depth_correction,
-            MethodConfig::Mesh { .. } | MethodConfig::Reference { .. } => true,
+            MethodConfig::Gumhold(g) => matches!(g.depth, GumholdDepth::RayCast { .. }),
+            MethodConfig::Sigg { depth_correction } => *depth_correction,
+            MethodConfig::Mesh { .. } | MethodConfig::Reference => true,
         }
     }
 
     /// The proxy the GPU pipelines are keyed by.
     pub fn proxy(&self) -> Proxy {
         match self {
-            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { shape, depth }) => match depth {
-                EllipsoidDepth::Proxy { .. } => Proxy {
+            MethodConfig::Gumhold(GumholdConfig { shape, depth }) => match depth {
+                GumholdDepth::Proxy { .. } => Proxy {
                     shape: *shape,
                     ..Proxy::BASELINE
                 },
-                EllipsoidDepth::RayCast {
+                GumholdDepth::RayCast {
                     conservative,
                     early_depth,
                     ..
@@ -331,14 +291,6 @@ impl MethodConfig {
                     early_depth: *early_depth,
                 },
             },
-            MethodConfig::Gumhold(
-                GumholdConfig::Cylinder { shape, .. }
-                | GumholdConfig::Capsule { shape, .. }
-                | GumholdConfig::Superquadric { shape, .. },
-            ) => Proxy {
-                shape: *shape,
-                ..Proxy::BASELINE
-            },
             _ => Proxy::BASELINE,
         }
     }
@@ -346,13 +298,10 @@ impl MethodConfig {
     /// Whether frames come from Gumhold's compute prepass.
     pub fn uses_prepass(&self) -> bool {
         match self {
-            MethodConfig::Gumhold(GumholdConfig::Ellipsoid { depth, .. }) => match depth {
-                EllipsoidDepth::Proxy { prepass } => *prepass,
-                EllipsoidDepth::RayCast { path, .. } => *path != DrawPath::Direct,
+            MethodConfig::Gumhold(g) => match g.depth {
+                GumholdDepth::Proxy { prepass } => prepass,
+                GumholdDepth::RayCast { path, .. } => path != DrawPath::Direct,
             },
-            MethodConfig::Gumhold(GumholdConfig::Superquadric { path, .. }) => {
-                *path != DrawPath::Direct
-            }
             _ => false,
         }
     }
@@ -360,43 +309,36 @@ impl MethodConfig {
     /// The splat size in pixels (0: none).
     pub fn splat_pixels(&self) -> u32 {
         match self {
-            MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+            MethodConfig::Gumhold(GumholdConfig {
                 depth:
-                    EllipsoidDepth::RayCast {
+                    GumholdDepth::RayCast {
                         path: DrawPath::Splat(px),
                         ..
                     },
-                ..
-            })
-            | MethodConfig::Gumhold(GumholdConfig::Superquadric {
-                path: DrawPath::Splat(px),
                 ..
             }) => px.get(),
             _ => 0,
         }
     }
 
-    /// Declare (or not) conservative depth to the GPU, where the configuration is conservative.
     /// Draw every glyph from the prepass instead of splatting the small ones (what an image
     /// too large for the splats' per-pixel buffer gets).
     pub fn drop_splats(&mut self) {
-        if let MethodConfig::Gumhold(
-            GumholdConfig::Ellipsoid {
-                depth: EllipsoidDepth::RayCast { path, .. },
-                ..
-            }
-            | GumholdConfig::Superquadric { path, .. },
-        ) = self
+        if let MethodConfig::Gumhold(GumholdConfig {
+            depth: GumholdDepth::RayCast { path, .. },
+            ..
+        }) = self
             && matches!(path, DrawPath::Splat(_))
         {
             *path = DrawPath::Prepass;
         }
     }
 
+    /// Declare (or not) conservative depth to the GPU, where the configuration is conservative.
     pub fn set_early_depth(&mut self, on: bool) {
-        if let MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+        if let MethodConfig::Gumhold(GumholdConfig {
             depth:
-                EllipsoidDepth::RayCast {
+                GumholdDepth::RayCast {
                     conservative,
                     early_depth,
                     ..
@@ -448,97 +390,111 @@ impl DrawOptions {
         }
     }
 
-    /// The configuration of `method` drawing `glyph` with these options.
-    pub fn config(&self, method: Method, glyph: GlyphKind, depth_correction: bool) -> MethodConfig {
+    /// The configuration of `method` with these options, for any glyph kind.
+    pub fn config(&self, method: Method, depth_correction: bool) -> MethodConfig {
         match method {
-            Method::Gumhold => MethodConfig::Gumhold(match glyph {
-                GlyphKind::Ellipsoid => GumholdConfig::Ellipsoid {
-                    shape: self.proxy,
-                    depth: if depth_correction {
-                        EllipsoidDepth::RayCast {
-                            conservative: self.conservative,
-                            early_depth: false,
-                            path: self.path(true),
-                        }
-                    } else {
-                        EllipsoidDepth::Proxy {
-                            prepass: self.path(false) != DrawPath::Direct,
-                        }
-                    },
-                },
-                GlyphKind::Cylinder => GumholdConfig::Cylinder {
-                    shape: self.proxy,
-                    depth_correction,
-                },
-                GlyphKind::Capsule => GumholdConfig::Capsule {
-                    shape: self.proxy,
-                    depth_correction,
-                },
-                GlyphKind::Superquadric => GumholdConfig::Superquadric {
-                    shape: self.proxy,
-                    depth_correction,
-                    path: self.path(depth_correction),
+            Method::Gumhold => MethodConfig::Gumhold(GumholdConfig {
+                shape: self.proxy,
+                depth: if depth_correction {
+                    GumholdDepth::RayCast {
+                        conservative: self.conservative,
+                        early_depth: false,
+                        path: self.path(true),
+                    }
+                } else {
+                    GumholdDepth::Proxy {
+                        prepass: self.path(false) != DrawPath::Direct,
+                    }
                 },
             }),
-            Method::Sigg => MethodConfig::Sigg {
-                glyph,
-                depth_correction,
-            },
+            Method::Sigg => MethodConfig::Sigg { depth_correction },
             Method::Mesh(level) => MethodConfig::Mesh {
                 method: MeshMethod::Level(level),
-                glyph,
             },
             Method::Box => MethodConfig::Mesh {
                 method: MeshMethod::Box,
-                glyph,
             },
-            Method::Reference => MethodConfig::Reference { glyph },
+            Method::Reference => MethodConfig::Reference,
         }
     }
 
-    /// The first option set away from `baseline` that `method` drawing `glyph` does not take, as
+    /// The first option set away from `baseline` that `method` drawing `kind` does not take, as
     /// (option name, what takes it): for refusing explicit options that would be ignored.
     pub fn check(
         &self,
         baseline: &DrawOptions,
         method: Method,
-        glyph: GlyphKind,
+        kind: GlyphKind,
         depth_correction: bool,
-    ) -> Result<(), (&'static str, &'static str)> {
+    ) -> Result<(), (&'static str, String)> {
         let gumhold = method == Method::Gumhold;
-        let ellipsoid = gumhold && glyph == GlyphKind::Ellipsoid;
-        let prepass = ellipsoid || (gumhold && glyph == GlyphKind::Superquadric);
-        let rules: [(&str, bool, bool, &str); 4] = [
+        let caps = kind.caps();
+        let rules: [Rule; 4] = [
             (
                 "--proxy",
                 self.proxy != baseline.proxy,
                 gumhold,
-                "Gumhold's method",
+                |_| true,
+                "",
             ),
             (
                 "--conservative-depth",
                 self.conservative != baseline.conservative,
-                ellipsoid && depth_correction,
-                "Gumhold ellipsoids with depth correction",
+                gumhold && caps.conservative_depth && depth_correction,
+                |c| c.conservative_depth,
+                " with depth correction",
             ),
             (
                 "--prepass",
                 self.prepass != baseline.prepass,
-                prepass,
-                "Gumhold ellipsoids and superquadrics",
+                gumhold && caps.prepass,
+                |c| c.prepass,
+                "",
             ),
             (
                 "--splat",
                 self.splat != baseline.splat && self.splat > 0,
-                prepass && depth_correction,
-                "Gumhold ellipsoids and superquadrics with depth correction",
+                gumhold && caps.splats && depth_correction,
+                |c| c.splats,
+                " with depth correction",
             ),
         ];
-        match rules.into_iter().find(|(_, set, takes, _)| *set && !*takes) {
-            Some((name, _, _, who)) => Err((name, who)),
+        match rules
+            .into_iter()
+            .find(|(_, set, takes, _, _)| *set && !*takes)
+        {
+            Some((name, _, _, has, with)) => Err((name, takers(has, with))),
             None => Ok(()),
         }
     }
+}
+
+/// An option's name, whether it is set, whether the kind takes it, which capability does, and
+/// what else it needs.
+type Rule = (
+    &'static str,
+    bool,
+    bool,
+    fn(&Capabilities) -> bool,
+    &'static str,
+);
+
+/// "Gumhold's method", or "Gumhold ellipsoids and superquadrics" and what else they need, from
+/// the kinds whose capabilities pass `has`.
+fn takers(has: fn(&Capabilities) -> bool, with: &str) -> String {
+    let kinds: Vec<String> = GlyphKind::VALUES
+        .iter()
+        .filter(|k| has(&k.caps()))
+        .map(|k| format!("{k}s"))
+        .collect();
+    if kinds.len() == GlyphKind::VALUES.len() {
+        return format!("Gumhold's method{with}");
+    }
+    let list = match kinds.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => kinds.concat(),
+    };
+    format!("Gumhold {list}{with}")
 }
 
 /// Named ways of drawing, shared by `render` (`--preset`), the viewer and the bench (its `path`
@@ -618,17 +574,16 @@ impl Preset {
         matches!(self, Preset::Sorted | Preset::Splat)
     }
 
-    /// Whether this preset changes anything for `method` drawing `glyph` (with depth
+    /// Whether this preset changes anything for `method` drawing `kind` (with depth
     /// correction) beyond what the baseline does.
-    pub fn applies_to(self, method: Method, glyph: GlyphKind) -> bool {
+    pub fn applies_to(self, method: Method, kind: GlyphKind) -> bool {
         let gumhold = method == Method::Gumhold;
-        let ellipsoid = gumhold && glyph == GlyphKind::Ellipsoid;
-        let superquadric = gumhold && glyph == GlyphKind::Superquadric;
+        let caps = kind.caps();
         match self {
             Preset::Baseline => true,
             Preset::Culled | Preset::Octagon | Preset::Triangle | Preset::Sorted => gumhold,
-            Preset::Conservative => ellipsoid,
-            Preset::Prepass | Preset::Splat => ellipsoid || superquadric,
+            Preset::Conservative => gumhold && caps.conservative_depth,
+            Preset::Prepass | Preset::Splat => gumhold && caps.prepass,
         }
     }
 }
@@ -687,39 +642,33 @@ impl Default for UnderlayView {
 }
 
 impl FrameRequest {
-    /// `method` drawing `glyph` with depth correction on the baseline path (a proxy drawn for
-    /// every glyph, no culling), the rest as [`FrameRequest::default`].
-    pub fn new(method: Method, glyph: GlyphKind) -> Self {
-        Self::with_options(method, glyph, true, &Preset::Baseline.options())
+    /// `method` with depth correction on the baseline path (a proxy drawn for every glyph, no
+    /// culling), the rest as [`FrameRequest::default`].
+    pub fn new(method: Method) -> Self {
+        Self::with_options(method, true, &Preset::Baseline.options())
     }
 
-    /// `method` drawing `glyph` with these options.
-    pub fn with_options(
-        method: Method,
-        glyph: GlyphKind,
-        depth_correction: bool,
-        options: &DrawOptions,
-    ) -> Self {
+    /// `method` with these options.
+    pub fn with_options(method: Method, depth_correction: bool, options: &DrawOptions) -> Self {
         Self {
-            method: options.config(method, glyph, depth_correction),
+            method: options.config(method, depth_correction),
             cull: options.cull,
             min_pixel_radius: options.min_pixel_radius,
             ..Self::default()
         }
     }
 
-    /// `method` drawing `glyph` with a preset's options.
-    pub fn preset(
-        method: Method,
-        glyph: GlyphKind,
-        depth_correction: bool,
-        preset: Preset,
-    ) -> Self {
-        Self::with_options(method, glyph, depth_correction, &preset.options())
+    /// `method` with a preset's options.
+    pub fn preset(method: Method, depth_correction: bool, preset: Preset) -> Self {
+        Self::with_options(method, depth_correction, &preset.options())
     }
 
-    pub fn glyph(&self) -> GlyphKind {
-        self.method.glyph()
+    /// This request as glyphs of `kind` are drawn with it ([`MethodConfig::for_kind`]).
+    pub fn for_kind(&self, kind: GlyphKind) -> Self {
+        Self {
+            method: self.method.for_kind(kind),
+            ..*self
+        }
     }
 
     pub fn depth_correction(&self) -> bool {
@@ -751,9 +700,9 @@ impl Default for FrameRequest {
     /// Gumhold ellipsoids with depth correction, the baseline path, white background, one frame.
     fn default() -> Self {
         Self {
-            method: MethodConfig::Gumhold(GumholdConfig::Ellipsoid {
+            method: MethodConfig::Gumhold(GumholdConfig {
                 shape: ProxyShape::Quad,
-                depth: EllipsoidDepth::RayCast {
+                depth: GumholdDepth::RayCast {
                     conservative: false,
                     early_depth: false,
                     path: DrawPath::Direct,
@@ -795,38 +744,72 @@ mod tests {
         }
     }
 
-    /// Superquadrics take the prepass and splats as ellipsoids do: splats only with depth
-    /// correction, the prepass drawing them without it, and only with Gumhold's method.
+    /// Every kind with splats takes the prepass and splats as ellipsoids do: splats only with
+    /// depth correction, the prepass drawing them without it, and only with Gumhold's method.
+    /// A kind without them is drawn directly, and the options are refused for it.
     #[test]
-    fn superquadrics_take_the_prepass_and_splats() {
-        let sq = GlyphKind::Superquadric;
+    fn kinds_take_the_prepass_and_splats_their_table_gives() {
         let splat = Preset::Splat.options();
         let base = Preset::Baseline.options();
-        let with = |depth| splat.config(Method::Gumhold, sq, depth);
-        let mut m = with(true);
-        assert_eq!(m.splat_pixels(), DEFAULT_SPLAT);
-        assert!(m.uses_prepass());
-        m.drop_splats();
-        assert_eq!((m.splat_pixels(), m.uses_prepass()), (0, true));
-        let flat = with(false);
-        assert_eq!((flat.splat_pixels(), flat.uses_prepass()), (0, true));
-        assert!(!base.config(Method::Gumhold, sq, true).uses_prepass());
-        assert!(splat.check(&base, Method::Gumhold, sq, true).is_ok());
-        assert_eq!(
-            splat.check(&base, Method::Sigg, sq, true).unwrap_err().0,
-            "--splat"
-        );
-        assert_eq!(
-            splat
-                .check(&base, Method::Gumhold, sq, false)
-                .unwrap_err()
-                .0,
-            "--splat"
-        );
-        for p in [Preset::Prepass, Preset::Splat] {
-            assert!(p.applies_to(Method::Gumhold, sq));
-            assert!(!p.applies_to(Method::Gumhold, GlyphKind::Cylinder));
+        for &kind in GlyphKind::VALUES {
+            let caps = kind.caps();
+            let with = |depth| splat.config(Method::Gumhold, depth).for_kind(kind);
+            let mut m = with(true);
+            assert_eq!(m.uses_prepass(), caps.prepass, "{kind}");
+            if !caps.splats {
+                assert_eq!(m.splat_pixels(), 0, "{kind}");
+                assert_eq!(
+                    splat
+                        .check(&base, Method::Gumhold, kind, true)
+                        .unwrap_err()
+                        .0,
+                    "--splat",
+                    "{kind}"
+                );
+                assert!(!Preset::Splat.applies_to(Method::Gumhold, kind) || caps.prepass);
+                continue;
+            }
+            assert_eq!(m.splat_pixels(), DEFAULT_SPLAT);
+            m.drop_splats();
+            assert_eq!((m.splat_pixels(), m.uses_prepass()), (0, true));
+            let flat = with(false);
+            assert_eq!((flat.splat_pixels(), flat.uses_prepass()), (0, true));
+            assert!(
+                !base
+                    .config(Method::Gumhold, true)
+                    .for_kind(kind)
+                    .uses_prepass()
+            );
+            assert!(splat.check(&base, Method::Gumhold, kind, true).is_ok());
+            assert_eq!(
+                splat.check(&base, Method::Sigg, kind, true).unwrap_err().0,
+                "--splat"
+            );
+            assert_eq!(
+                splat
+                    .check(&base, Method::Gumhold, kind, false)
+                    .unwrap_err()
+                    .0,
+                "--splat"
+            );
+            for p in [Preset::Prepass, Preset::Splat] {
+                assert!(p.applies_to(Method::Gumhold, kind));
+                assert!(!p.applies_to(Method::Sigg, kind));
+            }
+            assert_eq!(
+                Preset::Conservative.applies_to(Method::Gumhold, kind),
+                caps.conservative_depth
+            );
         }
-        assert!(!Preset::Conservative.applies_to(Method::Gumhold, sq));
+        // The refusals name the kinds that take the option.
+        let conservative = DrawOptions {
+            conservative: true,
+            ..base
+        };
+        let (flag, who) = conservative
+            .check(&base, Method::Gumhold, GlyphKind::Ellipsoid, false)
+            .unwrap_err();
+        assert_eq!(flag, "--conservative-depth");
+        assert!(who.starts_with("Gumhold ellipsoids") && who.ends_with("with depth correction"));
     }
 }

@@ -183,7 +183,6 @@ fn add_underlay(
         source.to_string(),
         &planes,
         &built.scene,
-        recipe.glyph,
     )?;
     built.scene.underlay = Some(u);
     // The scene's bounds hold what it draws (near and far planes are fitted to them).

@@ -22,13 +22,13 @@ fn grid40_gumhold_meets_the_published_bounds() {
     let camera = Camera::frame(&Framing::default(), scene.centre, scene.radius, 1024, 768);
     let baseline = FrameRequest {
         aux: true,
-        ..FrameRequest::new(Method::Gumhold, GlyphKind::Ellipsoid)
+        ..FrameRequest::new(Method::Gumhold)
     };
     let render_default = FrameRequest {
         aux: true,
-        ..FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT)
+        ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
     };
-    let reference = ReferenceScene::new(&scene, &camera, GlyphKind::Ellipsoid).render(&baseline);
+    let reference = ReferenceScene::new(&scene, &camera).render(&baseline);
     // Most of the 64,000 glyphs are visible pixels, not a blank frame.
     assert!(reference.covered_pixels() > 200_000);
     // `render`'s default (splats from the compute prepass) and `--baseline` (a quad per glyph).

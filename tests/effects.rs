@@ -70,7 +70,7 @@ fn deferred_shading_without_effects_is_the_direct_frame() {
         let scene = grid(8, glyph);
         let cam = camera(&scene, framing, (240, 180));
         // The default preset: splats, the prepass and culling take part too.
-        let req = FrameRequest::preset(method, glyph, true, Preset::DEFAULT);
+        let req = FrameRequest::preset(method, true, Preset::DEFAULT);
         let direct = gpu.render(&scene, &cam, &req).expect("direct");
         let later = gpu
             .render(&scene, &cam, &with(req, deferred))
@@ -86,8 +86,8 @@ fn deferred_shading_without_effects_is_the_direct_frame() {
     // The reference's deferred path is its direct one, too.
     let scene = grid(6, GlyphKind::Ellipsoid);
     let cam = camera(&scene, Framing::default(), (120, 90));
-    let req = FrameRequest::new(Method::Reference, GlyphKind::Ellipsoid);
-    let r = ReferenceScene::new(&scene, &cam, GlyphKind::Ellipsoid);
+    let req = FrameRequest::new(Method::Reference);
+    let r = ReferenceScene::new(&scene, &cam);
     assert!(max_channel_diff(&r.render(&req), &r.render(&with(req, deferred))) <= 1);
 }
 
@@ -119,11 +119,11 @@ fn outlines_and_shadows_match_the_reference_and_leave_coverage_alone() {
         let cam = camera(&scene, framing, size);
         let plain = FrameRequest {
             aux: true,
-            ..FrameRequest::preset(Method::Gumhold, glyph, true, Preset::DEFAULT)
+            ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
         };
         let req = with(plain, effects);
         let frame = gpu.render(&scene, &cam, &req).expect("GPU");
-        let reference = ReferenceScene::new(&scene, &cam, glyph).render(&req);
+        let reference = ReferenceScene::new(&scene, &cam).render(&req);
         let a = compare(&frame, &reference, &scene).with_effects(&frame, &reference, &req.effects);
         let name = format!("{glyph} ortho={}", framing.ortho);
         let outline = a.outline_mismatch.expect("outlines measured");
@@ -178,14 +178,14 @@ fn the_ball_shadows_the_plate_where_geometry_says() {
     let req = with(
         FrameRequest {
             aux: true,
-            ..FrameRequest::new(Method::Gumhold, GlyphKind::Ellipsoid)
+            ..FrameRequest::new(Method::Gumhold)
         },
         Effects {
             shadows: Some(shadows),
             ..Effects::default()
         },
     );
-    let reference = ReferenceScene::new(&scene, &cam, GlyphKind::Ellipsoid);
+    let reference = ReferenceScene::new(&scene, &cam);
     let exact = reference.render(&req);
     let e = exact.effects.as_ref().expect("effects");
     // Independent truth: a plate point is in the ball's shadow when the line through it along

@@ -231,7 +231,7 @@ fn the_viewers_save_figure_is_renders_figure() {
     use tensorglyph::Silent;
     use tensorglyph::camera::{Camera, Framing};
     use tensorglyph::effects::{Effects, Outlines};
-    use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset};
+    use tensorglyph::request::{FrameRequest, Method, Preset};
     use tensorglyph::staging::{Demo, Recipe, Source, stage};
     use tensorglyph::viewer::screenshot::{Figure, save_view};
     let Some(gpu) = common::gpu() else { return };
@@ -271,7 +271,7 @@ fn the_viewers_save_figure_is_renders_figure() {
         }
         .resolved()
         .supersampled(2),
-        ..FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT)
+        ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
     };
     let figure = Figure {
         size: (160, 120),

@@ -51,7 +51,7 @@ fn chunked_upload_draws_the_same_image() {
     let scene = grid_scene(10, GlyphKind::Ellipsoid);
     let cam = camera(&scene, 1.0, 320, 240);
     for method in [Method::Gumhold, Method::Sigg, Method::Mesh(0)] {
-        let req = FrameRequest::new(method, GlyphKind::Ellipsoid);
+        let req = FrameRequest::new(method);
         let whole = gpu.render(&scene, &cam, &req).unwrap();
         // 1000 glyphs in chunks of 137: 8 buffers, the last one partly full.
         let buffers = gpu.upload_chunked(&scene, 137).unwrap();
@@ -80,7 +80,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
         let scene = grid_scene(12, glyph);
         let req = FrameRequest {
             cull: true,
-            ..FrameRequest::new(method, glyph)
+            ..FrameRequest::new(method)
         };
         let culled = gpu.render(&scene, &cam, &req).unwrap();
         let all = gpu
@@ -91,7 +91,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
             culled.ids, all.ids,
             "{method} {glyph}: culling changed the image"
         );
-        let vis = scene.visibility(&cam, glyph, true, 0.0);
+        let vis = scene.visibility(&cam, true, 0.0);
         assert!(
             vis.culled > scene.instances.len() / 4,
             "{method} {glyph}: {vis:?}"
@@ -104,7 +104,7 @@ fn culling_keeps_the_image_and_the_count_matches_its_twin() {
                 ..scene.clone()
             };
             assert_eq!(
-                one.visibility(&cam, glyph, true, 0.0).culled,
+                one.visibility(&cam, true, 0.0).culled,
                 0,
                 "{method} {glyph}: glyph {id} is shown but its twin culls it"
             );
@@ -131,7 +131,7 @@ fn min_pixel_radius_skips_only_small_glyphs() {
             },
         )
         .unwrap();
-    let vis = scene.visibility(&cam, GlyphKind::Ellipsoid, false, min_px);
+    let vis = scene.visibility(&cam, false, min_px);
     assert!(
         vis.culled > 0 && vis.culled < scene.instances.len(),
         "{vis:?}"
@@ -180,7 +180,7 @@ fn front_to_back_order_draws_the_same_glyphs() {
         );
         assert!(sorted.instances.first().map(depth) < scene.instances.first().map(depth));
         for preset in [Preset::Baseline, Preset::Splat] {
-            let req = FrameRequest::preset(Method::Gumhold, glyph, true, preset);
+            let req = FrameRequest::preset(Method::Gumhold, true, preset);
             let a = gpu.render(&scene, &cam, &req).unwrap();
             let b = gpu.render(&sorted, &cam, &req).unwrap();
             let (ia, ib) = (glyph_ids(&a, &scene), glyph_ids(&b, &sorted));
@@ -237,7 +237,7 @@ fn other_proxies_and_conservative_depth_match_the_reference() {
                     early_depth: true,
                 },
             ] {
-                let req = common::proxy_request(glyph, proxy);
+                let req = common::proxy_request(proxy);
                 // Early depth is declared where the adapter and the scene allow it.
                 let req = if proxy.early_depth {
                     gpu.with_early_depth(req, &scene, &cam)
@@ -262,7 +262,7 @@ fn octagon_shades_fewer_fragments_for_a_large_glyph() {
             proxy: shape,
             ..common::baseline()
         };
-        let req = FrameRequest::with_options(Method::Gumhold, GlyphKind::Ellipsoid, true, &opts);
+        let req = FrameRequest::with_options(Method::Gumhold, true, &opts);
         let f = gpu.render(&scene, &cam, &req).unwrap();
         (f.fragments, f.covered_pixels())
     };
@@ -295,9 +295,10 @@ fn every_proxy_shape_covers_the_view_from_near_a_cylinder_cap() {
                 shape,
                 ..Proxy::BASELINE
             };
-            let req = common::proxy_request(glyph, proxy);
+            let req = common::proxy_request(proxy);
             let label = format!("near cap {glyph} {shape:?}");
-            let Some((_, acc)) = common::check_request(&label, &scene, &cam, &req) else {
+            let Some((_, acc)) = common::check_request(&label, &scene.drawn_as(glyph), &cam, &req)
+            else {
                 return;
             };
             common::assert_tight(&label, &acc);

@@ -12,9 +12,10 @@ use tensorglyph::scene::Scene;
 use tensorglyph::twin::gumhold_ellipsoid::{proxy_shape, tile_invocations};
 
 fn predicted(scene: &Scene, cam: &tensorglyph::camera::Camera, glyph: GlyphKind) -> (f64, f64) {
+    let scene = &scene.drawn_as(glyph);
     let (w, h) = (cam.width, cam.height);
     (0..scene.instances.len()).fold((0.0, 0.0), |(a, t), i| {
-        let p = proxy_shape(scene, cam, i, glyph);
+        let p = proxy_shape(scene, cam, i);
         (
             a + p.area(w, h),
             t + tile_invocations(&p.triangles(w, h), w, h, 4) as f64,
@@ -33,9 +34,10 @@ fn gumhold_fragments_match_the_quads() {
         ("cylinders", scenes::cylinders(), GlyphKind::Cylinder),
         ("capsules", scenes::cylinders(), GlyphKind::Capsule),
     ] {
+        let scene = scene.drawn_as(glyph);
         let mut cam = scenes::framed(&scene, Framing::default());
         (cam.width, cam.height) = (512, 384);
-        let req = FrameRequest::new(Method::Gumhold, glyph);
+        let req = FrameRequest::new(Method::Gumhold);
         let frame = gpu.render(&scene, &cam, &req).unwrap();
         let Some(measured) = frame.fragments else {
             assert!(

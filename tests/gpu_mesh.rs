@@ -98,9 +98,10 @@ fn check_view(
     glyph: GlyphKind,
     depth_correction: bool,
 ) -> (Accuracy, Frame, Frame) {
-    let req = common::aux_request(method, glyph, depth_correction);
+    let scene = &scene.drawn_as(glyph);
+    let req = common::aux_request(method, depth_correction);
     let frame = gpu.render(scene, cam, &req).expect("GPU frame");
-    let reference = ReferenceScene::new(scene, cam, glyph).render(&req);
+    let reference = ReferenceScene::new(scene, cam).render(&req);
     let acc = compare(&frame, &reference, scene);
     let (v, t) = mesh_stats(method, glyph);
     eprintln!(
@@ -208,17 +209,14 @@ struct SqRun {
 fn superquadric_run(gpu: &GpuRenderer, name: &str, scene: &Scene) -> SqRun {
     let glyph = GlyphKind::Superquadric;
     let cam = camera(scene);
-    let reference = ReferenceScene::new(scene, &cam, glyph).render(&common::aux_request(
-        Method::Reference,
-        glyph,
-        true,
-    ));
+    let reference =
+        ReferenceScene::new(scene, &cam).render(&common::aux_request(Method::Reference, true));
     assert!(
         reference.covered_pixels() > 1000,
         "{name}: shows too little"
     );
     let run = |method: Method| {
-        let req = common::aux_request(method, glyph, true);
+        let req = common::aux_request(method, true);
         let frame = gpu.render(scene, &cam, &req).expect("GPU frame");
         let acc = compare(&frame, &reference, scene);
         let (v, t) = mesh_stats(method, glyph);
@@ -458,8 +456,10 @@ fn eye_inside_a_glyph_draws_nothing() {
         GlyphKind::Capsule,
     ] {
         for method in [Method::Mesh(2), Method::Box] {
-            let req = FrameRequest::new(method, glyph);
-            let frame = gpu.render(&scene, &cam, &req).expect("GPU frame");
+            let req = FrameRequest::new(method);
+            let frame = gpu
+                .render(&scene.drawn_as(glyph), &cam, &req)
+                .expect("GPU frame");
             assert_eq!(frame.covered_pixels(), 0, "{method} {glyph}");
         }
     }
@@ -468,7 +468,6 @@ fn eye_inside_a_glyph_draws_nothing() {
     // to its rim, outside the coarse mesh:0 polytope (whose cap fan reaches only ~0.25 there)
     // and outside the ellipsoid of its radii, is culled; the eye in the box but outside a
     // pinched glyph, inside the ellipsoid, still sees it, as the reference does.
-    let glyph = GlyphKind::Superquadric;
     let boxy = superquadrics(&[(
         spec([0.0, 0.0, 1.0], 0.0, [0.5; 3], [200, 80, 40, 255]),
         [0.5, 0.3, 0.3],
@@ -479,8 +478,7 @@ fn eye_inside_a_glyph_draws_nothing() {
     cam.target = boxy.centre;
     cam.up = DVec3::X;
     cam.near = 1e-3;
-    let reference = ReferenceScene::new(&boxy, &cam, glyph)
-        .render(&FrameRequest::new(Method::Reference, glyph));
+    let reference = ReferenceScene::new(&boxy, &cam).render(&FrameRequest::new(Method::Reference));
     assert_eq!(
         reference.covered_pixels(),
         0,
@@ -488,7 +486,7 @@ fn eye_inside_a_glyph_draws_nothing() {
     );
     for method in [Method::Mesh(0), Method::Mesh(2), Method::Box] {
         let frame = gpu
-            .render(&boxy, &cam, &FrameRequest::new(method, glyph))
+            .render(&boxy, &cam, &FrameRequest::new(method))
             .expect("GPU frame");
         assert_eq!(frame.covered_pixels(), 0, "{method} boxy superquadric");
     }
@@ -500,10 +498,9 @@ fn eye_inside_a_glyph_draws_nothing() {
     // (so `box` shows only back faces there and is not checked).
     cam.eye = thorn.centre + DVec3::new(0.0, 0.3, 0.3);
     cam.target = thorn.centre + DVec3::new(0.0, -1.0, 0.3);
-    let reference = ReferenceScene::new(&thorn, &cam, glyph)
-        .render(&FrameRequest::new(Method::Reference, glyph));
+    let reference = ReferenceScene::new(&thorn, &cam).render(&FrameRequest::new(Method::Reference));
     let frame = gpu
-        .render(&thorn, &cam, &FrameRequest::new(Method::Mesh(4), glyph))
+        .render(&thorn, &cam, &FrameRequest::new(Method::Mesh(4)))
         .expect("GPU frame");
     eprintln!(
         "eye beside the thorn: mesh:4 covers {}, the reference {}",

@@ -36,13 +36,12 @@ fn camera(scene: &Scene, zoom: f64, ortho: bool) -> Camera {
     Camera::frame(&framing, scene.centre, scene.radius, 400, 300)
 }
 
-fn request(glyph: GlyphKind, prepass: bool, splat: u32) -> FrameRequest {
-    request_with(glyph, Proxy::BASELINE, false, prepass, splat, true)
+fn request(prepass: bool, splat: u32) -> FrameRequest {
+    request_with(Proxy::BASELINE, false, prepass, splat, true)
 }
 
-/// Gumhold's `glyph` with the aux target and these options.
+/// Gumhold's method with the aux target and these options.
 fn request_with(
-    glyph: GlyphKind,
     proxy: Proxy,
     cull: bool,
     prepass: bool,
@@ -59,7 +58,7 @@ fn request_with(
     };
     FrameRequest {
         aux: true,
-        ..FrameRequest::with_options(Method::Gumhold, glyph, depth_correction, &opts)
+        ..FrameRequest::with_options(Method::Gumhold, depth_correction, &opts)
     }
 }
 
@@ -102,8 +101,8 @@ fn prepass_draws_the_plain_image() {
                         shape,
                         ..Proxy::BASELINE
                     };
-                    let plain = request_with(glyph, proxy, cull, false, 0, true);
-                    let pre = request_with(glyph, proxy, cull, true, 0, true);
+                    let plain = request_with(proxy, cull, false, 0, true);
+                    let pre = request_with(proxy, cull, true, 0, true);
                     let a = gpu.render(&scene, &cam, &plain).unwrap();
                     let b = gpu.render(&scene, &cam, &pre).unwrap();
                     // The same vertices from the same frame math: the same pixels, bit for bit
@@ -132,7 +131,7 @@ fn splats_match_the_reference() {
             // Whole field (every glyph a splat), closer (a mix of splats and drawn glyphs), orthographic.
             for (zoom, ortho, splat) in [(1.0, false, 32), (2.5, false, 24), (1.0, true, 32)] {
                 let cam = camera(&scene, zoom, ortho);
-                let req = request(glyph, false, splat);
+                let req = request(false, splat);
                 let frame = gpu.render(&scene, &cam, &req).unwrap();
                 let label = format!("{glyph:?} {label} zoom {zoom} ortho {ortho} splat {splat}");
                 common::assert_scene_bounds(&label, &frame, &scene, &cam, &req);
@@ -141,7 +140,7 @@ fn splats_match_the_reference() {
                 // the splats touch, which hold every covered pixel; a few superquadrics, whose quad is
                 // that of the larger ball holding them, are drawn. (Closer, the tiles of larger
                 // splats may outnumber the glyphs they stand for.)
-                let plain = gpu.render(&scene, &cam, &request(glyph, false, 0)).unwrap();
+                let plain = gpu.render(&scene, &cam, &request(false, 0)).unwrap();
                 if gpu.ctx.pipeline_statistics {
                     let (s, p) = (frame.vertices.unwrap(), plain.vertices.unwrap());
                     eprintln!("{label}: {s} vertex invocations, plain {p}");
@@ -170,7 +169,7 @@ fn splats_in_slices_and_chunks_draw_the_same_image() {
         let scene = grid_scene(10, glyph);
         let cam = camera(&scene, 1.0, false);
         for (label, gpu) in renderers() {
-            let req = request(glyph, false, 32);
+            let req = request(false, 32);
             let whole = gpu.render(&scene, &cam, &req).unwrap();
             // 1000 glyphs in chunks of 137: 8 chunks, a slice and a pair of passes each; splats
             // of one slice are depth tested against the earlier slices' in the targets.
@@ -199,9 +198,9 @@ fn splats_with_culling_keep_the_image_and_near_glyphs_are_drawn() {
         // where splats must give way to drawn proxies (or nothing).
         for zoom in [4.0, 12.0] {
             let cam = camera(&scene, zoom, false);
-            let plain = gpu.render(&scene, &cam, &request(glyph, false, 0)).unwrap();
+            let plain = gpu.render(&scene, &cam, &request(false, 0)).unwrap();
             for cull in [false, true] {
-                let req = request_with(glyph, Proxy::BASELINE, cull, false, 32, true);
+                let req = request_with(Proxy::BASELINE, cull, false, 32, true);
                 let frame = gpu.render(&scene, &cam, &req).unwrap();
                 let label = format!("{glyph:?} zoom {zoom} cull {cull}");
                 common::assert_scene_bounds(&label, &frame, &scene, &cam, &req);
@@ -223,7 +222,7 @@ fn splats_need_depth_correction() {
         let cam = camera(&scene, 1.0, false);
         let flat = |splat| FrameRequest {
             aux: false,
-            ..request_with(glyph, Proxy::BASELINE, false, false, splat, false)
+            ..request_with(Proxy::BASELINE, false, false, splat, false)
         };
         // Without depth correction the proxies' own depth stands, which splats do not have: the
         // request draws every glyph through the prepass instead.

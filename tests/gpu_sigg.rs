@@ -12,7 +12,8 @@ use tensorglyph::camera::{Camera, Framing};
 use tensorglyph::metrics::Accuracy;
 use tensorglyph::request::{FrameRequest, GlyphKind, Method};
 use tensorglyph::scene::Scene;
-use tensorglyph::twin::sigg::{Proxy, scene_proxy};
+use tensorglyph::twin::screen_box::Proxy;
+use tensorglyph::twin::sigg::scene_proxy;
 
 fn check(name: &str, scene: &Scene, camera: &Camera, glyph: GlyphKind) -> Option<Accuracy> {
     common::check(name, scene, camera, Method::Sigg, glyph, true)
@@ -31,7 +32,7 @@ fn near_a_cap_the_box_stands() {
     // eq. 5 still gives a (huge, viewport-clamped) box (eye_near_a_* check the pixels).
     let (scene, cam) = scenes::near_a_cap();
     for glyph in [GlyphKind::Capsule, GlyphKind::Cylinder] {
-        let proxy = scene_proxy(&scene, &cam, 0, glyph);
+        let proxy = scene_proxy(&scene.drawn_as(glyph), &cam, 0);
         assert!(matches!(proxy, Proxy::Box(_)), "{glyph:?}: {proxy:?}");
     }
 }
@@ -62,7 +63,7 @@ fn box_in_the_corner_of_a_wide_view() {
     cam.up = DVec3::Y;
     cam.near = 0.05;
     cam.far = 20.0;
-    let proxy = scene_proxy(&scene, &cam, 0, GlyphKind::Ellipsoid);
+    let proxy = scene_proxy(&scene, &cam, 0);
     let Proxy::Box(b) = proxy else {
         panic!("corner glyph should have a box: {proxy:?}");
     };
@@ -100,7 +101,7 @@ fn distant_glyph() {
         return;
     };
     // For comparison (printed): Gumhold's path on the same view.
-    let gumhold = aux_request(Method::Gumhold, GlyphKind::Ellipsoid, true);
+    let gumhold = aux_request(Method::Gumhold, true);
     check_request("distant", &scene, &cam, &gumhold);
     // The aux target stores view z in f32: at |z| = 1000 one ulp is 6.1e-5 glyph sizes, just
     // inside the tight depth bound.
@@ -126,10 +127,7 @@ fn ellipsoid_crossing_the_camera_plane() {
     cam.up = g.frame.z_axis;
     cam.near = 1e-3;
     cam.far = 10.0;
-    assert_eq!(
-        scene_proxy(&scene, &cam, 0, GlyphKind::Ellipsoid),
-        Proxy::Viewport
-    );
+    assert_eq!(scene_proxy(&scene, &cam, 0), Proxy::Viewport);
     tight("crossing", &scene, &cam, GlyphKind::Ellipsoid);
 }
 
@@ -189,7 +187,7 @@ fn eye_inside_a_grid(glyph: GlyphKind) {
             }
         }
     }
-    let scene = Scene::from_specs(&specs);
+    let scene = Scene::from_specs(&specs).drawn_as(glyph);
     let mut cam = Camera::frame(
         &Framing {
             fov_deg: 90.0,
@@ -206,7 +204,7 @@ fn eye_inside_a_grid(glyph: GlyphKind) {
     cam.near = 0.01;
     cam.far = 20.0;
     let proxies: Vec<Proxy> = (0..scene.instances.len())
-        .map(|i| scene_proxy(&scene, &cam, i, glyph))
+        .map(|i| scene_proxy(&scene, &cam, i))
         .collect();
     let count = |f: fn(&Proxy) -> bool| proxies.iter().filter(|p| f(p)).count();
     let (boxes, viewport, culled) = (
@@ -256,13 +254,13 @@ fn cylinder_crossing_the_camera_plane() {
     cam.near = 1e-3;
     cam.far = 10.0;
     assert_eq!(
-        scene_proxy(&scene, &cam, 0, GlyphKind::Cylinder),
+        scene_proxy(&scene.drawn_as(GlyphKind::Cylinder), &cam, 0),
         Proxy::Viewport
     );
     tight("cylinder crossing", &scene, &cam, GlyphKind::Cylinder);
     // As a capsule (R = 0.3, the eye 0.33 off the axis): the camera plane cuts the balls' hull.
     assert_eq!(
-        scene_proxy(&scene, &cam, 0, GlyphKind::Capsule),
+        scene_proxy(&scene.drawn_as(GlyphKind::Capsule), &cam, 0),
         Proxy::Viewport
     );
     tight("capsule crossing", &scene, &cam, GlyphKind::Capsule);
@@ -280,14 +278,15 @@ fn fragments_and_box_pixels(
     glyph: GlyphKind,
 ) -> Option<(u64, u64)> {
     let gpu = common::gpu()?;
-    let req = FrameRequest::new(Method::Sigg, glyph);
+    let scene = &scene.drawn_as(glyph);
+    let req = FrameRequest::new(Method::Sigg);
     let frame = gpu.render(scene, camera, &req).expect("GPU frame");
     let Some(fragments) = frame.fragments else {
         eprintln!("{name}: no pipeline statistics on this adapter");
         return None;
     };
     let proxies: Vec<Proxy> = (0..scene.instances.len())
-        .map(|i| scene_proxy(scene, camera, i, glyph))
+        .map(|i| scene_proxy(scene, camera, i))
         .collect();
     let (w, h) = (camera.width, camera.height);
     let pixels: u64 = proxies.iter().map(|p| p.pixels(w, h)).sum();

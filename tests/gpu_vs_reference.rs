@@ -18,7 +18,7 @@ fn near_a_cap_the_proxy_is_the_near_plane() {
     let (scene, cam) = scenes::near_a_cap();
     for glyph in [GlyphKind::Capsule, GlyphKind::Cylinder] {
         assert_eq!(
-            proxy_shape(&scene, &cam, 0, glyph),
+            proxy_shape(&scene.drawn_as(glyph), &cam, 0),
             ProxyShape::Viewport,
             "{glyph:?}"
         );

@@ -113,7 +113,7 @@ fn degenerate_tensors_give_sane_glyphs_or_none() {
         }
     }
     // Zero or NaN radii are not drawable; 1e-30 of a unit glyph is (ratio 1).
-    use tensorglyph::scene::rules::drawable_radii;
+    use tensorglyph::shape::rules::drawable_radii;
     assert!(!drawable_radii([0.0; 3]));
     assert!(!drawable_radii([1.0, 1.0, 0.0]));
     assert!(!drawable_radii([f32::NAN, 1.0, 1.0]));

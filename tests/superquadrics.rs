@@ -118,32 +118,30 @@ fn sharpness_zero_is_the_ellipsoid_and_meshes_trail() {
         320,
         240,
     );
-    let req = |method, glyph| FrameRequest {
+    let req = |method| FrameRequest {
         aux: true,
-        ..FrameRequest::new(method, glyph)
+        ..FrameRequest::new(method)
     };
-    let reference = |scene: &Scene, glyph| {
-        ReferenceScene::new(scene, &camera, glyph).render(&req(Method::Reference, glyph))
-    };
-    let e = reference(&ellipsoids, GlyphKind::Ellipsoid);
+    let reference =
+        |scene: &Scene| ReferenceScene::new(scene, &camera).render(&req(Method::Reference));
+    let e = reference(&ellipsoids);
     let round = Scene::build(&set, &style(0.0), GlyphKind::Superquadric);
-    let r = reference(&round, GlyphKind::Superquadric);
+    let r = reference(&round);
     let differ = e.ids.iter().zip(&r.ids).filter(|(a, b)| a != b).count();
     assert!(
         differ <= 3,
         "{differ} pixels differ between γ = 0 and ellipsoids"
     );
     let sharp = Scene::build(&set, &style(3.0), GlyphKind::Superquadric);
-    let s = reference(&sharp, GlyphKind::Superquadric);
+    let s = reference(&sharp);
     assert!(
         s.covered_pixels() > r.covered_pixels() + 100,
         "{} vs {}",
         s.covered_pixels(),
         r.covered_pixels()
     );
-    let sq = GlyphKind::Superquadric;
     let accuracy = |method| {
-        let f = gpu.render(&sharp, &camera, &req(method, sq)).unwrap();
+        let f = gpu.render(&sharp, &camera, &req(method)).unwrap();
         compare(&f, &s, &sharp)
     };
     let sigg = accuracy(Method::Sigg);

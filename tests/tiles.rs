@@ -80,7 +80,7 @@ fn tiled_gpu_frames_equal_whole_frames() {
         let buffers = gpu.upload(&scene).unwrap();
         let req = FrameRequest {
             aux: true,
-            ..FrameRequest::preset(method, glyph, true, preset)
+            ..FrameRequest::preset(method, true, preset)
         };
         for ortho in [false, true] {
             for ssaa in [1, 2, 3] {
@@ -124,17 +124,17 @@ fn tiled_reference_frames_equal_whole_frames() {
     let scene = grid_scene(5, GlyphKind::Cylinder);
     let req = FrameRequest {
         aux: true,
-        ..FrameRequest::new(Method::Reference, GlyphKind::Cylinder)
+        ..FrameRequest::new(Method::Reference)
     };
     for ortho in [false, true] {
         for ssaa in [1, 3] {
             let cam = camera(&scene, ortho, ssaa);
-            let whole = ReferenceScene::new(&scene, &cam, req.glyph())
+            let whole = ReferenceScene::new(&scene, &cam)
                 .render(&req)
                 .downsample(ssaa);
             let tiled = small_tiles(ssaa)
                 .render_with(&cam, |c| {
-                    Ok::<_, RenderError>(ReferenceScene::new(&scene, c, req.glyph()).render(&req))
+                    Ok::<_, RenderError>(ReferenceScene::new(&scene, c).render(&req))
                 })
                 .unwrap();
             let (ids, color) = differences(&whole, &tiled);
@@ -151,7 +151,7 @@ fn tiled_reference_frames_equal_whole_frames() {
 fn the_backend_tiles_only_what_does_not_fit() {
     let scene = grid_scene(4, GlyphKind::Ellipsoid);
     let backend = Backend::Reference;
-    let req = FrameRequest::new(Method::Reference, GlyphKind::Ellipsoid);
+    let req = FrameRequest::new(Method::Reference);
     let cam = camera(&scene, false, 2);
     let render = |tiling: &Tiling| {
         tiling
@@ -240,7 +240,7 @@ fn tiled_effects_equal_whole_effects() {
             ..Effects::default()
         }
         .resolved(),
-        ..FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT)
+        ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
     };
     for ortho in [false, true] {
         let cam = camera(&scene, ortho, 1);

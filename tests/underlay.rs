@@ -11,7 +11,7 @@ use tensorglyph::field::{ReadOptions, read_field};
 use tensorglyph::frame::Frame;
 use tensorglyph::progress::Silent;
 use tensorglyph::reference::ReferenceScene;
-use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset, UnderlayView};
+use tensorglyph::request::{FrameRequest, Method, Preset, UnderlayView};
 use tensorglyph::scene::UnderlaySource;
 use tensorglyph::select::{Plane, Selection, Slicing};
 use tensorglyph::staging::{Recipe, Source, Staged, stage};
@@ -113,7 +113,7 @@ fn the_image_lies_on_the_slice_lattice_half_a_voxel_beyond_its_centres() {
 fn gpu_and_reference(s: &Staged, camera: &Camera, req: &FrameRequest) -> Option<(Frame, Frame)> {
     let gpu = common::gpu()?;
     let frame = gpu.render(&s.scene, camera, req).expect("renders");
-    let reference = ReferenceScene::new(&s.scene, camera, req.glyph()).render(req);
+    let reference = ReferenceScene::new(&s.scene, camera).render(req);
     Some((frame, reference))
 }
 
@@ -150,7 +150,7 @@ fn gpu_and_reference_draw_the_same_underlay_and_it_hides_no_glyph_of_its_slice()
     let without = staged(None, plane);
     let req = FrameRequest {
         aux: true,
-        ..FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT)
+        ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
     };
     for camera in cameras(&with) {
         let Some((frame, reference)) = gpu_and_reference(&with, &camera, &req) else {
@@ -214,7 +214,7 @@ fn the_window_maps_values_to_grey_and_the_underlay_can_be_hidden() {
         },
         ..white
     };
-    let reference = ReferenceScene::new(&s.scene, &camera, GlyphKind::Ellipsoid);
+    let reference = ReferenceScene::new(&s.scene, &camera);
     for frame in [
         Some(reference.render(&white)),
         common::gpu().map(|g| g.render(&s.scene, &camera, &white).unwrap()),

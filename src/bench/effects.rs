@@ -12,7 +12,7 @@ use crate::error::RenderError;
 use crate::metrics::compare;
 use crate::reference::ReferenceScene;
 use crate::render::GpuRenderer;
-use crate::request::{FrameRequest, GlyphKind, Method, Preset};
+use crate::request::{FrameRequest, Method, Preset};
 
 /// One configuration on one view.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -94,8 +94,7 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
     for view in views {
         let camera = &view.camera;
         let configs = configs((camera.width, camera.height));
-        let base =
-            FrameRequest::preset(Method::Gumhold, GlyphKind::Ellipsoid, true, Preset::DEFAULT);
+        let base = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
         let buffers = gpu.upload(&view.scene)?;
         let mut times = vec![Vec::new(); configs.len()];
         for _ in 0..frames.max(1) {
@@ -130,7 +129,7 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
             ..base
         };
         let frame = gpu.render_uploaded(&buffers, camera, &req)?;
-        let reference = ReferenceScene::new(&view.scene, camera, GlyphKind::Ellipsoid).render(&req);
+        let reference = ReferenceScene::new(&view.scene, camera).render(&req);
         let accuracy =
             compare(&frame, &reference, &view.scene).with_effects(&frame, &reference, &both);
         for (k, (name, _)) in configs.iter().enumerate() {

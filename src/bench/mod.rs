@@ -34,7 +34,7 @@ impl Config {
     fn request(&self, aux: bool) -> FrameRequest {
         FrameRequest {
             aux,
-            ..FrameRequest::preset(self.method, self.glyph, self.depth_correction, self.path)
+            ..FrameRequest::preset(self.method, self.depth_correction, self.path)
         }
     }
 
@@ -255,9 +255,9 @@ pub fn run(
             if !references.iter().any(|(g, _)| *g == cfg.glyph) {
                 let req = FrameRequest {
                     aux: true,
-                    ..FrameRequest::new(Method::Reference, cfg.glyph)
+                    ..FrameRequest::new(Method::Reference)
                 };
-                let f = ReferenceScene::new(&view.scene, &view.camera, cfg.glyph).render(&req);
+                let f = ReferenceScene::new(&view.scene, &view.camera).render(&req);
                 rows.push(reference_row(scene_name, &view.name, cfg.glyph, &f));
                 references.push((cfg.glyph, f));
             }
@@ -274,7 +274,7 @@ pub fn run(
                     };
                     st.covered = f.covered_pixels();
                     st.culled = scene
-                        .visibility(&view.camera, req.glyph(), req.cull, req.min_pixel_radius)
+                        .visibility(&view.camera, req.cull, req.min_pixel_radius)
                         .culled;
                     (st.predicted, st.predicted_tiles) =
                         predicted_fragments(&view.scene, &view.camera, cfg).unzip();
@@ -362,14 +362,14 @@ fn predicted_fragments(scene: &Scene, camera: &Camera, cfg: &Config) -> Option<(
             return None;
         }
         Method::Gumhold => Box::new(|i| {
-            let p = proxy_shape(scene, camera, i, cfg.glyph);
+            let p = proxy_shape(scene, camera, i);
             (
                 p.area(w, h),
                 tile_invocations(&p.triangles(w, h), w, h, 4) as f64,
             )
         }),
         Method::Sigg => Box::new(|i| {
-            let p = crate::twin::sigg::scene_proxy(scene, camera, i, cfg.glyph);
+            let p = crate::twin::sigg::scene_proxy(scene, camera, i);
             (
                 p.pixels(w, h) as f64,
                 p.strip_tile_invocations(w, h, 4) as f64,

@@ -117,8 +117,9 @@ impl SceneArgs {
         defaults: &Defaults,
     ) -> Result<Recipe> {
         ensure!(
-            self.sharpness.is_none() || glyph == GlyphKind::Superquadric,
-            "--sharpness applies to --glyph superquadric"
+            self.sharpness.is_none() || glyph.caps().sharpness,
+            "--sharpness applies to --glyph {}",
+            sharp_kinds()
         );
         Ok(Recipe {
             read: self.read_options(),
@@ -533,4 +534,14 @@ fn parse_light(s: &str) -> Result<[f64; 3], String> {
             "light direction '{s}' needs three finite numbers, not all zero"
         )),
     }
+}
+
+/// The kinds `--sharpness` shapes, as `--glyph` spells them ("superquadric").
+fn sharp_kinds() -> String {
+    let names: Vec<&str> = GlyphKind::VALUES
+        .iter()
+        .filter(|k| k.caps().sharpness)
+        .map(|k| k.name())
+        .collect();
+    names.join(" or --glyph ")
 }

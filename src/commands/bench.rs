@@ -100,16 +100,7 @@ fn run_large(args: &BenchArgs, gpu: &GpuRenderer, method: Method, glyph: GlyphKi
         .scene
         .recipe(Selection::default(), glyph, &DataKind::General.defaults());
     let title = format!("Large volume (grid:{n}, {} tensors)", n * n * n);
-    run_staged(
-        args,
-        gpu,
-        method,
-        glyph,
-        &source,
-        recipe,
-        title,
-        String::new(),
-    )
+    run_staged(args, gpu, method, &source, recipe, title, String::new())
 }
 
 /// The whole-brain DTI volume, written to a temporary file, read and shown as `render` does.
@@ -140,16 +131,7 @@ fn run_brain(args: &BenchArgs, gpu: &GpuRenderer, method: Method) -> Large {
          middle axial slice with the DTI defaults, as `tensorglyph render FILE` shows it.",
         bytes as f64 / 1e6
     );
-    let run = run_staged(
-        args,
-        gpu,
-        method,
-        GlyphKind::Ellipsoid,
-        &source,
-        recipe,
-        title,
-        about,
-    );
+    let run = run_staged(args, gpu, method, &source, recipe, title, about);
     std::fs::remove_file(&path).ok();
     run
 }
@@ -160,7 +142,6 @@ fn run_staged(
     args: &BenchArgs,
     gpu: &GpuRenderer,
     method: Method,
-    glyph: GlyphKind,
     source: &Source,
     recipe: Result<staging::Recipe>,
     title: String,
@@ -186,7 +167,7 @@ fn run_staged(
             };
             let camera = Camera::frame_box(&framing, centre, half, w, h);
             // As `render` draws it by default.
-            let req = FrameRequest::preset(method, glyph, true, Preset::DEFAULT);
+            let req = FrameRequest::preset(method, true, Preset::DEFAULT);
             let result = render_gpu(
                 gpu,
                 &staged.scene,
@@ -303,7 +284,11 @@ pub fn run(args: BenchArgs) -> Result<()> {
         args.scenes.clone()
     };
     let glyphs = if args.glyphs.is_empty() {
-        vec![GlyphKind::Ellipsoid, GlyphKind::Cylinder]
+        GlyphKind::VALUES
+            .iter()
+            .copied()
+            .filter(|k| k.caps().benched_by_default)
+            .collect()
     } else {
         args.glyphs.clone()
     };

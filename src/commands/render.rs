@@ -262,7 +262,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             frames: image.frames.max(1),
             underlay: select.underlay_view(),
             effects,
-            ..FrameRequest::with_options(cam.method, cam.glyph, depth_correction, &options)
+            ..FrameRequest::with_options(cam.method, depth_correction, &options)
         },
         &scene,
         &camera,
@@ -336,7 +336,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         behind_camera,
         degenerate,
         culled,
-    } = scene.visibility(&camera, req.glyph(), req.cull, req.min_pixel_radius);
+    } = scene.visibility(&camera, req.cull, req.min_pixel_radius);
     let covered = frame.covered_pixels();
     let report = RenderReport {
         method,

@@ -1,30 +1,29 @@
 //! The exact reference: an f64 CPU ray caster of the very same glyph instances, camera and
-//! lighting as the GPU. Pixel-centre rays, exact ray–ellipsoid intersection
-//! (shared/math/sigg-quadric.md §4: glyph-near origin, stable roots), a BVH, rayon.
+//! lighting as the GPU. Pixel-centre rays, each kind's exact intersection
+//! ([`crate::shape::Shape::exact`]: glyph-near origins, stable roots), a BVH, rayon.
 //!
 //! It follows the GPU's documented rules so that differences are rendering error only: glyphs
-//! with the eye inside or on them (ellipsoids: E² ≤ [`EYE_INSIDE_E2`]) are not drawn, and a hit
-//! in front of the near plane (or beyond the far plane) is not drawn.
+//! with the eye inside or on them ([`crate::shape::Exact::contains`]; ellipsoids: E² ≤
+//! [`crate::shape::rules::EYE_INSIDE_E2`]) are not drawn, and a hit in front of the near plane
+//! (or beyond the far plane) is not drawn.
 
 pub mod bvh;
-pub mod intersect;
-pub mod superquadric;
 
-use glam::{DMat3, DMat4, DVec3};
+use glam::{DMat4, DVec3};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
 use crate::effects::light;
 use crate::effects::outline::{Sample, outline_mask};
 use crate::frame::Frame;
-use crate::request::{FrameRequest, GlyphKind};
-use crate::scene::rules::{EYE_INSIDE_E2, drawable_radii};
+use crate::request::FrameRequest;
 use crate::scene::underlay::grey;
 use crate::scene::{GlyphGeometry, Scene};
+use crate::shape::rules::drawable_radii;
+use crate::shape::{Exact, RayHit};
 use crate::twin::common::{shade, to_unorm8};
 use crate::twin::composite::{Key, composite};
 use bvh::{Aabb, Bvh};
-use intersect::{Capsule, Cylinder, RayHit};
 
 /// One image row: colour, ids, aux, and the geometry deferred shading needs.
 type Row = (Vec<u8>, Vec<u32>, Vec<[f32; 4]>, Vec<Option<Surface>>);
@@ -42,43 +41,11 @@ struct Surface {
 
 /// One glyph prepared for ray casting (all relative to the scene origin).
 struct Prepared {
-    shape: Shape,
+    shape: Box<dyn Exact>,
     base: DVec3,
     drawn: bool,
     /// Drawable: casts shadows whether or not the eye is inside it.
     casts: bool,
-}
-
-enum Shape {
-    Ellipsoid { centre: DVec3, t_inv: DMat3 },
-    Cylinder(Cylinder),
-    Capsule(Capsule),
-    Superquadric(superquadric::Superquadric),
-}
-
-impl Shape {
-    fn centre(&self) -> DVec3 {
-        match self {
-            Shape::Ellipsoid { centre, .. } => *centre,
-            Shape::Cylinder(c) => c.c,
-            Shape::Capsule(c) => c.c,
-            Shape::Superquadric(q) => q.centre,
-        }
-    }
-
-    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
-        match self {
-            Shape::Ellipsoid { centre, t_inv } => {
-                intersect::ellipsoid(o, d, *centre, t_inv).map(|(t, p_t)| RayHit {
-                    t,
-                    normal: (*t_inv * p_t).normalize(),
-                })
-            }
-            Shape::Cylinder(c) => c.intersect(o, d),
-            Shape::Capsule(c) => c.intersect(o, d),
-            Shape::Superquadric(q) => q.intersect(o, d),
-        }
-    }
 }
 
 /// A ray's front-most hit.
@@ -104,48 +71,19 @@ pub struct ReferenceScene<'a> {
 }
 
 impl<'a> ReferenceScene<'a> {
-    pub fn new(scene: &'a Scene, camera: &Camera, glyph: GlyphKind) -> Self {
+    /// The scene's glyphs, drawn as its kind, for one camera.
+    pub fn new(scene: &'a Scene, camera: &Camera) -> Self {
         let eye = camera.eye - scene.origin;
         let ortho = camera.is_ortho();
+        let kind = scene.kind.shape();
         let (glyphs, boxes): (Vec<Prepared>, Vec<Aabb>) = scene
             .instances
             .par_iter()
             .map(|g| {
                 let geo = GlyphGeometry::of(g);
                 let [r, gg, b, _] = g.color_rgba();
-                let (shape, h, eye_inside) = match glyph {
-                    GlyphKind::Ellipsoid => {
-                        let t_inv = geo.t_inv();
-                        let e2 = (t_inv * (eye - geo.centre)).length_squared();
-                        let shape = Shape::Ellipsoid {
-                            centre: geo.centre,
-                            t_inv,
-                        };
-                        (shape, geo.half_extents(), e2 <= EYE_INSIDE_E2)
-                    }
-                    GlyphKind::Cylinder => {
-                        let c = Cylinder {
-                            c: geo.centre,
-                            frame: geo.frame,
-                            radii: geo.radii,
-                        };
-                        (Shape::Cylinder(c), c.half_extents(), c.contains(eye))
-                    }
-                    GlyphKind::Capsule => {
-                        let (h, r) = crate::scene::capsule_of(geo.radii);
-                        let c = Capsule {
-                            c: geo.centre,
-                            axis: geo.frame.x_axis.normalize(),
-                            h,
-                            r,
-                        };
-                        (Shape::Capsule(c), c.half_extents(), c.contains(eye))
-                    }
-                    GlyphKind::Superquadric => {
-                        let q = superquadric::Superquadric::of(&geo);
-                        (Shape::Superquadric(q), q.half_extents(), q.contains(eye))
-                    }
-                };
+                let shape = kind.exact(&geo);
+                let (h, eye_inside) = (shape.half_extents(), shape.contains(eye));
                 let drawable = drawable_radii(g.radii);
                 // An undrawn glyph's box may be NaN: keep the BVH finite.
                 let h = if drawable { h } else { DVec3::ZERO };

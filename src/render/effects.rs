@@ -24,7 +24,7 @@ use crate::render::scene_buffers::SceneBuffers;
 use crate::render::targets::{COLOR_FORMAT, TargetViews, Targets};
 use crate::request::{FrameRequest, UnderlayView};
 
-pub const SHADER: &str = include_str!("../../shaders/composite.wgsl");
+pub const SHADER: &str = include_str!("../../shaders/effects/composite.wgsl");
 
 /// Each pixel's lit fraction (r) and outline state (g).
 pub const EFFECTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;

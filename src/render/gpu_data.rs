@@ -35,7 +35,7 @@ const QUAT_MAX: f64 = ((1u32 << QUAT_BITS) - 1) as f64;
 
 impl GpuGlyph {
     pub fn pack(g: &GlyphInstance) -> Self {
-        let radii = if crate::scene::rules::drawable_radii(g.radii) {
+        let radii = if crate::shape::rules::drawable_radii(g.radii) {
             g.radii
         } else {
             [0.0; 3]
@@ -304,7 +304,7 @@ mod tests {
 
     #[test]
     fn glyphs_no_method_draws_are_packed_with_zero_radii() {
-        use crate::scene::rules::drawable_radii;
+        use crate::shape::rules::drawable_radii;
         for radii in [
             [1.0, 0.0, 1.0],
             [1.0, -0.5, 1.0],
@@ -373,8 +373,14 @@ mod tests {
                 &fields!(UnderlayUniform: view_proj, corner, u, v, size, window),
             );
         }
-        let gumhold = shaders::parse(&shaders::ShaderSource::GumholdEllipsoid.text())
-            .expect("gumhold_ellipsoid.wgsl parses");
+        let gumhold = shaders::parse(
+            &shaders::ShaderSource::new(
+                shaders::MethodShader::Gumhold,
+                crate::shape::GlyphKind::Ellipsoid,
+            )
+            .text(),
+        )
+        .expect("gumhold_ellipsoid.wgsl parses");
         assert_offsets(
             &gumhold,
             "GlyphFrame",
@@ -395,8 +401,14 @@ mod tests {
             wgsl_size(&underlay, "Underlay") as usize,
             crate::render::underlay::UNDERLAY_UNIFORM_SIZE
         );
-        let gumhold = shaders::parse(&shaders::ShaderSource::GumholdEllipsoid.text())
-            .expect("gumhold_ellipsoid.wgsl parses");
+        let gumhold = shaders::parse(
+            &shaders::ShaderSource::new(
+                shaders::MethodShader::Gumhold,
+                crate::shape::GlyphKind::Ellipsoid,
+            )
+            .text(),
+        )
+        .expect("gumhold_ellipsoid.wgsl parses");
         assert_eq!(
             wgsl_size(&gumhold, "GlyphFrame") as usize,
             crate::render::gumhold::prepass::FRAME_SIZE

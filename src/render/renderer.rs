@@ -101,7 +101,7 @@ impl GpuRenderer {
         scene: &Scene,
         camera: &Camera,
     ) -> FrameRequest {
-        let mut req = req;
+        let mut req = req.for_kind(scene.kind);
         let holds = req.proxy().conservative
             && self.ctx.early_depth_test
             && scene.conservative_depth_holds(camera);
@@ -109,7 +109,7 @@ impl GpuRenderer {
         req
     }
 
-    /// Render `scene` seen by `camera` with the request's method and glyph shape.
+    /// Render `scene` seen by `camera` with the request's method, as the scene's kind.
     pub fn render(
         &self,
         scene: &Scene,
@@ -155,7 +155,7 @@ impl GpuRenderer {
         camera: &Camera,
         req: &FrameRequest,
     ) -> Result<Frame, RenderError> {
-        let req = &self.within_limits(req, camera);
+        let req = &self.within_limits(&req.for_kind(buffers.kind), camera);
         let ctx = &self.ctx;
         let targets = Targets::new(ctx, camera.width, camera.height, req.writes_aux())?;
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -181,8 +181,8 @@ impl GpuRenderer {
         encoder: &mut wgpu::CommandEncoder,
         timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), RenderError> {
-        let req = &self.within_limits(req, camera);
-        let drawer = self.drawer(req.method.method(), req.glyph())?;
+        let req = &self.within_limits(&req.for_kind(buffers.kind), camera);
+        let drawer = self.drawer(req.method.method(), buffers.kind)?;
         buffers.write_uniforms(&self.ctx.queue, camera, req);
         let frame = FrameRecording {
             ctx: &self.ctx,
@@ -239,7 +239,7 @@ impl GpuRenderer {
     ) -> Result<Frame, RenderError> {
         let ctx = &self.ctx;
         let device = &ctx.device;
-        let drawer = self.drawer(req.method.method(), req.glyph())?;
+        let drawer = self.drawer(req.method.method(), buffers.kind)?;
         buffers.write_uniforms(&ctx.queue, camera, req);
         // Per render pass: [vertex invocations, fragment invocations] (ordered by flag bit).
         let passes = drawer.render_passes(ctx, buffers, req);

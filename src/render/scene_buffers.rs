@@ -13,10 +13,12 @@ use crate::render::context::GpuContext;
 use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGlyph};
 use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
 use crate::request::FrameRequest;
-use crate::scene::{GlyphInstance, Scene};
+use crate::scene::{GlyphInstance, GlyphKind, Scene};
 
 /// A scene's instances and camera uniform on the GPU, bound for drawing.
 pub struct SceneBuffers {
+    /// The scene's kind: what the drawers draw the instances as.
+    pub kind: GlyphKind,
     origin: glam::DVec3,
     /// The scene's box (centre, half extents): the key light's shadow map covers it.
     bounds: (glam::DVec3, glam::DVec3),
@@ -35,8 +37,9 @@ pub struct SceneBuffers {
 pub struct ChunkBuffers {
     pub(crate) base: u32,
     pub(crate) count: u32,
-    /// Whether any instance is a superquadric the convex finder cannot draw (pinched, or c ≠ β:
-    /// indefinite tensors); the superquadric pipelines leave that search out otherwise.
+    /// Whether any instance needs its kind's general search
+    /// ([`crate::shape::Shape::is_general`]: a superquadric the convex finder cannot draw); the
+    /// pipelines leave that search out otherwise.
     pub(crate) general: bool,
     _glyphs: wgpu::Buffer,
     _shapes: wgpu::Buffer,
@@ -90,6 +93,7 @@ impl SceneBuffers {
             chunks.push(ChunkBuffers::upload(
                 ctx,
                 layout,
+                scene.kind,
                 piece,
                 base,
                 [&camera_buffer, &light_buffer],
@@ -109,6 +113,7 @@ impl SceneBuffers {
             )));
         }
         Ok(Self {
+            kind: scene.kind,
             origin: scene.origin,
             bounds: (scene.centre, scene.half),
             count: base,
@@ -194,6 +199,7 @@ impl ChunkBuffers {
     fn upload(
         ctx: &GpuContext,
         layout: &wgpu::BindGroupLayout,
+        kind: GlyphKind,
         piece: &[GlyphInstance],
         base: u32,
         [camera_buffer, light_buffer]: [&wgpu::Buffer; 2],
@@ -274,9 +280,7 @@ impl ChunkBuffers {
             count: piece.len() as u32,
             bind_group: group(camera_buffer),
             light_bind_group: group(light_buffer),
-            general: piece.iter().any(|g| {
-                g.shape != [0; 2] && !crate::glyph::superquadric::is_convex(g.exponents())
-            }),
+            general: piece.iter().any(|g| kind.shape().is_general(g)),
             _glyphs: glyphs,
             _shapes: shapes,
             params,

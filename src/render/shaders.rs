@@ -1,104 +1,105 @@
-//! WGSL sources. WGSL has no includes, so every method's shader is `common.wgsl`, the shared
-//! parts it needs (`cylinder_slab.wgsl` for cylinders, `capsule.wgsl` for capsules,
-//! `superquadric.wgsl` for the ray-cast superquadrics, `superquadric_mesh.wgsl` for the
-//! tessellated ones, `sigg.wgsl` for Sigg's method), its own
-//! file and `outputs.wgsl` (the shared fragment entry points); `tests::all_shaders_validate`
-//! runs naga's validator over each composition.
+//! WGSL sources. WGSL has no includes, so every glyph shader is composed from one list:
+//! `common.wgsl`, `shape/screen_box.wgsl`, the kind's shape file(s) (the shape interface
+//! documented in common.wgsl, [`crate::shape::Shape::wgsl`]), the method's file(s) and
+//! `outputs.wgsl` (the shared fragment entry points) — a method × kind table, [`ShaderSource`];
+//! `tests::all_shaders_validate` runs naga's validator over every composition.
 //!
 //! Specialisation has two kinds, each with one mechanism: what changes which WGSL is valid (an
 //! entry point's attribute, 64-bit atomics) is a [`ShaderDefs`] flag, applied from the one table
 //! [`SWAPS`] when the module's text is composed; values a pipeline picks (the proxy polygon,
-//! conservative placement, the mesh's glyph shape) are WGSL `override` constants set per
-//! pipeline.
+//! conservative placement, the box baseline, a kind's general search) are WGSL `override`
+//! constants set per pipeline.
+
+use crate::shape::GlyphKind;
 
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
-const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/gumhold_ellipsoid.wgsl");
-const GUMHOLD_CYLINDER: &str = include_str!("../../shaders/gumhold_cylinder.wgsl");
-const MESH: &str = include_str!("../../shaders/mesh.wgsl");
-const CYLINDER_SLAB: &str = include_str!("../../shaders/cylinder_slab.wgsl");
-const SIGG: &str = include_str!("../../shaders/sigg.wgsl");
-const SIGG_ELLIPSOID: &str = include_str!("../../shaders/sigg_ellipsoid.wgsl");
-const SIGG_CYLINDER: &str = include_str!("../../shaders/sigg_cylinder.wgsl");
-const CAPSULE: &str = include_str!("../../shaders/capsule.wgsl");
-const GUMHOLD_CAPSULE: &str = include_str!("../../shaders/gumhold_capsule.wgsl");
-const GUMHOLD_SOLID: &str = include_str!("../../shaders/gumhold_solid.wgsl");
-const SIGG_CAPSULE: &str = include_str!("../../shaders/sigg_capsule.wgsl");
-const SUPERQUADRIC: &str = include_str!("../../shaders/superquadric.wgsl");
-const SUPERQUADRIC_MESH: &str = include_str!("../../shaders/superquadric_mesh.wgsl");
-const GUMHOLD_SUPERQUADRIC: &str = include_str!("../../shaders/gumhold_superquadric.wgsl");
-const SIGG_SUPERQUADRIC: &str = include_str!("../../shaders/sigg_superquadric.wgsl");
-const SUPERQUADRIC_SPLAT: &str = include_str!("../../shaders/superquadric_splat.wgsl");
-const PREPASS: &str = include_str!("../../shaders/prepass.wgsl");
-const SPLAT32: &str = include_str!("../../shaders/splat32.wgsl");
-const SPLAT64: &str = include_str!("../../shaders/splat64.wgsl");
+const SCREEN_BOX: &str = include_str!("../../shaders/shape/screen_box.wgsl");
+const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/method/gumhold_ellipsoid.wgsl");
+const GUMHOLD_SOLID: &str = include_str!("../../shaders/method/gumhold_solid.wgsl");
+const SIGG: &str = include_str!("../../shaders/method/sigg.wgsl");
+const MESH: &str = include_str!("../../shaders/method/mesh.wgsl");
+const PREPASS: &str = include_str!("../../shaders/method/prepass.wgsl");
+const SPLAT32: &str = include_str!("../../shaders/method/splat32.wgsl");
+const SPLAT64: &str = include_str!("../../shaders/method/splat64.wgsl");
 
-/// A method's complete shader source.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ShaderSource {
-    GumholdEllipsoid,
-    GumholdCylinder,
-    SiggEllipsoid,
-    SiggCylinder,
-    GumholdCapsule,
-    SiggCapsule,
-    GumholdSuperquadric,
-    SiggSuperquadric,
-    /// The triangle-mesh baselines (`mesh:N`, `box`), every glyph shape.
+/// The method half of a shader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MethodShader {
+    /// Gumhold's quad: the ellipsoid's exact quad, or every other kind's bounding ellipsoid's
+    /// (with the compute prepass and splats where the kind takes them).
+    Gumhold,
+    /// Sigg et al.'s screen boxes.
+    Sigg,
+    /// The triangle-mesh baselines (`mesh:N`, `box`).
     Mesh,
 }
 
-impl ShaderSource {
-    pub const ALL: [ShaderSource; 9] = [
-        ShaderSource::GumholdEllipsoid,
-        ShaderSource::GumholdCylinder,
-        ShaderSource::SiggEllipsoid,
-        ShaderSource::SiggCylinder,
-        ShaderSource::GumholdCapsule,
-        ShaderSource::SiggCapsule,
-        ShaderSource::GumholdSuperquadric,
-        ShaderSource::SiggSuperquadric,
-        ShaderSource::Mesh,
+impl MethodShader {
+    pub const ALL: [MethodShader; 3] = [
+        MethodShader::Gumhold,
+        MethodShader::Sigg,
+        MethodShader::Mesh,
     ];
 
     pub fn name(self) -> &'static str {
         match self {
-            ShaderSource::GumholdEllipsoid => "gumhold_ellipsoid.wgsl",
-            ShaderSource::GumholdCylinder => "gumhold_cylinder.wgsl",
-            ShaderSource::SiggEllipsoid => "sigg_ellipsoid.wgsl",
-            ShaderSource::SiggCylinder => "sigg_cylinder.wgsl",
-            ShaderSource::GumholdCapsule => "gumhold_capsule.wgsl",
-            ShaderSource::SiggCapsule => "sigg_capsule.wgsl",
-            ShaderSource::GumholdSuperquadric => "gumhold_superquadric.wgsl",
-            ShaderSource::SiggSuperquadric => "sigg_superquadric.wgsl",
-            ShaderSource::Mesh => "mesh.wgsl",
+            MethodShader::Gumhold => "gumhold",
+            MethodShader::Sigg => "sigg",
+            MethodShader::Mesh => "mesh",
         }
+    }
+}
+
+/// A glyph shader: a method drawing a kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ShaderSource {
+    pub method: MethodShader,
+    pub kind: GlyphKind,
+}
+
+impl ShaderSource {
+    pub fn new(method: MethodShader, kind: GlyphKind) -> Self {
+        Self { method, kind }
+    }
+
+    /// Every glyph shader: each method for each kind of the registry.
+    pub fn all() -> Vec<ShaderSource> {
+        MethodShader::ALL
+            .iter()
+            .flat_map(|&m| {
+                GlyphKind::VALUES
+                    .iter()
+                    .map(move |&k| ShaderSource::new(m, k))
+            })
+            .collect()
+    }
+
+    /// `method/kind`, the label of its modules and pipelines.
+    pub fn name(self) -> String {
+        format!("{}/{}", self.method.name(), self.kind)
     }
 
     /// Whether the shader reads the proxy `override`s (PROXY_VERTICES, CONSERVATIVE_DEPTH).
     pub fn has_proxy_constants(self) -> bool {
-        matches!(
-            self,
-            ShaderSource::GumholdEllipsoid
-                | ShaderSource::GumholdCylinder
-                | ShaderSource::GumholdCapsule
-                | ShaderSource::GumholdSuperquadric
-        )
+        self.method == MethodShader::Gumhold
     }
 
-    /// Whether the shader ray casts superquadrics (and has their `SQ_GENERAL` override).
-    pub fn is_superquadric(self) -> bool {
-        matches!(
-            self,
-            ShaderSource::GumholdSuperquadric | ShaderSource::SiggSuperquadric
-        )
+    /// The `override` keeping the kind's general search, if it has one
+    /// ([`crate::shape::Shape::general_override`]).
+    pub fn general_override(self) -> Option<&'static str> {
+        self.kind.shape().general_override()
+    }
+
+    /// Whether this is Gumhold's ellipsoid, whose exact quad is a method file of its own.
+    fn exact_quad(self) -> bool {
+        self.method == MethodShader::Gumhold && self.kind == GlyphKind::Ellipsoid
     }
 
     /// The composed source, specialised by `defs`.
     pub fn text_with(self, defs: ShaderDefs) -> String {
         let mut text = self.text();
-        // A def changes the shaders that have its text (splats are Gumhold ellipsoids' and
-        // superquadrics').
+        // A def changes the shaders that have its text (splats are Gumhold's).
         for (on, from, to) in SWAPS {
             if on(&defs) {
                 text = text.replace(from, to);
@@ -108,26 +109,24 @@ impl ShaderSource {
     }
 
     pub fn text(self) -> String {
-        let parts: &[&str] = match self {
-            ShaderSource::GumholdEllipsoid => &[GUMHOLD_ELLIPSOID, PREPASS, SPLAT32],
-            ShaderSource::GumholdCylinder => &[CYLINDER_SLAB, GUMHOLD_CYLINDER, GUMHOLD_SOLID],
-            ShaderSource::SiggEllipsoid => &[SIGG, SIGG_ELLIPSOID],
-            ShaderSource::SiggCylinder => &[CYLINDER_SLAB, SIGG, SIGG_CYLINDER],
-            ShaderSource::GumholdCapsule => &[CAPSULE, GUMHOLD_CAPSULE, GUMHOLD_SOLID],
-            ShaderSource::SiggCapsule => &[CAPSULE, SIGG, SIGG_CAPSULE],
-            ShaderSource::GumholdSuperquadric => &[
-                SUPERQUADRIC,
-                GUMHOLD_SUPERQUADRIC,
-                GUMHOLD_SOLID,
-                SUPERQUADRIC_SPLAT,
-                PREPASS,
-                SPLAT32,
-            ],
-            ShaderSource::SiggSuperquadric => &[SUPERQUADRIC, SIGG, SIGG_SUPERQUADRIC],
-            ShaderSource::Mesh => &[CAPSULE, SUPERQUADRIC_MESH, MESH],
-        };
-        let body = parts.join("\n");
-        format!("{COMMON}\n{body}\n{OUTPUTS}")
+        let shape = self.kind.shape();
+        let mut parts: Vec<&str> = vec![COMMON, SCREEN_BOX];
+        parts.extend(shape.wgsl());
+        match self.method {
+            MethodShader::Gumhold if self.exact_quad() => {
+                parts.extend([GUMHOLD_ELLIPSOID, PREPASS, SPLAT32])
+            }
+            MethodShader::Gumhold => {
+                parts.push(GUMHOLD_SOLID);
+                if let Some(splats) = shape.splat_wgsl().filter(|_| shape.caps().prepass) {
+                    parts.extend([splats, PREPASS, SPLAT32]);
+                }
+            }
+            MethodShader::Sigg => parts.push(SIGG),
+            MethodShader::Mesh => parts.push(MESH),
+        }
+        parts.push(OUTPUTS);
+        parts.join("\n")
     }
 }
 
@@ -174,7 +173,7 @@ mod tests {
 
     #[test]
     fn all_shaders_validate() {
-        for s in ShaderSource::ALL {
+        for s in ShaderSource::all() {
             for early in [false, true] {
                 for int64 in [false, true] {
                     let defs = ShaderDefs {
@@ -337,7 +336,7 @@ mod tests {
 
     #[test]
     fn no_if_decided_by_uniform_words_alone() {
-        for s in ShaderSource::ALL {
+        for s in ShaderSource::all() {
             for int64 in [false, true] {
                 let defs = ShaderDefs {
                     int64_atomics: int64,
@@ -351,10 +350,11 @@ mod tests {
 
     #[test]
     fn early_depth_declared_on_both_depth_entry_points() {
-        let text = ShaderSource::GumholdEllipsoid.text_with(ShaderDefs {
-            early_depth: true,
-            ..ShaderDefs::default()
-        });
+        let text =
+            ShaderSource::new(MethodShader::Gumhold, GlyphKind::Ellipsoid).text_with(ShaderDefs {
+                early_depth: true,
+                ..ShaderDefs::default()
+            });
         assert_eq!(text.matches("@early_depth_test(greater_equal)").count(), 2);
         let module = parse(&text).expect("parses");
         let declared = module

@@ -17,7 +17,7 @@ pub struct StripRenderer {
     source: ShaderSource,
     modules: [OnceLock<wgpu::ShaderModule>; 2],
     /// Keyed by variant, proxy, whether the vertices come from `instance_input`, and whether
-    /// non-convex superquadrics may be drawn (`SQ_GENERAL`).
+    /// the kind's general search is kept ([`crate::shape::Shape::general_override`]).
     pipelines: Mutex<HashMap<(Variant, Proxy, bool, bool), wgpu::RenderPipeline>>,
     /// Per-instance vertex input of the `vs_frames` entry point, for shaders that have one.
     instance_input: Option<wgpu::VertexBufferLayout<'static>>,
@@ -51,7 +51,7 @@ impl StripRenderer {
         self.modules[usize::from(early_depth)].get_or_init(|| {
             self.device
                 .create_shader_module(wgpu::ShaderModuleDescriptor {
-                    label: Some(self.source.name()),
+                    label: Some(&self.source.name()),
                     source: wgpu::ShaderSource::Wgsl(
                         self.source
                             .text_with(ShaderDefs {
@@ -64,8 +64,8 @@ impl StripRenderer {
         })
     }
 
-    /// Values of the shader's `override`s: the proxy's, and whether superquadrics that are not
-    /// convex may come (`general`), for the shaders that have them.
+    /// Values of the shader's `override`s: the proxy's, and whether glyphs needing the kind's
+    /// general search may come (`general`), for the shaders that have them.
     pub(crate) fn constants(&self, proxy: Proxy, general: bool) -> Vec<(&'static str, f64)> {
         let mut c = Vec::new();
         if self.source.has_proxy_constants() {
@@ -75,16 +75,16 @@ impl StripRenderer {
                 if proxy.conservative { 1.0 } else { 0.0 },
             ));
         }
-        if self.source.is_superquadric() {
-            c.push(("SQ_GENERAL", if general { 1.0 } else { 0.0 }));
+        if let Some(name) = self.source.general_override() {
+            c.push((name, if general { 1.0 } else { 0.0 }));
         }
         c
     }
 
-    /// `general` as pipelines are keyed: the flag changes only superquadric shaders, so one
-    /// pipeline serves both for the others.
+    /// `general` as pipelines are keyed: the flag changes only the shaders of kinds with a
+    /// general search, so one pipeline serves both for the others.
     pub(crate) fn general_key(&self, general: bool) -> bool {
-        general || !self.source.is_superquadric()
+        general || self.source.general_override().is_none()
     }
 
     /// The strip pipeline of `variant` and `proxy`; with `from_instances`, its vertices come
@@ -120,7 +120,7 @@ impl StripRenderer {
             &self.device,
             &self.layout,
             module,
-            self.source.name(),
+            &self.source.name(),
             wgpu::PrimitiveTopology::TriangleStrip,
             variant,
             &PipelineInput {

@@ -1,54 +1,20 @@
-//! What the renderers draw: GPU-ready glyph instances around a scene origin, and the bounds the
-//! camera frames. Built on the CPU, uploaded by the renderer, ray cast by the reference.
+//! What the renderers draw: GPU-ready glyph instances of one kind around a scene origin, and
+//! the bounds the camera frames. Built on the CPU, uploaded by the renderer, ray cast by the
+//! reference.
 
-use glam::{DMat3, DQuat, DVec3};
+use glam::{DQuat, DVec3};
 
-use crate::request::GlyphKind;
+pub use crate::shape::{GlyphGeometry, GlyphInstance, GlyphKind};
 
-pub mod rules;
 pub mod underlay;
 
 pub use underlay::{Underlay, UnderlaySource};
 
-/// One glyph instance at full f32 precision, as built on the CPU: the reference ray casts these,
-/// the GPU reads them packed ([`crate::render::gpu_data::GpuGlyph`], 32 bytes).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct GlyphInstance {
-    /// Centre relative to the scene origin.
-    pub centre: [f32; 3],
-    /// RGBA8 (R in the lowest byte).
-    pub color: u32,
-    /// Unit quaternion (x, y, z, w) of the eigenvector frame.
-    pub rotation: [f32; 4],
-    /// Semi-axes along the frame's columns.
-    pub radii: [f32; 3],
-    /// Index into the glyph list the scene was built from (instances may be reordered).
-    pub glyph: u32,
-    /// A superquadric's exponents (α, β, c) as the GPU reads them
-    /// ([`crate::glyph::superquadric::pack_exponents`]); `[0, 0]` for the other glyphs. The
-    /// frame's third column is then the symmetry axis and `radii` are in local (x, y, z) order.
-    pub shape: [u32; 2],
-}
-
-impl GlyphInstance {
-    /// The superquadric exponents (α, β, c) stored in [`Self::shape`].
-    pub fn exponents(&self) -> [f32; 3] {
-        crate::glyph::superquadric::unpack_exponents(self.shape)
-    }
-
-    pub fn pack_color(rgba: [u8; 4]) -> u32 {
-        u32::from_le_bytes(rgba)
-    }
-
-    pub fn color_rgba(&self) -> [u8; 4] {
-        self.color.to_le_bytes()
-    }
-}
-
-/// Glyph instances relative to `origin`, plus a bounding sphere in world space.
+/// Glyph instances of one kind relative to `origin`, plus a bounding sphere in world space.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
+    /// The kind the instances were made for: every back end draws them as this kind.
+    pub kind: GlyphKind,
     /// World point that instance centres are relative to (keeps f32 precise far from 0).
     pub origin: DVec3,
     pub instances: Vec<GlyphInstance>,
@@ -58,133 +24,6 @@ pub struct Scene {
     pub half: DVec3,
     /// A scalar image under the glyphs (`--underlay`), if asked for.
     pub underlay: Option<Underlay>,
-}
-
-/// A glyph instance's geometry in f64, as both the reference and the tests need it.
-#[derive(Debug, Clone, Copy)]
-pub struct GlyphGeometry {
-    /// Centre relative to the scene origin.
-    pub centre: DVec3,
-    /// Eigenvector frame O (columns).
-    pub frame: DMat3,
-    pub radii: DVec3,
-    /// Superquadric exponents (α, β, c) ([`GlyphInstance::exponents`]; 0 for other glyphs).
-    pub exponents: DVec3,
-}
-
-impl GlyphGeometry {
-    pub fn of(g: &GlyphInstance) -> Self {
-        let q = DQuat::from_xyzw(
-            f64::from(g.rotation[0]),
-            f64::from(g.rotation[1]),
-            f64::from(g.rotation[2]),
-            f64::from(g.rotation[3]),
-        );
-        Self {
-            centre: DVec3::from(g.centre.map(f64::from)),
-            // The shader normalises nothing: use the quaternion exactly as stored, like it does.
-            frame: quat_to_mat3_unnormalised(q),
-            radii: DVec3::from(g.radii.map(f64::from)),
-            exponents: DVec3::from(g.exponents().map(f64::from)),
-        }
-    }
-
-    /// T = O diag(r) Oᵀ.
-    pub fn t(&self) -> DMat3 {
-        self.frame * DMat3::from_diagonal(self.radii) * self.frame.transpose()
-    }
-
-    /// T⁻¹ = O diag(1/r) Oᵀ, from the eigen data (never by inverting T).
-    pub fn t_inv(&self) -> DMat3 {
-        self.frame * DMat3::from_diagonal(self.radii.recip()) * self.frame.transpose()
-    }
-
-    /// Half-extents of the axis-aligned box around the ellipsoid: |row i of T|.
-    pub fn half_extents(&self) -> DVec3 {
-        let t = self.t();
-        DVec3::new(t.row(0).length(), t.row(1).length(), t.row(2).length())
-    }
-
-    /// Half-extents of a box holding the glyph drawn as an ellipsoid or as a capped cylinder
-    /// (axis = first column): the cylinder's box, which contains the ellipsoid's.
-    pub fn glyph_half_extents(&self) -> DVec3 {
-        let a = self.frame.x_axis * self.radii.x;
-        let u = self.frame.y_axis * self.radii.y;
-        let v = self.frame.z_axis * self.radii.z;
-        a.abs() + DVec3::new(u.x.hypot(v.x), u.y.hypot(v.y), u.z.hypot(v.z))
-    }
-
-    /// Half-extents of a box holding the glyph drawn as `glyph`: [`Self::glyph_half_extents`]
-    /// for ellipsoids and cylinders, the box of the segment swept by the ball for capsules
-    /// (which may reach beyond the cylinder's: its radius is the cross-section's mean).
-    pub fn half_extents_as(&self, glyph: GlyphKind) -> DVec3 {
-        match glyph {
-            GlyphKind::Ellipsoid | GlyphKind::Cylinder => self.glyph_half_extents(),
-            GlyphKind::Capsule => {
-                let (h, r) = capsule_of(self.radii);
-                (self.frame.x_axis * h).abs() + r
-            }
-            // The local unit box scaled by the radii holds every superquadric.
-            GlyphKind::Superquadric => {
-                (self.frame.x_axis * self.radii.x).abs()
-                    + (self.frame.y_axis * self.radii.y).abs()
-                    + (self.frame.z_axis * self.radii.z).abs()
-            }
-        }
-    }
-
-    /// Whether `p` (relative to the scene origin) is inside or on the glyph drawn as `glyph`:
-    /// the rule by which the methods do not draw a glyph around the eye (ellipsoids: E² ≤
-    /// [`rules::EYE_INSIDE_E2`]).
-    pub fn contains_as(&self, glyph: GlyphKind, p: DVec3) -> bool {
-        let local = self.frame.transpose() * (p - self.centre);
-        match glyph {
-            GlyphKind::Ellipsoid => {
-                (self.t_inv() * (p - self.centre)).length_squared() <= rules::EYE_INSIDE_E2
-            }
-            GlyphKind::Cylinder => {
-                let q = local / self.radii;
-                q.x.abs() <= 1.0 && q.y * q.y + q.z * q.z <= 1.0
-            }
-            GlyphKind::Capsule => {
-                let (h, r) = capsule_of(self.radii);
-                let q = local / r;
-                (q - DVec3::new(q.x.clamp(-h / r, h / r), 0.0, 0.0)).length_squared() <= 1.0
-            }
-            GlyphKind::Superquadric => {
-                let q = (local / self.radii).abs();
-                crate::glyph::superquadric::gauge(self.exponents.to_array(), q.to_array()) <= 1.0
-            }
-        }
-    }
-
-    pub fn max_radius(&self) -> f64 {
-        self.radii.max_element()
-    }
-}
-
-/// The capsule drawn for an instance's radii `r` (axis along the frame's first column, as the
-/// cylinder's; cylinder-capsule.md §4, §6): `(h, R)` with the ball's radius R = (r2 + r3)/2, the
-/// circular cross-section between the cylinder's semi-axes, and the straight segment's half-length
-/// h = max(r1 − R, 0). The capsule reaches r1 along its axis when r1 ≥ R, so an isotropic tensor
-/// (r1 = r2 = r3) is a sphere of that radius; when R > r1 (planar tensors, whose cylinder axis is
-/// e3) it is the sphere of radius R. Mirrored by `capsule_of` in shaders/capsule.wgsl.
-pub fn capsule_of(r: DVec3) -> (f64, f64) {
-    let radius = 0.5 * (r.y + r.z);
-    ((r.x - radius).max(0.0), radius)
-}
-
-/// The same formula as `quat_to_mat3` in common.wgsl.
-fn quat_to_mat3_unnormalised(q: DQuat) -> DMat3 {
-    let (x2, y2, z2) = (q.x + q.x, q.y + q.y, q.z + q.z);
-    let (xx, xy, xz) = (q.x * x2, q.x * y2, q.x * z2);
-    let (yy, yz, zz) = (q.y * y2, q.y * z2, q.z * z2);
-    let (wx, wy, wz) = (q.w * x2, q.w * y2, q.w * z2);
-    DMat3::from_cols(
-        DVec3::new(1.0 - (yy + zz), xy + wz, xz - wy),
-        DVec3::new(xy - wz, 1.0 - (xx + zz), yz + wx),
-        DVec3::new(xz + wy, yz - wx, 1.0 - (xx + yy)),
-    )
 }
 
 /// One glyph given directly by world centre, frame and radii (tests, synthetic scenes).
@@ -230,24 +69,25 @@ impl Scene {
         Self::from_instances(origin, instances)
     }
 
-    /// Wrap ready instances; computes the bounding sphere (holding the glyphs as ellipsoids or
-    /// as cylinders, so framing and the far plane never cut a glyph).
+    /// Wrap ready instances as ellipsoids; computes the bounding sphere (holding the glyphs as
+    /// ellipsoids or as cylinders, so framing and the far plane never cut a glyph).
     pub fn from_instances(origin: DVec3, instances: Vec<GlyphInstance>) -> Self {
-        Self::from_instances_as(origin, instances, GlyphKind::Cylinder)
+        Self::from_instances_as(origin, instances, GlyphKind::Ellipsoid)
     }
 
-    /// [`Self::from_instances`] with bounds holding the glyphs drawn as `glyph`
-    /// ([`GlyphGeometry::half_extents_as`]).
+    /// [`Self::from_instances`] as glyphs of `kind`, with bounds holding them
+    /// ([`crate::shape::Shape::bounds`]).
     pub fn from_instances_as(
         origin: DVec3,
         instances: Vec<GlyphInstance>,
-        glyph: GlyphKind,
+        kind: GlyphKind,
     ) -> Self {
+        let shape = kind.shape();
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for g in &instances {
             let geo = GlyphGeometry::of(g);
-            let h = geo.half_extents_as(glyph);
+            let h = shape.bounds(&geo);
             lo = lo.min(geo.centre - h);
             hi = hi.max(geo.centre + h);
         }
@@ -257,12 +97,25 @@ impl Scene {
             ((lo + hi) / 2.0 + origin, (hi - lo) / 2.0)
         };
         Self {
+            kind,
             origin,
             instances,
             centre,
             radius: half.length(),
             half,
             underlay: None,
+        }
+    }
+
+    /// The same glyphs drawn as `kind` ([`crate::shape::Shape::adopt`]: instances made
+    /// without a kind's parameters get them), keeping this scene's framing: a synthetic scene
+    /// frames what it means to show.
+    pub fn drawn_as(&self, kind: GlyphKind) -> Scene {
+        let shape = kind.shape();
+        Scene {
+            kind,
+            instances: self.instances.iter().map(|g| shape.adopt(g)).collect(),
+            ..self.clone()
         }
     }
 
@@ -291,6 +144,7 @@ impl Scene {
         progress: &dyn crate::progress::Progress,
     ) -> Self {
         use rayon::prelude::*;
+        let shape = glyph.shape();
         let origin = centre_box_middle(set);
         let n = set.glyphs.len();
         let instances = set
@@ -301,7 +155,7 @@ impl Scene {
                 if (k + 1) % PROGRESS_STEP == 0 {
                     progress.advance(PROGRESS_STEP as u64);
                 }
-                instance(g, k, origin, style, glyph)
+                instance(g, k, origin, style, shape)
             })
             .collect();
         progress.advance((n % PROGRESS_STEP) as u64);
@@ -317,6 +171,7 @@ impl Scene {
         glyph: GlyphKind,
     ) -> (DVec3, DVec3) {
         use rayon::prelude::*;
+        let shape = glyph.shape();
         let origin = centre_box_middle(set);
         if set.glyphs.is_empty() {
             return (origin, DVec3::splat(1.0 / 3f64.sqrt()));
@@ -327,8 +182,8 @@ impl Scene {
             .par_iter()
             .enumerate()
             .fold(empty, |(lo, hi), (k, g)| {
-                let geo = GlyphGeometry::of(&instance(g, k, origin, style, glyph));
-                let h = geo.half_extents_as(glyph);
+                let geo = GlyphGeometry::of(&instance(g, k, origin, style, shape));
+                let h = shape.bounds(&geo);
                 (lo.min(geo.centre - h), hi.max(geo.centre + h))
             })
             .reduce(empty, |a, b| (a.0.min(b.0), a.1.max(b.1)));
@@ -342,16 +197,16 @@ impl Scene {
     pub fn visibility(
         &self,
         camera: &crate::camera::Camera,
-        glyph: GlyphKind,
         frustum: bool,
         min_pixel_radius: f32,
     ) -> Visibility {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
         let culling = Culling::new(camera, self.origin, frustum, min_pixel_radius);
+        let shape = self.kind.shape();
         let mut v = Visibility::default();
         for g in &self.instances {
-            if !crate::scene::rules::drawable_radii(g.radii) {
+            if !crate::shape::rules::drawable_radii(g.radii) {
                 v.degenerate += 1;
                 continue;
             }
@@ -359,9 +214,9 @@ impl Scene {
             let r = geo.max_radius();
             if (geo.centre - eye).dot(f) + r < camera.near {
                 v.behind_camera += 1;
-            } else if culling.skips(geo.centre, bounding_radius_as(g.radii, glyph)) {
+            } else if culling.skips(geo.centre, shape.cull_radius(g.radii)) {
                 v.culled += 1;
-            } else if !camera.is_ortho() && geo.contains_as(glyph, eye) {
+            } else if !camera.is_ortho() && shape.contains(&geo, eye) {
                 v.eye_inside += 1;
             }
         }
@@ -394,22 +249,10 @@ fn instance(
     k: usize,
     origin: DVec3,
     style: &crate::glyph::ResolvedStyle,
-    glyph: GlyphKind,
+    shape: &dyn crate::shape::Shape,
 ) -> GlyphInstance {
     let c = DVec3::from(g.centre) - origin;
-    let (rotation, radii, shape) = match glyph {
-        GlyphKind::Ellipsoid => (g.rotation, style.radii(g), [0; 2]),
-        GlyphKind::Cylinder | GlyphKind::Capsule => {
-            let (rotation, radii) = cylinder_frame(g.rotation, style.radii(g));
-            (rotation, radii, [0; 2])
-        }
-        GlyphKind::Superquadric => {
-            let sq = style.superquadric(g);
-            let (rotation, radii) = superquadric_frame(g.rotation, style.radii(g), sq.axes);
-            let exponents = crate::glyph::superquadric::pack_exponents([sq.alpha, sq.beta, sq.c]);
-            (rotation, radii, exponents)
-        }
-    };
+    let (rotation, radii, shape) = shape.place(g, g.rotation, style.radii(g), style);
     GlyphInstance {
         centre: [c.x as f32, c.y as f32, c.z as f32],
         color: GlyphInstance::pack_color(style.color(g)),
@@ -429,20 +272,6 @@ pub struct Visibility {
     pub degenerate: usize,
     /// Culled in the vertex stage: outside the view frustum or below the pixel size asked for.
     pub culled: usize,
-}
-
-/// `bounding_radius` of common.wgsl: a sphere around the glyph as ellipsoid or capped cylinder.
-pub fn bounding_radius(r: [f32; 3]) -> f64 {
-    f64::from(r[0]).hypot(f64::from(r[1].max(r[2])))
-}
-
-/// The radius the vertex stage of `glyph`'s methods culls with: [`bounding_radius`], or for
-/// superquadrics the corner of their local box (`length(radii)`).
-pub fn bounding_radius_as(r: [f32; 3], glyph: GlyphKind) -> f64 {
-    match glyph {
-        GlyphKind::Superquadric => DVec3::from(r.map(f64::from)).length(),
-        _ => bounding_radius(r),
-    }
 }
 
 /// The culling test of `skip_glyph` in common.wgsl, in f64.
@@ -527,72 +356,12 @@ impl Scene {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
         self.instances.iter().all(|g| {
-            !crate::scene::rules::drawable_radii(g.radii) || {
+            !crate::shape::rules::drawable_radii(g.radii) || {
                 let geo = GlyphGeometry::of(g);
                 (geo.centre - eye).dot(f) - 1.5 * geo.max_radius() > camera.near * (1.0 + 1e-6)
             }
         })
     }
-}
-
-/// The local frame of a superquadric glyph from its eigen frame: columns `e_i` in the order
-/// `axes` of [`crate::glyph::superquadric::SuperquadricShape`] (local z the symmetry axis), the
-/// middle one negated when that order is a reflection (the solid is mirror-symmetric), and the
-/// radii in the same order.
-pub fn superquadric_frame(
-    rotation: [f32; 4],
-    radii: [f32; 3],
-    axes: [usize; 3],
-) -> ([f32; 4], [f32; 3]) {
-    permuted_frame(rotation, radii, axes, 1)
-}
-
-/// Reorder an eigen frame for a cylinder glyph (cylinder-capsule.md §6): the axis (first column)
-/// is the direction of the largest radius, or of the smallest for planar shapes (cp > cl, a
-/// disc), so the axis does not jump between neighbours whose two largest radii are close.
-/// The frame stays right-handed.
-pub fn cylinder_frame(rotation: [f32; 4], radii: [f32; 3]) -> ([f32; 4], [f32; 3]) {
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| radii[b].total_cmp(&radii[a]));
-    let [a, b, c] = order.map(|i| f64::from(radii[i]));
-    let (cl, cp) = if a > 0.0 {
-        ((a - b) / a, (b - c) / a)
-    } else {
-        (0.0, 0.0)
-    };
-    let cols = if cp > cl {
-        [order[2], order[0], order[1]]
-    } else {
-        [order[0], order[1], order[2]]
-    };
-    permuted_frame(rotation, radii, cols, 2)
-}
-
-/// The frame whose columns are columns `cols` of `rotation`'s, column `flip` negated where that
-/// order is a reflection (so it stays a rotation), and the radii in the same order.
-fn permuted_frame(
-    rotation: [f32; 4],
-    radii: [f32; 3],
-    cols: [usize; 3],
-    flip: usize,
-) -> ([f32; 4], [f32; 3]) {
-    let q = DQuat::from_xyzw(
-        f64::from(rotation[0]),
-        f64::from(rotation[1]),
-        f64::from(rotation[2]),
-        f64::from(rotation[3]),
-    )
-    .normalize();
-    let m = DMat3::from_quat(q);
-    let mut f = DMat3::from_cols(m.col(cols[0]), m.col(cols[1]), m.col(cols[2]));
-    if f.determinant() < 0.0 {
-        *f.col_mut(flip) = -f.col(flip);
-    }
-    let q = DQuat::from_mat3(&f).normalize();
-    (
-        [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
-        cols.map(|i| radii[i]),
-    )
 }
 
 #[cfg(test)]
@@ -609,56 +378,17 @@ mod tests {
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
         Scene::build(&set, &style, glyph)
     }
-
-    /// The capsule reaches the cylinder's half-length along the axis, with the cross-section's
-    /// mean as radius: isotropic radii give the sphere, planar ones (R > r1) the ball of R.
-    #[test]
-    fn capsule_of_gives_spheres_for_isotropic_radii() {
-        assert_eq!(capsule_of(DVec3::splat(0.8)), (0.0, 0.8));
-        let (h, r) = capsule_of(DVec3::new(1.0, 0.35, 0.25));
-        assert!((r - 0.3).abs() < 1e-15 && (h + r - 1.0).abs() < 1e-15);
-        assert_eq!(capsule_of(DVec3::new(0.1, 1.0, 0.6)), (0.0, 0.8));
-        // The box holds every point of the capsule and is reached on each face.
-        let geo = GlyphGeometry {
-            centre: DVec3::new(1.0, 2.0, 3.0),
-            frame: DMat3::from_quat(DQuat::from_axis_angle(
-                DVec3::new(0.3, 0.5, 0.8).normalize(),
-                0.9,
-            )),
-            radii: DVec3::new(1.0, 0.35, 0.25),
-            exponents: DVec3::ZERO,
-        };
-        let half = geo.half_extents_as(GlyphKind::Capsule);
-        let mut reach = DVec3::ZERO;
-        for i in 0..=20 {
-            let along = geo.frame.x_axis * (h * (f64::from(i) / 10.0 - 1.0));
-            for j in 0..2000 {
-                let (a, b) = (f64::from(j) * 2.399963, 1.0 - f64::from(j) / 999.5);
-                let dir = DVec3::new(
-                    b,
-                    (1.0 - b * b).max(0.0).sqrt() * a.cos(),
-                    (1.0 - b * b).max(0.0).sqrt() * a.sin(),
-                );
-                let p = along + dir * r;
-                assert!(
-                    (p.abs() - half).max_element() <= 1e-12,
-                    "{p} outside {half}"
-                );
-                reach = reach.max(p.abs());
-            }
-        }
-        assert!(
-            (half - reach).max_element() <= 2e-3 * r,
-            "{reach} vs {half}"
-        );
-    }
-
     /// Front to back in layers: every glyph's layer (its view depth past the nearest centre,
     /// in layer thicknesses computed here from the radii) is at most the next one's, file order
     /// within a layer, and the instances are the same ones.
     #[test]
     fn front_to_back_goes_by_layers_in_file_order() {
-        let scene = grid_scene(9, GlyphKind::Superquadric);
+        for &kind in GlyphKind::VALUES {
+            front_to_back_by_layers(grid_scene(9, kind));
+        }
+    }
+
+    fn front_to_back_by_layers(scene: Scene) {
         let framing = crate::camera::Framing {
             azimuth: 37.0,
             elevation: 21.0,
@@ -718,12 +448,7 @@ mod tests {
         let field = crate::field::synthetic::grid(7);
         let set = derive_glyphs(&field, &crate::progress::Silent);
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
-        for glyph in [
-            GlyphKind::Ellipsoid,
-            GlyphKind::Cylinder,
-            GlyphKind::Capsule,
-            GlyphKind::Superquadric,
-        ] {
+        for &glyph in GlyphKind::VALUES {
             let scene = Scene::build(&set, &style, glyph);
             let (c, half) = Scene::bounding_box(&set, &style, glyph);
             assert!((half - scene.half).length() <= 1e-9 * scene.radius);
@@ -745,48 +470,6 @@ mod tests {
             Scene::bounding_box(&empty, &style, GlyphKind::Ellipsoid),
             (scene.centre, scene.half)
         );
-    }
-
-    /// A superquadric instance is the glyph's own tensor seen in its local frame: the frame's
-    /// third column is the eigenvector the mapping picked as the axis, the radii follow their
-    /// eigenvectors, the exponents are the mapping's (to the 2⁻¹⁴ of their packing), and the
-    /// box holds the solid.
-    #[test]
-    fn superquadric_instances_carry_the_mapping_in_their_local_frame() {
-        use crate::glyph::superquadric::{Sharpness, superquadric_shape};
-        let field = crate::field::synthetic::grid(6);
-        let set = derive_glyphs(&field, &crate::progress::Silent);
-        let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
-        let scene = Scene::build(&set, &style, GlyphKind::Superquadric);
-        let mut axes_seen = [0; 3];
-        for inst in &scene.instances {
-            let g = &set.glyphs[inst.glyph as usize];
-            let shape = superquadric_shape(g.eigenvalues.map(f64::from), Sharpness::default());
-            axes_seen[shape.axis()] += 1;
-            let eigen = crate::tensor::eigen::quat_to_frame(g.rotation);
-            let geo = GlyphGeometry::of(inst);
-            let frame_radii = style.radii(g);
-            for (local, &k) in shape.axes.iter().enumerate() {
-                // The same direction up to sign (the solid is mirror-symmetric).
-                let e = DVec3::from(eigen[k]);
-                let cos = geo.frame.col(local).normalize().dot(e).abs();
-                assert!(cos > 1.0 - 1e-5, "column {local} vs e{k}: cos {cos}");
-                assert_eq!(inst.radii[local], frame_radii[k]);
-            }
-            assert!(geo.frame.determinant() > 0.0);
-            let want = [shape.alpha, shape.beta, shape.c];
-            for (got, want) in inst.exponents().iter().zip(want) {
-                assert!((f64::from(*got) - want).abs() <= want * 2f64.powi(-14));
-            }
-            let box_half = geo.half_extents_as(GlyphKind::Superquadric);
-            for corner in 0..8 {
-                let s = |b: usize| if corner & b != 0 { 1.0 } else { -1.0 };
-                let p = geo.frame * (geo.radii * DVec3::new(s(1), s(2), s(4)));
-                assert!((p.abs() - box_half).max_element() <= 1e-9 * geo.max_radius());
-            }
-        }
-        // The demo field has linear and planar glyphs: both axis choices are exercised.
-        assert!(axes_seen[0] > 0 && axes_seen[2] > 0, "{axes_seen:?}");
     }
 
     #[derive(Default)]

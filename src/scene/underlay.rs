@@ -18,7 +18,6 @@ use crate::camera::{Camera, ViewPreset};
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::glyph::GlyphSet;
-use crate::request::GlyphKind;
 use crate::scene::{GlyphGeometry, Scene};
 use crate::select::Plane;
 use crate::tensor::shape;
@@ -332,8 +331,7 @@ pub fn face_on(field: &TensorField, plane: Plane) -> Option<(DVec3, DVec3)> {
     Some((dir, up))
 }
 
-/// The underlay of `planes`, drawn behind the glyphs of `scene` (drawn as `glyph`) that lie on
-/// each.
+/// The underlay of `planes`, drawn behind the glyphs of `scene` that lie on each.
 pub fn build(
     field: &TensorField,
     set: &GlyphSet,
@@ -341,7 +339,6 @@ pub fn build(
     label: String,
     planes: &[Plane],
     scene: &Scene,
-    glyph: GlyphKind,
 ) -> Result<Underlay, UnderlayError> {
     let lattice = Lattice::of(field)?;
     let per_voxel = match values {
@@ -351,7 +348,7 @@ pub fn build(
     let mut out = Vec::with_capacity(planes.len());
     for &plane in planes {
         let (a, b, mut geometry) = lattice.plane(field, plane)?;
-        geometry.behind = behind(scene, glyph, &geometry, lattice.steps[plane.axis.min(2)]);
+        geometry.behind = behind(scene, &geometry, lattice.steps[plane.axis.min(2)]);
         let dims = lattice.dims;
         let (size, texels) = match (values, &per_voxel) {
             (Values::Volume(volume), _) => resample(volume, &geometry, &lattice, (a, b)),
@@ -412,7 +409,8 @@ fn voxel_values(field: &TensorField, set: &GlyphSet, values: &Values<'_>) -> Vec
 
 /// The largest extent along the plane's normal of the glyphs centred within half a lattice step
 /// of it (a hair more, so the image never touches them).
-fn behind(scene: &Scene, glyph: GlyphKind, geometry: &PlaneGeometry, step: DVec3) -> f64 {
+fn behind(scene: &Scene, geometry: &PlaneGeometry, step: DVec3) -> f64 {
+    let shape = scene.kind.shape();
     let n = geometry.normal;
     let half = 0.5 * step.dot(n).abs();
     let point = geometry.corner + 0.5 * (geometry.u + geometry.v) - scene.origin;
@@ -420,7 +418,7 @@ fn behind(scene: &Scene, glyph: GlyphKind, geometry: &PlaneGeometry, step: DVec3
         .into_par_iter()
         .map(|i| scene.geometry(i))
         .filter(|g: &GlyphGeometry| (g.centre - point).dot(n).abs() <= half)
-        .map(|g| g.half_extents_as(glyph).dot(n.abs()))
+        .map(|g| shape.bounds(&g).dot(n.abs()))
         .filter(|e| e.is_finite())
         .reduce(|| 0.0, f64::max);
     extent * (1.0 + 1e-3) + 1e-6 * step.length()

@@ -6,7 +6,8 @@ use super::Row;
 use crate::camera::{Camera, Projection};
 use crate::glyph::superquadric::{Sharpness, pack_exponents, superquadric_shape};
 use crate::request::GlyphKind;
-use crate::scene::{GlyphInstance, GlyphSpec, Scene, superquadric_frame};
+use crate::scene::{GlyphInstance, GlyphSpec, Scene};
+use crate::shape::superquadric::superquadric_frame;
 
 pub const W: u32 = 256;
 pub const H: u32 = 192;

@@ -9,8 +9,8 @@ use glam::{DMat3, DQuat, DVec2, DVec3, Mat3, Mat4, Quat, Vec3};
 use super::cases::{self, oblique};
 use super::{Row, Status, within};
 use crate::camera::{Camera, Projection};
-use crate::reference::intersect;
 use crate::scene::{GlyphSpec, Scene};
+use crate::shape::ellipsoid;
 use crate::twin::gumhold_ellipsoid;
 
 fn row(case: &'static str, parameter: &'static str, value: f64, method: &str) -> Row {
@@ -127,7 +127,7 @@ pub fn mu_form(quick: bool) -> Vec<Row> {
                 // Exact: the ray from the eye through the exact quad point V(q).
                 let v = t * setup.quad_point_t(q);
                 let rd = (v - eye).normalize();
-                let Some((th, p_t_exact)) = intersect::ellipsoid(eye, rd, DVec3::ZERO, &t_inv)
+                let Some((th, p_t_exact)) = ellipsoid::intersect(eye, rd, DVec3::ZERO, &t_inv)
                 else {
                     continue;
                 };

@@ -136,12 +136,7 @@ impl Default for Options {
     fn default() -> Self {
         Self {
             methods: Method::gpu_methods(),
-            glyphs: vec![
-                GlyphKind::Ellipsoid,
-                GlyphKind::Cylinder,
-                GlyphKind::Capsule,
-                GlyphKind::Superquadric,
-            ],
+            glyphs: GlyphKind::VALUES.to_vec(),
             quick: false,
         }
     }
@@ -185,27 +180,20 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         if probe.only.is_some_and(|only| only != glyph) {
             continue;
         }
-        let superquadrics;
-        let scene = if glyph == GlyphKind::Superquadric {
-            superquadrics = cases::as_superquadrics(&probe.scene);
-            &superquadrics
-        } else {
-            &probe.scene
-        };
+        let drawn = probe.scene.drawn_as(glyph);
+        let scene = &drawn;
         let dc = probe.depth_correction;
         let request = |method, preset| FrameRequest {
             aux: true,
             background: [0.0, 0.0, 0.0, 1.0],
-            ..FrameRequest::preset(method, glyph, dc, preset)
+            ..FrameRequest::preset(method, dc, preset)
         };
-        let reference = ReferenceScene::new(scene, &probe.camera, glyph)
+        let reference = ReferenceScene::new(scene, &probe.camera)
             .render(&request(Method::Reference, Preset::Baseline));
         let mut variants: Vec<(String, FrameRequest)> = Vec::new();
         for &method in &opts.methods {
             variants.push((method.to_string(), request(method, Preset::Baseline)));
-            if method == Method::Gumhold
-                && matches!(glyph, GlyphKind::Ellipsoid | GlyphKind::Superquadric)
-            {
+            if method == Method::Gumhold && glyph.caps().splats {
                 variants.push((SPLAT_LABEL.to_string(), request(method, Preset::Splat)));
             }
         }

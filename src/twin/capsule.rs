@@ -1,14 +1,60 @@
-//! The CPU twin of shaders/capsule.wgsl (the capsule test of cylinder-capsule.md §4 in capsule
-//! space: the glyph's frame scaled by the ball's radius R, the solid within 1 of the segment
-//! |x| <= h) and of the bounding ellipsoid gumhold_capsule.wgsl draws the quad of (§5), in f64
-//! with the shaders' names, so both can be checked against shared/math/test-vectors.json.
+//! The CPU twin of shaders/shape/capsule.wgsl (the capsule test of cylinder-capsule.md §4 in
+//! capsule space: the glyph's frame scaled by the ball's radius R, the solid within 1 of the
+//! segment |x| <= h; the bounding ellipsoid whose quad Gumhold's method draws, §5; the union of
+//! the end balls' screen boxes Sigg's method draws), in f64 with the shaders' names, so they
+//! can be checked against shared/math/test-vectors.json.
 
-use glam::DVec3;
+use glam::{DMat4, DVec3};
+
+use super::ShapeTwin;
+use super::screen_box::{Proxy, QuadricBox, quadric_box};
+use crate::scene::GlyphGeometry;
 
 /// `capsule_of` in capsule.wgsl: (h in units of R, R) from a glyph's radii.
 pub fn capsule_of(r: DVec3) -> (f64, f64) {
-    let (h, radius) = crate::scene::capsule_of(r);
+    let (h, radius) = crate::shape::capsule::capsule_of(r);
     (h / radius, radius)
+}
+
+pub struct Twin;
+
+/// The eye in capsule space inside the capsule (`shape_contains`).
+fn eye_inside(geo: &GlyphGeometry, eye: DVec3) -> bool {
+    let (h, r) = capsule_of(geo.radii);
+    contains((geo.frame.transpose() * (eye - geo.centre)) / r, h)
+}
+
+impl ShapeTwin for Twin {
+    /// The two end balls' boxes, in capsule space for the eye.
+    fn sigg_proxy(&self, view_proj: &DMat4, geo: &GlyphGeometry, eye: DVec3, ortho: bool) -> Proxy {
+        let (h, r) = capsule_of(geo.radii);
+        if !ortho && eye_inside(geo, eye) {
+            return Proxy::Culled;
+        }
+        let (x, y, z) = (
+            geo.frame.x_axis * r,
+            geo.frame.y_axis * r,
+            geo.frame.z_axis * r,
+        );
+        let balls = [
+            quadric_box(view_proj, x, y, z, geo.centre - x * h),
+            quadric_box(view_proj, x, y, z, geo.centre + x * h),
+        ];
+        if (0..6).any(|k| balls[0].reach[k].max(balls[1].reach[k]) < 0.0) {
+            return Proxy::Culled;
+        }
+        let behind = |q: &QuadricBox| q.r4dr4 < 0.0 && q.w_centre <= 0.0;
+        match (balls[0].bbox, balls[1].bbox) {
+            (Some(a), Some(b)) => Proxy::Box(a.union(b)),
+            _ if behind(&balls[0]) && behind(&balls[1]) => Proxy::Culled,
+            _ => Proxy::Viewport,
+        }
+    }
+
+    fn gumhold_bound(&self, geo: &GlyphGeometry, eye: DVec3, ortho: bool) -> Option<DVec3> {
+        let (h, r) = capsule_of(geo.radii);
+        (ortho || !eye_inside(geo, eye)).then(|| bound(h) * r)
+    }
 }
 
 /// The bounding ellipsoid's semi-axes in units of R: the minimal ellipsoid of the cylinder of
@@ -79,7 +125,7 @@ mod tests {
     use super::*;
     use crate::test_vectors::{cases, m3, m4, v3};
     use crate::twin::gumhold_ellipsoid::setup_perspective;
-    use crate::twin::sigg::quadric_box;
+    use crate::twin::screen_box::quadric_box;
     use glam::DMat3;
 
     /// Both capsule cases through the steps of gumhold_capsule.wgsl: the bounding ellipsoid, the

@@ -35,7 +35,7 @@ pub fn orthonormal_pair(z: DVec3) -> (DVec3, DVec3) {
 pub fn setup_perspective(t_inv: &DMat3, c: DVec3, eye: DVec3) -> Option<QuadSetup> {
     let e_t = *t_inv * (eye - c);
     let e2 = e_t.length_squared();
-    if e2.is_nan() || e2 <= crate::scene::rules::EYE_INSIDE_E2 {
+    if e2.is_nan() || e2 <= crate::shape::rules::EYE_INSIDE_E2 {
         return None;
     }
     let e = e2.sqrt();
@@ -322,71 +322,48 @@ pub fn tile_invocations(tris: &[[DVec2; 3]], width: u32, height: u32, block: u32
     total
 }
 
-/// The proxy Gumhold's vertex stage draws for instance `i` (the fragments it shades, since
-/// writing depth disables early rejection). Ellipsoids use their own quad, cylinders the quad
-/// of their bounding ellipsoid (√3 along the axis, √(3/2) across), capsules that of their
-/// circumscribed cylinder's, superquadrics that of the ball around their unit box, or the whole
-/// viewport when the eye is inside that ellipsoid.
+/// The proxy Gumhold's vertex stage draws for instance `i` of `scene` (the fragments it shades,
+/// since writing depth disables early rejection). Ellipsoids use their own quad, the other kinds
+/// the quad of their bounding ellipsoid ([`crate::twin::ShapeTwin::gumhold_bound`]: a cylinder's
+/// √3 along the axis, √(3/2) across; a capsule's circumscribed cylinder's; the ball around a
+/// superquadric's unit box), or the whole viewport when the eye is inside that ellipsoid.
 pub fn proxy_shape(
     scene: &crate::scene::Scene,
     camera: &crate::camera::Camera,
     i: usize,
-    glyph: crate::request::GlyphKind,
 ) -> ProxyShape {
-    use crate::request::GlyphKind;
     let geo = scene.geometry(i);
     let eye = camera.eye - scene.origin;
     let (w, h) = (f64::from(camera.width), f64::from(camera.height));
-    let radii = match glyph {
-        GlyphKind::Ellipsoid => geo.radii,
-        GlyphKind::Cylinder => {
-            let local = (geo.frame.transpose() * (eye - geo.centre)) / geo.radii;
-            if !camera.is_ortho()
-                && local.x.abs() <= 1.0
-                && local.y * local.y + local.z * local.z <= 1.0
-            {
-                return ProxyShape::None;
-            }
-            geo.radii * DVec3::new(3f64.sqrt(), 1.5f64.sqrt(), 1.5f64.sqrt())
-        }
-        GlyphKind::Capsule => {
-            use crate::twin::capsule;
-            let (h, r) = capsule::capsule_of(geo.radii);
-            let local = (geo.frame.transpose() * (eye - geo.centre)) / r;
-            if !camera.is_ortho() && capsule::contains(local, h) {
-                return ProxyShape::None;
-            }
-            capsule::bound(h) * r
-        }
-        GlyphKind::Superquadric => {
-            let sq = crate::reference::superquadric::Superquadric::of(&geo);
-            if !camera.is_ortho() && sq.contains(eye) {
-                return ProxyShape::None;
-            }
-            // The smallest ball about the centre holding the solid (gumhold_superquadric.wgsl).
-            use crate::glyph::superquadric::{BOUND_MARGIN, bounding_scale};
-            geo.radii * (bounding_scale(geo.exponents.to_array()) * BOUND_MARGIN)
+    let ellipsoid = scene.kind == crate::scene::GlyphKind::Ellipsoid;
+    let radii = if ellipsoid {
+        geo.radii
+    } else {
+        match crate::twin::of(scene.kind).gumhold_bound(&geo, eye, camera.is_ortho()) {
+            Some(r) => r,
+            None => return ProxyShape::None,
         }
     };
-    // The ellipsoid shader works with the symmetric T; the cylinder shader in the glyph's local
+    // The ellipsoid shader works with the symmetric T; the solids' shader in the glyph's local
     // frame (A = O diag(r), so its quad is a different, equally valid square).
-    let (t, t_inv) = match glyph {
-        GlyphKind::Ellipsoid => (
+    let (t, t_inv) = if ellipsoid {
+        (
             geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose(),
             geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
-        ),
-        GlyphKind::Cylinder | GlyphKind::Capsule | GlyphKind::Superquadric => (
+        )
+    } else {
+        (
             geo.frame * DMat3::from_diagonal(radii),
             DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
-        ),
+        )
     };
     let setup = if camera.is_ortho() {
         setup_orthographic(&t_inv, camera.forward())
     } else {
         match setup_perspective(&t_inv, geo.centre, eye) {
             Some(s) => s,
-            // Ellipsoid: culled. Cylinder: the near-plane proxy covers the viewport.
-            None if glyph != GlyphKind::Ellipsoid => return ProxyShape::Viewport,
+            // Ellipsoid: culled. Solids: the near-plane proxy covers the viewport.
+            None if !ellipsoid => return ProxyShape::Viewport,
             None => return ProxyShape::None,
         }
     };

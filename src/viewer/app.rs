@@ -469,7 +469,7 @@ impl ViewerApp {
         let req = &key.request;
         let vis = built
             .scene
-            .visibility(&camera, req.glyph(), req.cull, req.min_pixel_radius);
+            .visibility(&camera, req.cull, req.min_pixel_radius);
         self.drawn = built.scene.instances.len()
             - vis.eye_inside
             - vis.behind_camera

@@ -91,7 +91,7 @@ impl Settings {
             background: [r, g, b, 1.0],
             underlay: self.underlay_view,
             effects: self.effects.resolved().supersampled(ssaa),
-            ..FrameRequest::with_options(self.method, self.glyph, self.depth_correction, &self.draw)
+            ..FrameRequest::with_options(self.method, self.depth_correction, &self.draw)
         }
     }
 

@@ -58,12 +58,12 @@ pub fn check_request(
 ) -> Option<(Frame, Accuracy)> {
     let gpu = gpu()?;
     let frame = gpu.render(scene, camera, req).expect("GPU frame");
-    let reference = ReferenceScene::new(scene, camera, req.glyph()).render(req);
+    let reference = ReferenceScene::new(scene, camera).render(req);
     let acc = compare(&frame, &reference, scene);
     eprintln!(
         "{name} ({} {}): {acc:?} (covered {}, fragments {:?})",
         req.method.method(),
-        req.glyph(),
+        scene.kind,
         reference.covered_pixels(),
         frame.fragments
     );
@@ -98,7 +98,7 @@ pub fn assert_scene_bounds(
     camera: &Camera,
     req: &FrameRequest,
 ) -> Accuracy {
-    let reference = ReferenceScene::new(scene, camera, req.glyph()).render(req);
+    let reference = ReferenceScene::new(scene, camera).render(req);
     let a = compare(frame, &reference, scene);
     eprintln!("{label}: {a:?}");
     assert!(reference.covered_pixels() > 5_000, "{label}: a real image");
@@ -109,11 +109,11 @@ pub fn assert_scene_bounds(
     a
 }
 
-/// A request for `method` and `glyph` with aux data (as [`check_request`] needs).
-pub fn aux_request(method: Method, glyph: GlyphKind, depth_correction: bool) -> FrameRequest {
+/// A request for `method` with aux data (as [`check_request`] needs).
+pub fn aux_request(method: Method, depth_correction: bool) -> FrameRequest {
     FrameRequest {
         aux: true,
-        ..FrameRequest::with_options(method, glyph, depth_correction, &baseline())
+        ..FrameRequest::with_options(method, depth_correction, &baseline())
     }
 }
 
@@ -124,7 +124,7 @@ pub fn baseline() -> DrawOptions {
 
 /// Gumhold with `proxy`'s shape and conservative placement, with the aux target (early depth
 /// is the renderer's to declare: [`GpuRenderer::with_early_depth`]).
-pub fn proxy_request(glyph: GlyphKind, proxy: Proxy) -> FrameRequest {
+pub fn proxy_request(proxy: Proxy) -> FrameRequest {
     let opts = DrawOptions {
         proxy: proxy.shape,
         conservative: proxy.conservative,
@@ -132,11 +132,12 @@ pub fn proxy_request(glyph: GlyphKind, proxy: Proxy) -> FrameRequest {
     };
     FrameRequest {
         aux: true,
-        ..FrameRequest::with_options(Method::Gumhold, glyph, true, &opts)
+        ..FrameRequest::with_options(Method::Gumhold, true, &opts)
     }
 }
 
-/// [`check_request`] for `method` and `glyph`: the accuracy only.
+/// [`check_request`] for `method` and the scene's glyphs drawn as `glyph`
+/// ([`Scene::drawn_as`]): the accuracy only.
 pub fn check(
     name: &str,
     scene: &Scene,
@@ -145,8 +146,8 @@ pub fn check(
     glyph: GlyphKind,
     depth_correction: bool,
 ) -> Option<Accuracy> {
-    let req = aux_request(method, glyph, depth_correction);
-    check_request(name, scene, camera, &req).map(|(_, a)| a)
+    let req = aux_request(method, depth_correction);
+    check_request(name, &scene.drawn_as(glyph), camera, &req).map(|(_, a)| a)
 }
 
 /// [`check`] with depth correction, held to [`assert_tight`]'s bounds (skipped without an

@@ -1,10 +1,10 @@
 //! Gumhold's method: long-lived pipelines (per output variant and proxy) that draw a 4-vertex
 //! (quad), 8-vertex (octagon) or 3-vertex (triangle) strip per glyph instance, with no vertex
 //! buffer. Ellipsoids use the glyph's own silhouette quad (optionally moved to its nearest plane:
-//! conservative depth, and optionally built once per glyph by the compute prepass, with splats:
-//! [`prepass`]); cylinders the quad of their bounding ellipsoid, capsules that of their
-//! circumscribed cylinder, superquadrics that of the ball holding them (with the prepass and
-//! splats too). The f64 twin of the shader is
+//! conservative depth); every other kind the quad of its bounding ellipsoid (`shape_of`: a
+//! cylinder's minimal ellipsoid, a capsule's circumscribed cylinder's, the ball holding a
+//! superquadric). Kinds whose capabilities say so are also built once per glyph by the compute
+//! prepass, with splats ([`prepass`]). The f64 twin of the shaders is
 //! [`crate::twin::gumhold_ellipsoid`].
 
 pub mod prepass;
@@ -13,7 +13,7 @@ use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording, record_chunks};
 use crate::render::pipeline::{GlyphLayouts, Variant};
 use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
-use crate::render::shaders::ShaderSource;
+use crate::render::shaders::{MethodShader, ShaderSource};
 use crate::render::strip::StripRenderer;
 use crate::request::{FrameRequest, GlyphKind, Proxy};
 use prepass::{
@@ -46,34 +46,22 @@ pub struct GumholdRenderer {
 }
 
 impl GumholdRenderer {
+    /// Gumhold's pipelines for `glyph`: the ellipsoid's exact quad, or the kind's bounding
+    /// ellipsoid's; the prepass where the kind takes it ([`crate::shape::Capabilities`]).
     pub fn new(ctx: &GpuContext, layouts: &GlyphLayouts, glyph: GlyphKind) -> Self {
-        match glyph {
-            GlyphKind::Ellipsoid => Self {
-                strips: StripRenderer::new(
-                    ctx,
-                    layouts,
-                    ShaderSource::GumholdEllipsoid,
-                    Some(frame_buffer_layout()),
-                ),
-                prepass: Some(PrepassCache::new(ctx, &layouts.group)),
-            },
-            GlyphKind::Cylinder => Self {
-                strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdCylinder, None),
-                prepass: None,
-            },
-            GlyphKind::Capsule => Self {
-                strips: StripRenderer::new(ctx, layouts, ShaderSource::GumholdCapsule, None),
-                prepass: None,
-            },
-            GlyphKind::Superquadric => Self {
-                strips: StripRenderer::new(
-                    ctx,
-                    layouts,
-                    ShaderSource::GumholdSuperquadric,
-                    Some(glyph_list_layout()),
-                ),
-                prepass: Some(PrepassCache::new(ctx, &layouts.group)),
-            },
+        let source = ShaderSource::new(MethodShader::Gumhold, glyph);
+        let prepass = glyph.caps().prepass;
+        // What vs_frames reads per instance: the ellipsoid's frames, another kind's glyph list.
+        let instance_input = prepass.then(|| {
+            if glyph == GlyphKind::Ellipsoid {
+                frame_buffer_layout()
+            } else {
+                glyph_list_layout()
+            }
+        });
+        Self {
+            strips: StripRenderer::new(ctx, layouts, source, instance_input),
+            prepass: prepass.then(|| PrepassCache::new(ctx, &layouts.group)),
         }
     }
 

@@ -214,12 +214,12 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
         });
     ui.horizontal(|ui| {
         ui.label("glyph");
-        ui.selectable_value(&mut settings.glyph, GlyphKind::Ellipsoid, "ellipsoid");
-        ui.selectable_value(&mut settings.glyph, GlyphKind::Cylinder, "cylinder");
-        ui.selectable_value(&mut settings.glyph, GlyphKind::Capsule, "capsule");
-        ui.selectable_value(&mut settings.glyph, GlyphKind::Superquadric, "superquadric");
+        for &kind in GlyphKind::VALUES {
+            ui.selectable_value(&mut settings.glyph, kind, kind.name());
+        }
     });
-    if settings.glyph == GlyphKind::Superquadric {
+    let caps = settings.glyph.caps();
+    if caps.sharpness {
         // A new sharpness rebuilds the scene (it is part of the style).
         ui.add(
             egui::Slider::new(&mut settings.style.sharpness.gamma, 0.0..=10.0).text("sharpness γ"),
@@ -263,16 +263,13 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
                 ui.selectable_value(&mut draw.proxy, shape, name);
             }
         });
-        if settings.glyph == GlyphKind::Ellipsoid && settings.depth_correction {
+        if caps.conservative_depth && settings.depth_correction {
             ui.checkbox(&mut draw.conservative, "conservative depth")
                 .on_hover_text(
                     "proxy on the glyph's nearest plane (lets a GPU reject hidden fragments early)",
                 );
         }
-        if matches!(
-            settings.glyph,
-            GlyphKind::Ellipsoid | GlyphKind::Superquadric
-        ) {
+        if caps.prepass {
             ui.checkbox(&mut draw.prepass, "compute prepass")
                 .on_hover_text("build each glyph's proxy once in compute; always on with splats");
             ui.horizontal(|ui| {

@@ -19,8 +19,8 @@
 
 use glam::{DMat3, DVec3};
 
-use super::intersect::RayHit;
 use crate::glyph::superquadric::{SuperquadricShape, gauge, pnorm, profile};
+use crate::shape::RayHit;
 
 /// The slack of the bound tests, in units of the inside–outside function: a few ulps of its
 /// rounding, so that no stretch is discarded on rounding alone.
@@ -72,7 +72,7 @@ impl Superquadric {
 
     /// The superquadric an instance's geometry is drawn as (`--glyph superquadric`: the frame
     /// and radii already in local order, the exponents as stored).
-    pub fn of(geo: &crate::scene::GlyphGeometry) -> Self {
+    pub fn of(geo: &crate::shape::GlyphGeometry) -> Self {
         Superquadric {
             centre: geo.centre,
             frame: geo.frame,

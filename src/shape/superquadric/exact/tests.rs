@@ -1,6 +1,6 @@
 use super::*;
 use crate::glyph::superquadric::{Sharpness, superquadric_shape};
-use crate::reference::intersect::ellipsoid;
+use crate::shape::ellipsoid::intersect as ellipsoid;
 use crate::test_vectors::{superquadric_vectors as vectors, v3};
 use proptest::prelude::*;
 use serde_json::Value;

@@ -24,7 +24,7 @@ fn cs_frames(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let g = load_glyph(ii);
     let o = quat_to_mat3(g.rotation);
-    let solid = solid_of(g, ii);
+    let solid = shape_of(g, ii);
     let q = solid_quad(g, o, solid);
     if !q.drawn {
         return;
@@ -57,7 +57,7 @@ fn sq_splat_pixels(q: SolidQuad) -> vec4<i32> {
 fn splat_glyph(ii: u32, second: bool) {
     let g = load_glyph(ii);
     let o = quat_to_mat3(g.rotation);
-    let solid = solid_of(g, ii);
+    let solid = shape_of(g, ii);
     sq_splat(g, o, solid, ii + 1u, sq_splat_pixels(solid_quad(g, o, solid)), second);
 }
 
@@ -249,7 +249,7 @@ fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
         return hit;
     }
     let g = load_glyph(ii);
-    let s = sq_pixels_of(g, quat_to_mat3(g.rotation), solid_of(g, ii));
+    let s = sq_pixels_of(g, quat_to_mat3(g.rotation), shape_of(g, ii));
     let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
     // View z from the key, then the ray's t.
     let z = -bitcast<f32>(0xffffffffu - key);

@@ -1,14 +1,16 @@
-// Solid glyphs (cylinders, capsules) ray cast on Gumhold's quad of a bounding ellipsoid
-// (cylinder-capsule.md §5), in the glyph's local parameter space p~ = diag(1/scale) Oᵀ (p − c).
+// Gumhold's method for every kind but the ellipsoid (whose exact quad is gumhold_ellipsoid.wgsl):
+// the glyph ray cast on Gumhold's quad of a bounding ellipsoid (cylinder-capsule.md §5), in the
+// glyph's local parameter space p~ = diag(1/scale) Oᵀ (p − c).
 // The ray starts at the quad point V, next to the glyph: p = V + t v with v = V − e, in front of
 // the eye for t > −1. When the eye is inside the bounding ellipsoid but outside the solid (near
 // a cap), the proxy becomes the whole near plane. Orthographic rays are instead formed from the
 // fragment's position (glyph_pixel_ray, as Sigg's method does): V interpolated across the quad
 // is only as exact as an attribute plane rounded over the whole screen, and at the rims that
 // error moves the nearly tangent ray's hit by more than the depth bound (perspective rays stay
-// within it). The shape's own file, composed before this one, gives `solid_radius` (a bounding
-// sphere's radius), `solid_of` (scale, bounding ellipsoid, shape parameter), `solid_contains` and
-// `solid_entry` (entry t and local normal, discarding on a miss).
+// within it). The kind's shape file (the interface in common.wgsl's `Solid`) gives the
+// bounding sphere (`shape_radius`), the scale, bounding ellipsoid and parameters (`shape_of`),
+// the eye test (`shape_contains`) and the entry (`shape_entry`: t and local normal, discarding
+// on a miss).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
@@ -33,7 +35,7 @@ struct VsOut {
     @location(10) @interpolate(flat) c_view: vec3<f32>,
 }
 
-// The quad of a glyph's bounding ellipsoid (g, its rotation o, solid_of): corner s at
+// The quad of a glyph's bounding ellipsoid (g, its rotation o, shape_of): corner s at
 // m + s.x x + s.y y (world), or (near) the whole near plane; not `drawn` when the glyph is
 // degenerate, culled or holds the eye.
 struct SolidQuad {
@@ -46,7 +48,7 @@ struct SolidQuad {
 
 fn solid_quad(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SolidQuad {
     var q: SolidQuad;
-    if !drawable(g.radii) || skip_glyph(g.centre, solid_radius(g.radii)) {
+    if !drawable(g.radii) || skip_glyph(g.centre, shape_radius(g.radii)) {
         return q;
     }
     let ot = transpose(o);
@@ -60,7 +62,7 @@ fn solid_quad(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SolidQuad {
         z_hat = normalize((ot * camera.forward.xyz) / solid.scale / solid.bound);
     } else {
         let e_c = (ot * (camera.eye.xyz - g.centre)) / solid.scale;
-        if solid_contains(e_c, solid.shape) {
+        if shape_contains(e_c, solid.shape) {
             // Eye inside the glyph: not drawn (as for ellipsoids; the reference agrees).
             return q;
         }
@@ -93,7 +95,7 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
     var out: VsOut;
     let g = load_glyph(ii);
     let o = quat_to_mat3(g.rotation);
-    let solid = solid_of(g, ii);
+    let solid = shape_of(g, ii);
     let q = solid_quad(g, o, solid);
     if !q.drawn {
         out.position = CULLED_POSITION;
@@ -147,7 +149,7 @@ fn ray_cast(in: VsOut) -> Hit {
         v_t = r.v_t;
         t_min = -3.0e38;
     }
-    let entry = solid_entry(o_t, v_t, in.shape, t_min);
+    let entry = shape_entry(o_t, v_t, in.shape, t_min);
     let t = entry.x;
     var p_view: vec3<f32>;
     var hit: Hit;

@@ -1,0 +1,150 @@
+// Capsule glyphs, the shape interface of common.wgsl, after cylinder-capsule.md §4–§5: the
+// segment of half-length h along the frame's first column swept by a ball of radius R
+// (capsule_of). Capsule space (the parameter space): the glyph's local frame scaled by R, where
+// the solid is every point within 1 of the segment |x| <= h on the x axis; a uniform scale, so
+// normals need no inverse transpose. Gumhold's quad is that of the minimal ellipsoid of the
+// circumscribed cylinder of half-length h + R and radius R: √3 (h + R) along the axis, √(3/2) R
+// across. Twin: src/twin/capsule.rs.
+
+// The capsule of a glyph's radii: (H, R) with R = (r.y + r.z)/2 and the segment's half-length
+// max(r.x − R, 0) as H in units of R. Mirrored by shape::capsule::capsule_of.
+fn capsule_of(r: vec3<f32>) -> vec2<f32> {
+    let radius = 0.5 * (r.y + r.z);
+    return vec2<f32>(max(r.x - radius, 0.0) / radius, radius);
+}
+
+// Outward normal at p (capsule space; unit on the surface): from the nearest segment point.
+fn capsule_normal(p: vec3<f32>, h: f32) -> vec3<f32> {
+    return p - vec3<f32>(clamp(p.x, -h, h), 0.0, 0.0);
+}
+
+fn capsule_contains(p: vec3<f32>, h: f32) -> bool {
+    let n = capsule_normal(p, h);
+    return dot(n, n) <= 1.0;
+}
+
+// Both roots of a t² + 2 b t + c = 0 with disc = b² − a c >= 0, ascending, as q/a and c/q.
+fn capsule_roots(a: f32, b: f32, c: f32, disc: f32) -> vec2<f32> {
+    let q = -(b + select(-1.0, 1.0, b >= 0.0) * sqrt(disc));
+    var r1 = 0.0;
+    var r2 = 0.0;
+    if q != 0.0 {
+        r1 = q / a;
+        r2 = c / q;
+    }
+    return vec2<f32>(min(r1, r2), max(r1, r2));
+}
+
+// The crossing belonging to root t of the infinite cylinder (the entry when `entry`, else the
+// exit): t itself where it lies along the segment, else the matching root of the ball at the
+// end it lies beyond (the end's flat disc lies inside that ball). Discards on a miss.
+fn capsule_crossing(o: vec3<f32>, v: vec3<f32>, h: f32, t: f32, entry: bool) -> f32 {
+    let s = o.x + t * v.x;
+    if abs(s) <= h {
+        return t;
+    }
+    let ok = o - vec3<f32>(select(-h, h, s > 0.0), 0.0, 0.0);
+    let a = dot(v, v);
+    let b = dot(ok, v);
+    let c = dot(ok, ok) - 1.0;
+    let disc = b * b - a * c;
+    if !(disc >= 0.0) {
+        discard;
+    }
+    let r = capsule_roots(a, b, c, disc);
+    return select(r.y, r.x, entry);
+}
+
+// Entry and exit (t_in, t_out) of the capsule along o + t v (capsule space); discards on a miss.
+fn capsule_span(o: vec3<f32>, v: vec3<f32>, h: f32) -> vec2<f32> {
+    var side = vec2<f32>(-1e30, 1e30);
+    let a = dot(v.yz, v.yz);
+    let b = dot(o.yz, v.yz);
+    let c = dot(o.yz, o.yz) - 1.0;
+    if a > 0.0 {
+        let disc = b * b - a * c;
+        // Both balls lie inside the infinite cylinder.
+        if !(disc >= 0.0) {
+            discard;
+        }
+        side = capsule_roots(a, b, c, disc);
+    } else if c > 0.0 {
+        discard;
+    }
+    return vec2<f32>(capsule_crossing(o, v, h, side.x, true), capsule_crossing(o, v, h, side.y, false));
+}
+
+fn shape_radius(radii: vec3<f32>) -> f32 {
+    return bounding_radius(radii);
+}
+
+// Scale R, the shape's x the segment's half-length h in units of R.
+fn shape_of(g: Glyph, ii: u32) -> Solid {
+    let cap = capsule_of(g.radii);
+    let h = cap.x;
+    return Solid(vec3<f32>(cap.y), vec3<f32>(1.7320508 * (h + 1.0), 1.2247449, 1.2247449), vec4<f32>(h, 0.0, 0.0, 0.0));
+}
+
+fn shape_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {
+    return capsule_contains(p, shape.x);
+}
+
+fn shape_entry(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> vec4<f32> {
+    let h = shape.x;
+    let t = capsule_span(o, v, h).x;
+    return vec4<f32>(t, capsule_normal(o + t * v, h));
+}
+
+// The union of the two end balls' eq. 5 boxes, exact in front of the camera plane.
+fn shape_box(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SiggBox {
+    let h = solid.shape.x;
+    let r = solid.scale.x;
+    let w = o[0] * (h * r);
+    let b1 = quadric_box(o[0] * r, o[1] * r, o[2] * r, g.centre - w);
+    let b2 = quadric_box(o[0] * r, o[1] * r, o[2] * r, g.centre + w);
+    return hull_box(b1, b2);
+}
+
+// The ray's origin (the ray point nearest the centre) can lie h + 1 radii from where the ray
+// passes a long capsule's axis: there |o~.yz|² − 1 loses the 1 in f32. It slides to the point
+// nearest the axis (β ≈ 0 for the side), kept within the balls' reach. Then the entry if it lies
+// in front of the ray's start, else (orthographic start inside the glyph) the exit, as the
+// reference does.
+fn shape_cast(r: ptr<function, ParamRay>, shape: vec4<f32>) -> vec4<f32> {
+    let h = shape.x;
+    let a = dot((*r).v_t.yz, (*r).v_t.yz);
+    if a > 0.0 {
+        var s = -dot((*r).o_t.yz, (*r).v_t.yz) / a;
+        let x = (*r).o_t.x + s * (*r).v_t.x;
+        if abs(x) > h + 1.0 && (*r).v_t.x != 0.0 {
+            s = (clamp(x, -h - 1.0, h + 1.0) - (*r).o_t.x) / (*r).v_t.x;
+        }
+        (*r).off += s * (*r).d;
+        (*r).t0 += s;
+        (*r).o_t += s * (*r).v_t;
+    }
+    let span = capsule_span((*r).o_t, (*r).v_t, h);
+    var t = span.x;
+    if !((*r).t0 + t > 0.0) {
+        t = span.y;
+        if !((*r).t0 + t > 0.0) {
+            discard;
+        }
+    }
+    return vec4<f32>(t, capsule_normal((*r).o_t + t * (*r).v_t, h));
+}
+
+// The unit capsule's point is its end (x = ±1) plus the unit normal: placed at
+// h sign(p.x) x + R n.
+fn shape_mesh_point(p: vec3<f32>, n: vec3<f32>, g: Glyph, solid: Solid) -> MeshPoint {
+    let h = solid.shape.x;
+    let r = solid.scale.x;
+    return MeshPoint(vec3<f32>(sign(p.x) * h * r, 0.0, 0.0) + r * n, n);
+}
+
+// [−1, 1]³ scaled to (h + R, R, R).
+fn shape_box_half(g: Glyph, solid: Solid) -> vec3<f32> {
+    let h = solid.shape.x;
+    let r = solid.scale.x;
+    return vec3<f32>((h + 1.0) * r, r, r);
+}

@@ -1,0 +1,426 @@
+//! Capsules: the cylinder's axis with rounded ends, a segment swept by a ball
+//! (cylinder-capsule.md §4–§6). In capsule space, the local frame scaled by the ball's radius R,
+//! the solid is every point within 1 of the segment |x| ≤ h.
+
+use glam::DVec3;
+
+use super::cylinder::cylinder_frame;
+use super::geometry::bounding_radius;
+use super::mesh::{Mesh, prism_sides};
+use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, RayHit, Shape, stable_roots};
+use crate::glyph::{Glyph, ResolvedStyle};
+
+pub const WGSL: &str = include_str!("../../shaders/shape/capsule.wgsl");
+
+/// The capsule kind.
+pub struct Kind;
+
+impl Shape for Kind {
+    fn kind(&self) -> GlyphKind {
+        GlyphKind::Capsule
+    }
+
+    fn caps(&self) -> Capabilities {
+        Capabilities {
+            prepass: false,
+            splats: false,
+            conservative_depth: false,
+            sharpness: false,
+            benched_by_default: false,
+        }
+    }
+
+    /// The cylinder's frame: the capsule's axis is the cylinder's.
+    fn place(
+        &self,
+        _g: &Glyph,
+        rotation: [f32; 4],
+        radii: [f32; 3],
+        _style: &ResolvedStyle,
+    ) -> ([f32; 4], [f32; 3], [u32; 2]) {
+        let (rotation, radii) = cylinder_frame(rotation, radii);
+        (rotation, radii, [0; 2])
+    }
+
+    /// The box of the segment swept by the ball (which may reach beyond the cylinder's box:
+    /// its radius is the cross-section's mean).
+    fn bounds(&self, geo: &GlyphGeometry) -> DVec3 {
+        let (h, r) = capsule_of(geo.radii);
+        (geo.frame.x_axis * h).abs() + r
+    }
+
+    fn cull_radius(&self, radii: [f32; 3]) -> f64 {
+        bounding_radius(radii)
+    }
+
+    fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact> {
+        Box::new(Capsule::of(geo))
+    }
+
+    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
+        Capsule::of(geo).contains(p)
+    }
+
+    fn unit_mesh(&self, level: u8) -> Mesh {
+        unit_capsule(level)
+    }
+
+    fn mesh_stats(&self, level: u8) -> (usize, usize) {
+        let (s, m) = (prism_sides(level) as usize, capsule_rings(level) as usize);
+        (2 * m * s + 2, 4 * m * s)
+    }
+
+    fn wgsl(&self) -> &'static [&'static str] {
+        &[WGSL]
+    }
+}
+
+/// The capsule drawn for an instance's radii `r` (axis along the frame's first column, as the
+/// cylinder's; cylinder-capsule.md §4, §6): `(h, R)` with the ball's radius R = (r2 + r3)/2, the
+/// circular cross-section between the cylinder's semi-axes, and the straight segment's half-length
+/// h = max(r1 − R, 0). The capsule reaches r1 along its axis when r1 ≥ R, so an isotropic tensor
+/// (r1 = r2 = r3) is a sphere of that radius; when R > r1 (planar tensors, whose cylinder axis is
+/// e3) it is the sphere of radius R. Mirrored by `capsule_of` in shaders/shape/capsule.wgsl.
+pub fn capsule_of(r: DVec3) -> (f64, f64) {
+    let radius = 0.5 * (r.y + r.z);
+    ((r.x - radius).max(0.0), radius)
+}
+
+/// A capsule: the segment from `c − h n` to `c + h n` (`n` unit) swept by a ball of radius `r`
+/// (cylinder-capsule.md §4).
+#[derive(Debug, Clone, Copy)]
+pub struct Capsule {
+    pub c: DVec3,
+    pub axis: DVec3,
+    pub h: f64,
+    pub r: f64,
+}
+
+impl Capsule {
+    /// The capsule an instance's geometry is drawn as ([`capsule_of`]).
+    pub fn of(geo: &GlyphGeometry) -> Self {
+        let (h, r) = capsule_of(geo.radii);
+        Self {
+            c: geo.centre,
+            axis: geo.frame.x_axis.normalize(),
+            h,
+            r,
+        }
+    }
+
+    /// The point of the segment nearest to `p` (relative to the centre).
+    fn foot(&self, p: DVec3) -> DVec3 {
+        self.axis * p.dot(self.axis).clamp(-self.h, self.h)
+    }
+
+    pub fn contains(&self, p: DVec3) -> bool {
+        let q = p - self.c;
+        (q - self.foot(q)).length_squared() <= self.r * self.r
+    }
+
+    /// Half-extents of its axis-aligned bounding box.
+    pub fn half_extents(&self) -> DVec3 {
+        (self.axis * self.h).abs() + self.r
+    }
+
+    /// First forward crossing of the surface by `o + t d` (`d` unit): §4 of the note for the
+    /// entry and, reversed, for the exit, from the ray point nearest the centre (§5's
+    /// well-conditioned origin), so nothing cancels for distant glyphs.
+    pub fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
+        let n = self.axis;
+        let mut t0 = (self.c - o).dot(d);
+        // The origin relative to the centre; a, b relative to the origin.
+        let mut o_c = (o - self.c) + d * t0;
+        // Then the ray point nearest the axis (within the balls' reach along it): nearest the
+        // centre can be far from the glyph's surface for a long, thin capsule.
+        let across = d - n * d.dot(n);
+        if across.length_squared() > 0.0 {
+            let mut s = -(o_c - n * o_c.dot(n)).dot(across) / across.length_squared();
+            let x = (o_c + d * s).dot(n);
+            let reach = self.h + self.r;
+            if x.abs() > reach && d.dot(n) != 0.0 {
+                s += (x.clamp(-reach, reach) - x) / d.dot(n);
+            }
+            t0 += s;
+            o_c += d * s;
+        }
+        let a = -n * self.h - o_c;
+        let length = 2.0 * self.h;
+        let alpha = a.dot(n);
+        let beta = d.dot(n);
+        // §2's A, B, C from the parts across the axis (1 − β² cancels for rays along it).
+        let a_perp = a - n * alpha;
+        let d_perp = d - n * beta;
+        let qa = d_perp.length_squared();
+        let qb = -a_perp.dot(d_perp);
+        let qc = a_perp.length_squared() - self.r * self.r;
+        let (side_in, side_out) = if qa > 0.0 {
+            let disc = qb * qb - qa * qc;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            stable_roots(qa, qb, qc, disc)
+        } else if qc > 0.0 {
+            return None;
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
+        // The crossing at side root `t` (entry or exit): on the side if its axial coordinate s
+        // is within [0, L], else on the ball at the end it lies beyond.
+        let crossing = |t: f64, entry: bool| -> Option<(f64, DVec3)> {
+            let s = t * beta - alpha;
+            if (0.0..=length).contains(&s) {
+                return Some((t, (d * t - a - n * s) / self.r));
+            }
+            let k = if s < 0.0 { a } else { a + n * length };
+            let delta = k.dot(d);
+            let ck = k.length_squared() - self.r * self.r;
+            let disc = delta * delta - ck;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            let (near, far) = stable_roots(1.0, -delta, ck, disc);
+            let tk = if entry { near } else { far };
+            Some((tk, (d * tk - k) / self.r))
+        };
+        let (t_in, n_in) = crossing(side_in, true)?;
+        let (t, normal) = if t0 + t_in > 0.0 {
+            (t_in, n_in)
+        } else {
+            // From inside, the exit is the only forward crossing.
+            let (t_out, n_out) = crossing(side_out, false)?;
+            if t0 + t_out <= 0.0 {
+                return None;
+            }
+            (t_out, n_out)
+        };
+        Some(RayHit {
+            t: t0 + t,
+            normal: normal.normalize(),
+        })
+    }
+}
+
+impl Exact for Capsule {
+    fn centre(&self) -> DVec3 {
+        self.c
+    }
+
+    fn half_extents(&self) -> DVec3 {
+        Capsule::half_extents(self)
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        Capsule::contains(self, p)
+    }
+
+    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
+        Capsule::intersect(self, o, d)
+    }
+}
+
+/// Latitude steps per hemisphere of the `mesh:N` capsule: as close to the longitude step (a
+/// quarter of the sides) as whole steps allow.
+pub fn capsule_rings(level: u8) -> u32 {
+    prism_sides(level).div_ceil(4)
+}
+
+/// The unit capsule (segment x ∈ [−1, 1], radius 1) with 6·2^N sides around and M =
+/// [`capsule_rings`] latitude steps per hemisphere, smooth normals throughout (the equators are
+/// shared by the hemisphere and the tube): 2MS + 2 vertices and 4MS triangles for S sides.
+pub fn unit_capsule(level: u8) -> Mesh {
+    let s = prism_sides(level);
+    let m = capsule_rings(level);
+    let mut mesh = Mesh::default();
+    // Ring j of end `x` at polar angle θ = j π / (2M) from that end's pole.
+    let ring_point = |x: f64, j: u32, k: u32| {
+        let theta = std::f64::consts::FRAC_PI_2 * f64::from(j) / f64::from(m);
+        let a = std::f64::consts::TAU * f64::from(k % s) / f64::from(s);
+        let n = [
+            x * theta.cos(),
+            theta.sin() * a.cos(),
+            theta.sin() * a.sin(),
+        ];
+        ([x + n[0], n[1], n[2]], n)
+    };
+    let pole_a = mesh.push([-2.0, 0.0, 0.0], [-1.0, 0.0, 0.0]);
+    // Rings from the −x pole to its equator, then from the +x equator to its pole: 2M rings.
+    let mut rings: Vec<u32> = Vec::new();
+    for (x, js) in [
+        (-1.0, (1..=m).collect::<Vec<_>>()),
+        (1.0, (1..=m).rev().collect()),
+    ] {
+        for j in js {
+            rings.push(mesh.vertices.len() as u32);
+            for k in 0..s {
+                let (p, n) = ring_point(x, j, k);
+                mesh.push(p, n);
+            }
+        }
+    }
+    let pole_b = mesh.push([2.0, 0.0, 0.0], [1.0, 0.0, 0.0]);
+    // Looking down −x at the −x pole the ring angle a runs clockwise.
+    let first = rings[0];
+    for k in 0..s {
+        mesh.indices
+            .extend([pole_a, first + (k + 1) % s, first + k]);
+    }
+    for pair in rings.windows(2) {
+        let (r0, r1) = (pair[0], pair[1]);
+        for k in 0..s {
+            let k1 = (k + 1) % s;
+            mesh.indices
+                .extend([r0 + k, r0 + k1, r1 + k1, r0 + k, r1 + k1, r1 + k]);
+        }
+    }
+    let last = *rings.last().unwrap();
+    for k in 0..s {
+        mesh.indices.extend([pole_b, last + k, last + (k + 1) % s]);
+    }
+    mesh
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_vectors::{cases, v3};
+    use glam::{DMat3, DQuat};
+
+    /// With no segment the capsule is the ball: every ray meets it where it meets the sphere.
+    #[test]
+    fn capsule_without_segment_is_the_sphere() {
+        let (c, r) = (DVec3::new(3.0, -1.0, 2.0), 0.7);
+        let ball = Capsule {
+            c,
+            axis: DVec3::new(0.6, 0.0, 0.8),
+            h: 0.0,
+            r,
+        };
+        let t_inv = DMat3::from_diagonal(DVec3::splat(1.0 / r));
+        let mut hits = 0;
+        for k in 0..200 {
+            let a = f64::from(k) * 0.7;
+            let o = c + DVec3::new(a.cos(), (1.3 * a).sin(), 0.5 * a.sin()) * 5.0;
+            let aim = c + DVec3::new((2.1 * a).sin(), a.cos(), (0.9 * a).cos()) * 0.8;
+            let d = (aim - o).normalize();
+            let want = crate::shape::ellipsoid::intersect(o, d, c, &t_inv);
+            let got = ball.intersect(o, d);
+            assert_eq!(got.is_some(), want.is_some(), "ray {k}");
+            if let (Some(g), Some((t, p_t))) = (got, want) {
+                assert!((g.t - t).abs() <= 1e-12 * t, "ray {k}: {} vs {t}", g.t);
+                assert!((g.normal - p_t.normalize()).length() <= 1e-12, "ray {k}");
+                hits += 1;
+            }
+        }
+        assert!(hits > 50 && hits < 200, "{hits} hits");
+    }
+
+    /// The capsule vectors: end points a, b and radius R; one side and one ball hit.
+    #[test]
+    fn capsule_hits_match_the_test_vectors() {
+        let mut checked = 0;
+        for case in cases().iter().filter(|c| c["kind"] == "capsule") {
+            let id = case["id"].as_str().unwrap();
+            let g = &case["glyph"];
+            let e = &case["expected"];
+            let (a, b) = (v3(&g["a"]), v3(&g["b"]));
+            let cap = Capsule {
+                c: (a + b) / 2.0,
+                axis: (b - a).normalize(),
+                h: (b - a).length() / 2.0,
+                r: g["R"].as_f64().unwrap(),
+            };
+            let o = v3(&e["ray"]["origin"]);
+            let d = v3(&e["ray"]["dir"]);
+            let hit = cap.intersect(o, d).expect(id);
+            let size = cap.h + cap.r;
+            let p = o + d * hit.t;
+            assert!(
+                (p - v3(&e["point"])).length() <= 1e-9 * size,
+                "{id}: point {p}"
+            );
+            assert!(
+                (hit.normal - v3(&e["normal"])).length() <= 1e-9,
+                "{id}: normal {}",
+                hit.normal
+            );
+            // From inside (the centre), the only forward crossing is the exit: on the surface,
+            // its normal along the ray.
+            let exit = cap.intersect(cap.c, d).expect(id);
+            let q = d * exit.t;
+            assert!(cap.contains(cap.c));
+            assert!(
+                ((q - cap.foot(q)).length() - cap.r).abs() <= 1e-12 * size,
+                "{id}: exit"
+            );
+            assert!(exit.normal.dot(d) > 0.0, "{id}: exit normal");
+            checked += 1;
+        }
+        assert_eq!(checked, 2);
+    }
+
+    #[test]
+    fn unit_capsule_vertices_are_their_end_plus_the_normal() {
+        for level in 0..=2 {
+            for v in unit_capsule(level).vertices {
+                // The end plus the unit normal, on the outer side of its end.
+                let p = v.position.map(f64::from);
+                let n = v.normal.map(f64::from);
+                let end = p[0].signum();
+                assert!(
+                    (n[0] * n[0] + n[1] * n[1] + n[2] * n[2] - 1.0).abs() < 1e-6,
+                    "{v:?}"
+                );
+                assert!(
+                    (p[0] - end - n[0]).abs() < 1e-6 && p[1] == n[1] && p[2] == n[2],
+                    "{v:?}"
+                );
+                assert!(n[0] * end >= -1e-7, "{v:?}");
+            }
+        }
+        assert_eq!(Kind.mesh_stats(0), (26, 48));
+    }
+
+    /// The capsule reaches the cylinder's half-length along the axis, with the cross-section's
+    /// mean as radius: isotropic radii give the sphere, planar ones (R > r1) the ball of R.
+    #[test]
+    fn capsule_of_gives_spheres_for_isotropic_radii() {
+        assert_eq!(capsule_of(DVec3::splat(0.8)), (0.0, 0.8));
+        let (h, r) = capsule_of(DVec3::new(1.0, 0.35, 0.25));
+        assert!((r - 0.3).abs() < 1e-15 && (h + r - 1.0).abs() < 1e-15);
+        assert_eq!(capsule_of(DVec3::new(0.1, 1.0, 0.6)), (0.0, 0.8));
+        // The box holds every point of the capsule and is reached on each face.
+        let geo = GlyphGeometry {
+            centre: DVec3::new(1.0, 2.0, 3.0),
+            frame: DMat3::from_quat(DQuat::from_axis_angle(
+                DVec3::new(0.3, 0.5, 0.8).normalize(),
+                0.9,
+            )),
+            radii: DVec3::new(1.0, 0.35, 0.25),
+            exponents: DVec3::ZERO,
+        };
+        let half = Kind.bounds(&geo);
+        let mut reach = DVec3::ZERO;
+        for i in 0..=20 {
+            let along = geo.frame.x_axis * (h * (f64::from(i) / 10.0 - 1.0));
+            for j in 0..2000 {
+                let (a, b) = (f64::from(j) * 2.399963, 1.0 - f64::from(j) / 999.5);
+                let dir = DVec3::new(
+                    b,
+                    (1.0 - b * b).max(0.0).sqrt() * a.cos(),
+                    (1.0 - b * b).max(0.0).sqrt() * a.sin(),
+                );
+                let p = along + dir * r;
+                assert!(
+                    (p.abs() - half).max_element() <= 1e-12,
+                    "{p} outside {half}"
+                );
+                reach = reach.max(p.abs());
+            }
+        }
+        assert!(
+            (half - reach).max_element() <= 2e-3 * r,
+            "{reach} vs {half}"
+        );
+    }
+}

@@ -1,0 +1,150 @@
+//! A glyph instance as the GPU reads it and as the f64 code sees it: the vocabulary every
+//! kind's geometry, the scene, the back ends and the twins share.
+
+use glam::{DMat3, DQuat, DVec3};
+
+/// One glyph instance at full f32 precision, as built on the CPU: the reference ray casts these,
+/// the GPU reads them packed ([`crate::render::gpu_data::GpuGlyph`], 32 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct GlyphInstance {
+    /// Centre relative to the scene origin.
+    pub centre: [f32; 3],
+    /// RGBA8 (R in the lowest byte).
+    pub color: u32,
+    /// Unit quaternion (x, y, z, w) of the instance frame.
+    pub rotation: [f32; 4],
+    /// Semi-axes along the frame's columns.
+    pub radii: [f32; 3],
+    /// Index into the glyph list the scene was built from (instances may be reordered).
+    pub glyph: u32,
+    /// The kind's parameter words: a superquadric's exponents (α, β, c) as the GPU reads them
+    /// ([`crate::glyph::superquadric::pack_exponents`]; its frame's third column is then the
+    /// symmetry axis and `radii` are in local (x, y, z) order); `[0, 0]` for kinds without
+    /// parameters.
+    pub shape: [u32; 2],
+}
+
+impl GlyphInstance {
+    /// The superquadric exponents (α, β, c) stored in [`Self::shape`].
+    pub fn exponents(&self) -> [f32; 3] {
+        crate::glyph::superquadric::unpack_exponents(self.shape)
+    }
+
+    pub fn pack_color(rgba: [u8; 4]) -> u32 {
+        u32::from_le_bytes(rgba)
+    }
+
+    pub fn color_rgba(&self) -> [u8; 4] {
+        self.color.to_le_bytes()
+    }
+}
+
+/// A glyph instance's geometry in f64, as both the reference and the tests need it.
+#[derive(Debug, Clone, Copy)]
+pub struct GlyphGeometry {
+    /// Centre relative to the scene origin.
+    pub centre: DVec3,
+    /// The instance frame O (columns).
+    pub frame: DMat3,
+    pub radii: DVec3,
+    /// Superquadric exponents (α, β, c) ([`GlyphInstance::exponents`]; 0 for other glyphs).
+    pub exponents: DVec3,
+}
+
+impl GlyphGeometry {
+    pub fn of(g: &GlyphInstance) -> Self {
+        let q = DQuat::from_xyzw(
+            f64::from(g.rotation[0]),
+            f64::from(g.rotation[1]),
+            f64::from(g.rotation[2]),
+            f64::from(g.rotation[3]),
+        );
+        Self {
+            centre: DVec3::from(g.centre.map(f64::from)),
+            // The shader normalises nothing: use the quaternion exactly as stored, like it does.
+            frame: quat_to_mat3_unnormalised(q),
+            radii: DVec3::from(g.radii.map(f64::from)),
+            exponents: DVec3::from(g.exponents().map(f64::from)),
+        }
+    }
+
+    /// T = O diag(r) Oᵀ.
+    pub fn t(&self) -> DMat3 {
+        self.frame * DMat3::from_diagonal(self.radii) * self.frame.transpose()
+    }
+
+    /// T⁻¹ = O diag(1/r) Oᵀ, from the eigen data (never by inverting T).
+    pub fn t_inv(&self) -> DMat3 {
+        self.frame * DMat3::from_diagonal(self.radii.recip()) * self.frame.transpose()
+    }
+
+    /// Half-extents of the axis-aligned box around the ellipsoid: |row i of T|.
+    pub fn half_extents(&self) -> DVec3 {
+        let t = self.t();
+        DVec3::new(t.row(0).length(), t.row(1).length(), t.row(2).length())
+    }
+
+    /// Half-extents of a box holding the glyph drawn as an ellipsoid or as a capped cylinder
+    /// (axis = first column): the cylinder's box, which contains the ellipsoid's.
+    pub fn glyph_half_extents(&self) -> DVec3 {
+        let a = self.frame.x_axis * self.radii.x;
+        let u = self.frame.y_axis * self.radii.y;
+        let v = self.frame.z_axis * self.radii.z;
+        a.abs() + DVec3::new(u.x.hypot(v.x), u.y.hypot(v.y), u.z.hypot(v.z))
+    }
+
+    /// `p` (relative to the scene origin) in the instance frame.
+    pub fn local(&self, p: DVec3) -> DVec3 {
+        self.frame.transpose() * (p - self.centre)
+    }
+
+    pub fn max_radius(&self) -> f64 {
+        self.radii.max_element()
+    }
+}
+
+/// `bounding_radius` of common.wgsl: a sphere around the glyph as ellipsoid or capped cylinder.
+pub fn bounding_radius(r: [f32; 3]) -> f64 {
+    f64::from(r[0]).hypot(f64::from(r[1].max(r[2])))
+}
+
+/// The same formula as `quat_to_mat3` in common.wgsl.
+fn quat_to_mat3_unnormalised(q: DQuat) -> DMat3 {
+    let (x2, y2, z2) = (q.x + q.x, q.y + q.y, q.z + q.z);
+    let (xx, xy, xz) = (q.x * x2, q.x * y2, q.x * z2);
+    let (yy, yz, zz) = (q.y * y2, q.y * z2, q.z * z2);
+    let (wx, wy, wz) = (q.w * x2, q.w * y2, q.w * z2);
+    DMat3::from_cols(
+        DVec3::new(1.0 - (yy + zz), xy + wz, xz - wy),
+        DVec3::new(xy - wz, 1.0 - (xx + zz), yz + wx),
+        DVec3::new(xz + wy, yz - wx, 1.0 - (xx + yy)),
+    )
+}
+
+/// The frame whose columns are columns `cols` of `rotation`'s, column `flip` negated where that
+/// order is a reflection (so it stays a rotation), and the radii in the same order.
+pub fn permuted_frame(
+    rotation: [f32; 4],
+    radii: [f32; 3],
+    cols: [usize; 3],
+    flip: usize,
+) -> ([f32; 4], [f32; 3]) {
+    let q = DQuat::from_xyzw(
+        f64::from(rotation[0]),
+        f64::from(rotation[1]),
+        f64::from(rotation[2]),
+        f64::from(rotation[3]),
+    )
+    .normalize();
+    let m = DMat3::from_quat(q);
+    let mut f = DMat3::from_cols(m.col(cols[0]), m.col(cols[1]), m.col(cols[2]));
+    if f.determinant() < 0.0 {
+        *f.col_mut(flip) = -f.col(flip);
+    }
+    let q = DQuat::from_mat3(&f).normalize();
+    (
+        [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+        cols.map(|i| radii[i]),
+    )
+}

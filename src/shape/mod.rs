@@ -1,0 +1,202 @@
+//! Glyph kinds. A kind is one unit: its module here holds its f64 geometry once (the instance's
+//! frame and parameters from a glyph, the bounds the scene frames, the eye rule, the exact
+//! intersection the reference casts, the unit mesh of the mesh baselines) and names its WGSL
+//! file (`shaders/shape/<kind>.wgsl`, the shape interface every GPU method calls); its CPU twin
+//! is `src/twin/<kind>.rs`. Everything else (the CLI, the viewer, the bench, the stability
+//! suite, the GPU pipelines, the tests) enumerates [`GlyphKind::VALUES`] and asks a kind's
+//! [`Shape`] and [`Capabilities`] instead of naming kinds. Adding a kind is the checklist in
+//! docs/book/src/developer/adding-a-glyph-kind.md.
+
+pub mod capsule;
+pub mod cylinder;
+pub mod ellipsoid;
+pub mod geometry;
+pub mod mesh;
+pub mod rules;
+pub mod superquadric;
+
+use glam::DVec3;
+
+pub use geometry::{GlyphGeometry, GlyphInstance};
+pub use mesh::Mesh;
+
+use crate::glyph::{Glyph, ResolvedStyle};
+
+/// The glyph shape.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GlyphKind {
+    #[default]
+    Ellipsoid,
+    /// Capped elliptic cylinder along the principal axis (or along e3 for planar tensors).
+    Cylinder,
+    /// The cylinder's axis with rounded ends: a segment swept by a ball of radius R = the mean
+    /// of the cross-section's semi-axes, total half-length max(axis half-length, R); an
+    /// isotropic tensor gives a sphere ([`capsule::capsule_of`]).
+    Capsule,
+    /// Kindlmann's superquadric (Schultz–Kindlmann's for indefinite tensors), shaped by the
+    /// tensor and `--sharpness` ([`crate::glyph::superquadric`]).
+    Superquadric,
+}
+
+crate::names::named_values!(GlyphKind {
+    Ellipsoid => "ellipsoid",
+    Cylinder => "cylinder",
+    Capsule => "capsule",
+    Superquadric => "superquadric",
+});
+
+impl GlyphKind {
+    /// The registry: each kind's shape.
+    pub fn shape(self) -> &'static dyn Shape {
+        match self {
+            GlyphKind::Ellipsoid => &ellipsoid::Kind,
+            GlyphKind::Cylinder => &cylinder::Kind,
+            GlyphKind::Capsule => &capsule::Kind,
+            GlyphKind::Superquadric => &superquadric::Kind,
+        }
+    }
+
+    /// What the kind takes ([`Shape::caps`]).
+    pub fn caps(self) -> Capabilities {
+        self.shape().caps()
+    }
+}
+
+/// What a kind can be drawn with, as data: the one table the request's legality checks, the
+/// viewer's panel, the bench and the stability suite read.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Capabilities {
+    /// Gumhold's compute prepass (proxy frames built once per glyph in compute).
+    pub prepass: bool,
+    /// Splats: glyphs up to a few pixels across ray cast per pixel in compute (needs the
+    /// prepass and the ray-cast depth).
+    pub splats: bool,
+    /// Gumhold's proxy on the glyph's nearest view plane (conservative depth).
+    pub conservative_depth: bool,
+    /// Shaped by `--sharpness` (the style's sharpness is part of the instance).
+    pub sharpness: bool,
+    /// Measured by `bench` when no `--glyph` is given (the main speed table; other kinds have
+    /// bench runs of their own, with `--glyph`).
+    pub benched_by_default: bool,
+}
+
+/// A forward hit: distance along the unit ray and the unit outward normal (world).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayHit {
+    pub t: f64,
+    pub normal: DVec3,
+}
+
+/// One glyph as the exact reference casts it (relative to the scene origin), prepared once per
+/// frame.
+pub trait Exact: Send + Sync {
+    fn centre(&self) -> DVec3;
+    /// Half-extents of a box about [`Self::centre`] holding the solid (the reference's BVH).
+    fn half_extents(&self) -> DVec3;
+    /// Whether `p` is inside or on the solid: the rule by which no method draws a glyph around
+    /// the eye.
+    fn contains(&self, p: DVec3) -> bool;
+    /// The first forward crossing of `o + t d` (`d` unit) with the surface (the exit when `o` is
+    /// inside).
+    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit>;
+}
+
+/// The f64 geometry of a glyph kind.
+pub trait Shape: Send + Sync {
+    fn kind(&self) -> GlyphKind;
+    fn caps(&self) -> Capabilities;
+
+    /// The instance of glyph `g` with eigenvector frame `rotation` and `radii` along it (the
+    /// style's): the instance frame, its radii and the kind's parameter words
+    /// ([`GlyphInstance::shape`]).
+    fn place(
+        &self,
+        g: &Glyph,
+        rotation: [f32; 4],
+        radii: [f32; 3],
+        style: &ResolvedStyle,
+    ) -> ([f32; 4], [f32; 3], [u32; 2]);
+
+    /// An instance made without this kind's parameters (a synthetic scene's: its radii taken
+    /// as the tensor's eigenvalues) as an instance of this kind. Most kinds take it as it is.
+    fn adopt(&self, g: &GlyphInstance) -> GlyphInstance {
+        *g
+    }
+
+    /// Half-extents of a box about the centre holding the glyph: the scene's bounds, which the
+    /// camera frames and the far plane keeps.
+    fn bounds(&self, geo: &GlyphGeometry) -> DVec3;
+
+    /// The radius of the sphere the vertex stages cull with (`shape_radius` of the kind's
+    /// WGSL).
+    fn cull_radius(&self, radii: [f32; 3]) -> f64;
+
+    /// The glyph as the exact reference casts it.
+    fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact>;
+
+    /// Whether `p` (relative to the scene origin) is inside or on the glyph ([`Exact::contains`]).
+    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
+        self.exact(geo).contains(p)
+    }
+
+    /// The unit mesh `mesh:level` instances for this kind.
+    fn unit_mesh(&self, level: u8) -> Mesh;
+
+    /// (vertices, triangles) of [`Self::unit_mesh`], without building it.
+    fn mesh_stats(&self, level: u8) -> (usize, usize);
+
+    /// The kind's WGSL: its shader interface and what it needs, composed after common.wgsl
+    /// and shaders/shape/screen_box.wgsl.
+    fn wgsl(&self) -> &'static [&'static str];
+
+    /// With [`Capabilities::splats`], the WGSL of its splats for Gumhold's solids.
+    fn splat_wgsl(&self) -> Option<&'static str> {
+        None
+    }
+
+    /// The `override` that keeps a general (slower) search in the kind's shaders, and whether
+    /// an instance needs it: pipelines of chunks without such instances leave it out.
+    fn general_override(&self) -> Option<&'static str> {
+        None
+    }
+
+    fn is_general(&self, _g: &GlyphInstance) -> bool {
+        false
+    }
+}
+
+/// Both roots of `alpha t² + 2 beta t + gamma = 0` with `disc = beta² − alpha gamma ≥ 0`,
+/// ascending, without cancellation (sigg-quadric.md §4).
+pub fn stable_roots(alpha: f64, beta: f64, gamma: f64, disc: f64) -> (f64, f64) {
+    let q = -(beta + beta.signum() * disc.sqrt());
+    let (r1, r2) = if q == 0.0 {
+        (0.0, 0.0)
+    } else {
+        (q / alpha, gamma / q)
+    };
+    (r1.min(r2), r1.max(r2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The registry gives each kind its own shape, and every shape its WGSL.
+    #[test]
+    fn the_registry_is_one_shape_per_kind() {
+        for &k in GlyphKind::VALUES {
+            assert_eq!(k.shape().kind(), k);
+            assert!(!k.shape().wgsl().is_empty(), "{k}");
+            let caps = k.caps();
+            assert!(
+                !caps.splats || caps.prepass,
+                "{k}: splats come from the prepass"
+            );
+            assert_eq!(
+                caps.splats,
+                k.shape().splat_wgsl().is_some() || k == GlyphKind::Ellipsoid
+            );
+        }
+    }
+}

@@ -1,0 +1,44 @@
+//! The CPU twin of shaders/shape/ellipsoid.wgsl: the ellipsoid's screen box (eq. 5 with T's
+//! columns r_i O_i) and its eye rule, as Sigg's vertex stage applies them. Gumhold's method
+//! draws ellipsoids with their own exact quad ([`crate::twin::gumhold_ellipsoid`]).
+
+use glam::{DMat4, DVec3};
+
+use super::ShapeTwin;
+use super::screen_box::{Proxy, quadric_box};
+use crate::scene::GlyphGeometry;
+use crate::shape::rules::EYE_INSIDE_E2;
+
+pub struct Twin;
+
+impl ShapeTwin for Twin {
+    fn sigg_proxy(&self, view_proj: &DMat4, geo: &GlyphGeometry, eye: DVec3, ortho: bool) -> Proxy {
+        let e_t = (geo.frame.transpose() * (eye - geo.centre)) / geo.radii;
+        // `!(E² > bound)` as in the shader: NaN counts as inside.
+        let outside = e_t.length_squared() > EYE_INSIDE_E2;
+        if !ortho && !outside {
+            return Proxy::Culled;
+        }
+        let b = quadric_box(
+            view_proj,
+            geo.frame.x_axis * geo.radii.x,
+            geo.frame.y_axis * geo.radii.y,
+            geo.frame.z_axis * geo.radii.z,
+            geo.centre,
+        );
+        if b.outside_frustum() {
+            return Proxy::Culled;
+        }
+        match b.bbox {
+            Some(bbox) => Proxy::Box(bbox),
+            None if b.r4dr4 < 0.0 => Proxy::Culled,
+            None => Proxy::Viewport,
+        }
+    }
+
+    /// The glyph's own ellipsoid.
+    fn gumhold_bound(&self, geo: &GlyphGeometry, eye: DVec3, ortho: bool) -> Option<DVec3> {
+        let e_t = (geo.frame.transpose() * (eye - geo.centre)) / geo.radii;
+        (ortho || e_t.length_squared() > EYE_INSIDE_E2).then_some(geo.radii)
+    }
+}
