@@ -14,7 +14,7 @@ pub mod vtk;
 
 pub use frame::{ReadMeta, TensorFrame};
 pub use order::ComponentOrder;
-pub use scalar::{ScalarVolume, read_scalar_volume};
+pub use scalar::ScalarVolume;
 pub use vtk::ReadOptions;
 
 use std::path::Path;
@@ -40,6 +40,30 @@ pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadEr
     } else {
         vtk::read_field(path, opts)
     }
+}
+
+/// Read a 3-D scalar image (or a 4-D one holding a single volume), the reader picked by the
+/// extension as for tensors: `.nii`/`.nii.gz` NIfTI-1 (uint8, int8, int16, uint16, int32,
+/// uint32, int64, uint64, float32, float64; `scl_slope` and `scl_inter` applied), `.nrrd`/`.nhdr`
+/// NRRD (the same types; `dimension: 3`), anything else VTK image data (`.vti`, or legacy
+/// `STRUCTURED_POINTS`) with a one-component point-data array, the first one if there are
+/// several.
+///
+/// Errors name the file and, where there is one, the header field: a tensor volume where a
+/// scalar volume is expected, data shorter than the header says, a voxel-to-world matrix that
+/// cannot be inverted. Memory is bounded as for tensors (nothing is allocated for data the bytes
+/// cannot hold), and a panic inside a reader becomes an error.
+pub fn read_scalar_volume(path: &Path) -> Result<ScalarVolume, LoadError> {
+    vtk::guarded(path, || {
+        let bytes = input::read_regular_file(path)?;
+        if nifti::is_nifti_path(path) {
+            nifti::parse_scalar(&bytes)
+        } else if nrrd::is_nrrd_path(path) {
+            nrrd::parse_scalar(path, &bytes)
+        } else {
+            vtk::parse_scalar_bytes(&bytes)
+        }
+    })
 }
 
 use serde::Serialize;
