@@ -38,9 +38,10 @@ use super::frame::{
     smallest_spacing, tensor_rotation,
 };
 use super::number::Scalar;
+use super::options::ReadOptions;
+use super::order::ComponentOrder;
 use super::scalar::{self, ScalarVolume};
-use super::vtk::ReadOptions;
-use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
+use super::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
 use crate::error::LoadErrorKind;
 
 type Res<T> = Result<T, LoadErrorKind>;

@@ -29,9 +29,10 @@ use super::frame::{
 };
 use super::input::{gunzip_prefix, read_regular_file};
 use super::number::Scalar;
+use super::options::ReadOptions;
+use super::order::ComponentOrder;
 use super::scalar::{self, ScalarVolume};
-use super::vtk::ReadOptions;
-use super::{ComponentOrder, DatasetKind, Location, TensorArrayInfo, TensorField};
+use super::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
 use crate::error::{LoadErrorKind, escape_for_error, escape_path};
 
 type Res<T> = Result<T, LoadErrorKind>;

@@ -5,7 +5,7 @@ use super::dataset::{cell_dims, product};
 use super::{Geometry, Parsed, ReadOptions, Res, malformed, pick, point_dims};
 use crate::error::LoadErrorKind;
 use crate::field::frame::{FrameInfo, Layout, ReadMeta, TensorFrame, Why};
-use crate::field::{Location, TensorArrayInfo, TensorField};
+use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField};
 
 /// Pick the array, load and check it, compute positions.
 pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField> {

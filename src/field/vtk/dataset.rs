@@ -3,7 +3,7 @@
 
 use super::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
-use crate::field::{DatasetKind, Location};
+use crate::field::tensor_field::{DatasetKind, Location};
 
 /// Cell connectivity (VTK order), `offsets.len() == cells + 1`.
 #[derive(Debug, Default, Clone)]

@@ -36,26 +36,14 @@ mod xml;
 
 use std::path::Path;
 
+use super::guard::guarded;
 use super::input::read_regular_file;
-use super::{ComponentOrder, TensorField, TensorFrame};
-use crate::error::{LoadError, LoadErrorKind, escape_for_error};
+pub use super::options::ReadOptions;
+use super::tensor_field::TensorField;
+use crate::error::{LoadError, LoadErrorKind};
 pub(crate) use assemble::assemble;
 pub(crate) use dataset::{ArrayDesc, Cells, Geometry, Parsed, pick, point_dims};
 pub(crate) use scalars::parse_scalar_bytes;
-
-/// How to read a tensor file (VTK, NIfTI).
-#[derive(Debug, Clone, Default)]
-pub struct ReadOptions {
-    /// Tensor array to read, by name (VTK). `None`: the active tensors, else the first 9- or
-    /// 6-component point array, else the first such cell array.
-    pub array: Option<String>,
-    /// Component order of 6-component arrays where the file does not say; `None`: the
-    /// format's default (VTK: `vtk`; NIfTI: `fsl`, unless a 5-D file has intent SYMMATRIX).
-    pub order: Option<ComponentOrder>,
-    /// The axes the stored tensors are in; `None`: the format's default (NIfTI: `voxel`).
-    /// VTK files are read as before: image data tensors rotated by the image's `Direction`.
-    pub tensor_frame: Option<TensorFrame>,
-}
 
 /// Read a tensor field from a VTK file (format detected from the content).
 ///
@@ -79,32 +67,6 @@ pub fn read_field_bytes(
     opts: &ReadOptions,
 ) -> Result<TensorField, LoadError> {
     guarded(path, || parse_bytes(path, bytes, opts))
-}
-
-pub(crate) fn guarded<T>(path: &Path, f: impl FnOnce() -> Res<T>) -> Result<T, LoadError> {
-    catch_panics(path, || f().map_err(|kind| LoadError::new(path, kind)))
-}
-
-/// `f()`, with a panic inside it turned into an error naming `path` (readers of several files
-/// name the one at fault themselves).
-pub(crate) fn catch_panics<T>(
-    path: &Path,
-    f: impl FnOnce() -> Result<T, LoadError>,
-) -> Result<T, LoadError> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
-        let msg = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".into());
-        Err(LoadError::new(
-            path,
-            LoadErrorKind::Other(format!(
-                "internal reader error (please report this file): {}",
-                escape_for_error(msg)
-            )),
-        ))
-    })
 }
 
 type Res<T> = Result<T, LoadErrorKind>;

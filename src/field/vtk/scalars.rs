@@ -9,8 +9,8 @@
 use super::dataset::{describe_arrays, product};
 use super::{Family, Geometry, Parsed, Res, family, legacy, point_dims, xml};
 use crate::error::LoadErrorKind;
-use crate::field::Location;
 use crate::field::scalar::{self, ScalarVolume};
+use crate::field::tensor_field::Location;
 
 /// A scalar volume from the bytes of a VTK file.
 pub(crate) fn parse_scalar_bytes(bytes: &[u8]) -> Res<ScalarVolume> {

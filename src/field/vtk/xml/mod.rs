@@ -23,7 +23,7 @@ use std::path::Path;
 
 use super::{Parsed, ReadOptions, Res, assemble, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
-use crate::field::TensorField;
+use crate::field::tensor_field::TensorField;
 use decode::{Compressor, Ctx};
 use tokenize::Doc;
 

@@ -8,9 +8,9 @@ use super::tokenize::{Doc, tokenize};
 use super::{Res, header_ctx, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
 use crate::field::input::{file_identity, read_regular_file};
+use crate::field::tensor_field::{DatasetKind, Location, TensorField};
 use crate::field::vtk::binary::try_vec;
 use crate::field::vtk::{ArrayDesc, Geometry, Parsed, ReadOptions, assemble, pick, point_dims};
-use crate::field::{DatasetKind, Location, TensorField};
 
 /// Read a `.pvti` and merge its pieces into one field in whole-extent order.
 pub(super) fn read_pvti(path: &Path, doc: &Doc, opts: &ReadOptions) -> Res<TensorField> {
