@@ -25,12 +25,16 @@
 //! Layout: `legacy` and `xml` turn bytes into a `Parsed` dataset (`dataset`: geometry, cells,
 //! array descriptors and a way to load one array); `assemble` picks the tensor array, checks its
 //! component and tuple counts and computes the positions (points, or cell centres as VTK's
-//! vtkCellCenters does); `binary` decodes numbers shared by both readers.
+//! vtkCellCenters does); `binary` decodes numbers shared by both readers. `family` tells the
+//! two kinds of file apart by their first bytes, and `malformed` is how every parser says what
+//! is wrong, below them all.
 
 mod assemble;
 mod binary;
 mod dataset;
+mod family;
 mod legacy;
+mod malformed;
 mod scalars;
 mod xml;
 
@@ -40,9 +44,10 @@ use super::guard::guarded;
 use super::input::read_regular_file;
 pub use super::options::ReadOptions;
 use super::tensor_field::TensorField;
-use crate::error::{LoadError, LoadErrorKind};
-pub(crate) use assemble::assemble;
-pub(crate) use dataset::{ArrayDesc, Cells, Geometry, Parsed, pick, point_dims};
+use crate::error::LoadError;
+use assemble::assemble;
+use family::{Family, family};
+use malformed::Res;
 pub(crate) use scalars::parse_scalar_bytes;
 
 /// Read a tensor field from a VTK file (format detected from the content).
@@ -69,33 +74,6 @@ pub fn read_field_bytes(
     guarded(path, || parse_bytes(path, bytes, opts))
 }
 
-type Res<T> = Result<T, LoadErrorKind>;
-
-pub(crate) fn malformed(msg: impl Into<String>) -> LoadErrorKind {
-    LoadErrorKind::Malformed(msg.into())
-}
-
-/// The two VTK file families, told apart by their first bytes.
-enum Family {
-    Legacy,
-    Xml,
-}
-
-fn family(bytes: &[u8]) -> Res<Family> {
-    let head = &bytes[skip_bom_ws(bytes)..];
-    if head.starts_with(b"# vtk DataFile") || head.starts_with(b"# VTK DataFile") {
-        Ok(Family::Legacy)
-    } else if head.starts_with(b"<") {
-        Ok(Family::Xml)
-    } else if bytes.is_empty() {
-        Err(LoadErrorKind::NotVtk("the file is empty".into()))
-    } else {
-        Err(LoadErrorKind::NotVtk(
-            "neither a legacy VTK header ('# vtk DataFile Version') nor XML".into(),
-        ))
-    }
-}
-
 fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     match family(bytes)? {
         Family::Legacy => {
@@ -104,16 +82,4 @@ fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField
         }
         Family::Xml => xml::read(path, bytes, opts),
     }
-}
-
-fn skip_bom_ws(b: &[u8]) -> usize {
-    let mut i = if b.starts_with(&[0xEF, 0xBB, 0xBF]) {
-        3
-    } else {
-        0
-    };
-    while i < b.len() && b[i].is_ascii_whitespace() {
-        i += 1;
-    }
-    i
 }

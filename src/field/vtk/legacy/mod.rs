@@ -9,7 +9,8 @@
 mod cursor;
 
 use super::binary::{Scalar, parse_number, to_indices, try_vec};
-use super::{ArrayDesc, Cells, Geometry, Parsed, Res, malformed};
+use super::dataset::{ArrayDesc, Cells, Geometry, Parsed};
+use super::malformed::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
 use crate::field::tensor_field::{DatasetKind, Location};
 use cursor::{Cursor, LType, ltype};
