@@ -10,8 +10,9 @@
 
 //!
 //! Layout: `tokenize` (start tags and where appended data begins), `decode` (the encoding the
-//! root element states, one DataArray's bytes and values), `attrs` (numbers in attributes), `serial` (one `.vti/.vtr/.vts/.vtu/.vtp`
-//! dataset), `pvti` (pieces merged into the whole extent).
+//! root element states, one DataArray's bytes and values), `attrs` (numbers in attributes),
+//! `serial` (one `.vti/.vtr/.vts/.vtu/.vtp` dataset), `pvti` (pieces merged into the whole
+//! extent).
 
 mod attrs;
 mod decode;
