@@ -56,6 +56,8 @@ pub(crate) use scalars::parse_scalar_bytes;
 /// never past the size they had when opened. Never panics on bad input: every count is
 /// validated before allocation, and as a last line of defence a panic inside the reader is
 /// turned into a [`LoadErrorKind::Other`].
+///
+/// [`LoadErrorKind::Other`]: crate::error::LoadErrorKind::Other
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
     guarded(path, || {
         let bytes = read_regular_file(path)?;
