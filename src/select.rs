@@ -20,8 +20,8 @@ use glam::{DMat4, DVec4};
 use rayon::prelude::*;
 
 use crate::error::{LoadError, LoadErrorKind, escape_path};
-use crate::field::TensorField;
-use crate::field::scalar::{ScalarVolume, read_scalar_volume};
+use crate::field::scalar::ScalarVolume;
+use crate::field::{TensorField, read_scalar_volume};
 use crate::glyph::GlyphSet;
 use crate::tensor::shape;
 

@@ -150,9 +150,7 @@ impl Recipe {
 /// The scalar volume an underlay file names (FA and MD come from the glyphs: `None`).
 pub fn read_underlay(source: &Option<UnderlaySource>) -> Result<Option<ScalarVolume>, LoadError> {
     match source {
-        Some(UnderlaySource::File(path)) => {
-            crate::field::scalar::read_scalar_volume(path).map(Some)
-        }
+        Some(UnderlaySource::File(path)) => crate::field::read_scalar_volume(path).map(Some),
         _ => Ok(None),
     }
 }

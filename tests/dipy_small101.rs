@@ -10,8 +10,7 @@ use std::path::PathBuf;
 
 use glam::DVec3;
 use serde_json::Value;
-use tensorglyph::field::scalar::read_scalar_volume;
-use tensorglyph::field::{ReadOptions, TensorField, read_field};
+use tensorglyph::field::{ReadOptions, TensorField, read_field, read_scalar_volume};
 use tensorglyph::glyph::{GlyphSet, derive_glyphs};
 use tensorglyph::select::{Mask, Selection, lattice_coords};
 use tensorglyph::tensor::eigen::{symmetric_eigen, symmetrise};

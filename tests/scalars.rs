@@ -8,8 +8,8 @@ use std::path::{Path, PathBuf};
 
 use glam::DVec3;
 use serde_json::Value;
-use tensorglyph::field::scalar::{ScalarVolume, read_scalar_volume};
-use tensorglyph::field::{Location, ReadOptions, read_field};
+use tensorglyph::field::scalar::ScalarVolume;
+use tensorglyph::field::{Location, ReadOptions, read_field, read_scalar_volume};
 use tensorglyph::select::lattice_coords;
 
 fn repo(rel: &str) -> PathBuf {

@@ -7,7 +7,7 @@
 use nalgebra::{Matrix3, Matrix4, Vector3};
 use serde::Serialize;
 
-use super::ComponentOrder;
+use super::order::ComponentOrder;
 
 /// The axes the stored tensors are expressed in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -16,8 +16,8 @@ use nalgebra::Matrix4;
 use super::frame::{Layout, Why};
 use super::input::read_regular_file;
 use super::nifti::{self, Header};
-use super::vtk::ReadOptions;
-use super::{Location, TensorArrayInfo, TensorField};
+use super::options::ReadOptions;
+use super::tensor_field::{Location, TensorArrayInfo, TensorField};
 use crate::error::{LoadError, LoadErrorKind, escape_for_error, escape_path};
 
 const EIGENVALUES: [&str; 3] = ["L1", "L2", "L3"];
@@ -96,7 +96,7 @@ impl EigenSet {
 /// Read the set as one tensor field. Errors name the file at fault (the one missing, unreadable
 /// or differing from the first), not necessarily the one given.
 pub fn read(set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-    super::vtk::catch_panics(&set.given, || read_set(set, opts))
+    super::guard::catch_panics(&set.given, || read_set(set, opts))
 }
 
 fn read_set(set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError> {

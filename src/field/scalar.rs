@@ -8,38 +8,16 @@
 //! geometry and data code, so a volume's world is the one those readers put glyphs in: RAS for
 //! NIfTI (sform, qform, pixdim) and NRRD (LPS turned into RAS as for tensors), the writer's own
 //! for VTK.
-
-use std::path::Path;
+//!
+//! This module holds what those readers share, below them: the type, and `checked`, with
+//! which each reader makes its volume. [`read_scalar_volume`], which picks the reader by the
+//! file's name, is above them, in the `field` module.
+//!
+//! [`read_scalar_volume`]: crate::field::read_scalar_volume
 
 use glam::{DMat4, DVec3, DVec4};
 
-use super::input::read_regular_file;
-use super::{nifti, nrrd, vtk};
-use crate::error::{LoadError, LoadErrorKind};
-
-/// Read a 3-D scalar image (or a 4-D one holding a single volume), the reader picked by the
-/// extension as for tensors: `.nii`/`.nii.gz` NIfTI-1 (uint8, int8, int16, uint16, int32,
-/// uint32, int64, uint64, float32, float64; `scl_slope` and `scl_inter` applied), `.nrrd`/`.nhdr`
-/// NRRD (the same types; `dimension: 3`), anything else VTK image data (`.vti`, or legacy
-/// `STRUCTURED_POINTS`) with a one-component point-data array, the first one if there are
-/// several.
-///
-/// Errors name the file and, where there is one, the header field: a tensor volume where a
-/// scalar volume is expected, data shorter than the header says, a voxel-to-world matrix that
-/// cannot be inverted. Memory is bounded as for tensors (nothing is allocated for data the bytes
-/// cannot hold), and a panic inside a reader becomes an error.
-pub fn read_scalar_volume(path: &Path) -> Result<ScalarVolume, LoadError> {
-    vtk::guarded(path, || {
-        let bytes = read_regular_file(path)?;
-        if nifti::is_nifti_path(path) {
-            nifti::parse_scalar(&bytes)
-        } else if nrrd::is_nrrd_path(path) {
-            nrrd::parse_scalar(path, &bytes)
-        } else {
-            vtk::parse_scalar_bytes(&bytes)
-        }
-    })
-}
+use crate::error::LoadErrorKind;
 
 /// A volume the readers made, refused when its matrix cannot place voxels in the world
 /// (`field` names the header field the matrix came from).

@@ -31,7 +31,7 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::{DatasetKind, Location, TensorField};
+use super::tensor_field::{DatasetKind, Location, TensorField};
 
 /// Soft-max sharpness of the shape weights (larger: fewer unclassified tensors).
 const SHAPE_BETA: f64 = 2.6;

@@ -1,11 +1,12 @@
 //! From a parsed dataset to a [`TensorField`]: the picked array checked against the geometry,
 //! and the positions of its tuples (points, or cell centres as VTK computes them).
 
-use super::dataset::{cell_dims, product};
-use super::{Geometry, Parsed, ReadOptions, Res, malformed, pick, point_dims};
+use super::dataset::{Geometry, Parsed, cell_dims, pick, point_dims, product};
+use super::malformed::{Res, malformed};
 use crate::error::LoadErrorKind;
 use crate::field::frame::{FrameInfo, Layout, ReadMeta, TensorFrame, Why};
-use crate::field::{Location, TensorArrayInfo, TensorField};
+use crate::field::options::ReadOptions;
+use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField};
 
 /// Pick the array, load and check it, compute positions.
 pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField> {

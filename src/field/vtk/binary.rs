@@ -1,6 +1,6 @@
 //! Scalar types and byte decoding shared by the legacy and XML readers.
 
-use super::{Res, malformed};
+use super::malformed::{Res, malformed};
 use crate::error::escape_for_error as esc;
 
 pub(crate) use crate::field::number::{Scalar, decode_into};

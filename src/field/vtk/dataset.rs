@@ -1,9 +1,9 @@
 //! A dataset as the readers parse it: geometry, cells and array descriptors, and the rule that
 //! picks the tensor array.
 
-use super::{Res, malformed};
+use super::malformed::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
-use crate::field::{DatasetKind, Location};
+use crate::field::tensor_field::{DatasetKind, Location};
 
 /// Cell connectivity (VTK order), `offsets.len() == cells + 1`.
 #[derive(Debug, Default, Clone)]

@@ -25,37 +25,30 @@
 //! Layout: `legacy` and `xml` turn bytes into a `Parsed` dataset (`dataset`: geometry, cells,
 //! array descriptors and a way to load one array); `assemble` picks the tensor array, checks its
 //! component and tuple counts and computes the positions (points, or cell centres as VTK's
-//! vtkCellCenters does); `binary` decodes numbers shared by both readers.
+//! vtkCellCenters does); `binary` decodes numbers shared by both readers. `family` tells the
+//! two kinds of file apart by their first bytes, and `malformed` is how every parser says what
+//! is wrong, below them all.
 
 mod assemble;
 mod binary;
 mod dataset;
+mod family;
 mod legacy;
+mod malformed;
 mod scalars;
 mod xml;
 
 use std::path::Path;
 
+use super::guard::guarded;
 use super::input::read_regular_file;
-use super::{ComponentOrder, TensorField, TensorFrame};
-use crate::error::{LoadError, LoadErrorKind, escape_for_error};
-pub(crate) use assemble::assemble;
-pub(crate) use dataset::{ArrayDesc, Cells, Geometry, Parsed, pick, point_dims};
+pub use super::options::ReadOptions;
+use super::tensor_field::TensorField;
+use crate::error::LoadError;
+use assemble::assemble;
+use family::{Family, family};
+use malformed::Res;
 pub(crate) use scalars::parse_scalar_bytes;
-
-/// How to read a tensor file (VTK, NIfTI).
-#[derive(Debug, Clone, Default)]
-pub struct ReadOptions {
-    /// Tensor array to read, by name (VTK). `None`: the active tensors, else the first 9- or
-    /// 6-component point array, else the first such cell array.
-    pub array: Option<String>,
-    /// Component order of 6-component arrays where the file does not say; `None`: the
-    /// format's default (VTK: `vtk`; NIfTI: `fsl`, unless a 5-D file has intent SYMMATRIX).
-    pub order: Option<ComponentOrder>,
-    /// The axes the stored tensors are in; `None`: the format's default (NIfTI: `voxel`).
-    /// VTK files are read as before: image data tensors rotated by the image's `Direction`.
-    pub tensor_frame: Option<TensorFrame>,
-}
 
 /// Read a tensor field from a VTK file (format detected from the content).
 ///
@@ -63,6 +56,8 @@ pub struct ReadOptions {
 /// never past the size they had when opened. Never panics on bad input: every count is
 /// validated before allocation, and as a last line of defence a panic inside the reader is
 /// turned into a [`LoadErrorKind::Other`].
+///
+/// [`LoadErrorKind::Other`]: crate::error::LoadErrorKind::Other
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
     guarded(path, || {
         let bytes = read_regular_file(path)?;
@@ -81,59 +76,6 @@ pub fn read_field_bytes(
     guarded(path, || parse_bytes(path, bytes, opts))
 }
 
-pub(crate) fn guarded<T>(path: &Path, f: impl FnOnce() -> Res<T>) -> Result<T, LoadError> {
-    catch_panics(path, || f().map_err(|kind| LoadError::new(path, kind)))
-}
-
-/// `f()`, with a panic inside it turned into an error naming `path` (readers of several files
-/// name the one at fault themselves).
-pub(crate) fn catch_panics<T>(
-    path: &Path,
-    f: impl FnOnce() -> Result<T, LoadError>,
-) -> Result<T, LoadError> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|payload| {
-        let msg = payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".into());
-        Err(LoadError::new(
-            path,
-            LoadErrorKind::Other(format!(
-                "internal reader error (please report this file): {}",
-                escape_for_error(msg)
-            )),
-        ))
-    })
-}
-
-type Res<T> = Result<T, LoadErrorKind>;
-
-pub(crate) fn malformed(msg: impl Into<String>) -> LoadErrorKind {
-    LoadErrorKind::Malformed(msg.into())
-}
-
-/// The two VTK file families, told apart by their first bytes.
-enum Family {
-    Legacy,
-    Xml,
-}
-
-fn family(bytes: &[u8]) -> Res<Family> {
-    let head = &bytes[skip_bom_ws(bytes)..];
-    if head.starts_with(b"# vtk DataFile") || head.starts_with(b"# VTK DataFile") {
-        Ok(Family::Legacy)
-    } else if head.starts_with(b"<") {
-        Ok(Family::Xml)
-    } else if bytes.is_empty() {
-        Err(LoadErrorKind::NotVtk("the file is empty".into()))
-    } else {
-        Err(LoadErrorKind::NotVtk(
-            "neither a legacy VTK header ('# vtk DataFile Version') nor XML".into(),
-        ))
-    }
-}
-
 fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     match family(bytes)? {
         Family::Legacy => {
@@ -142,16 +84,4 @@ fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField
         }
         Family::Xml => xml::read(path, bytes, opts),
     }
-}
-
-fn skip_bom_ws(b: &[u8]) -> usize {
-    let mut i = if b.starts_with(&[0xEF, 0xBB, 0xBF]) {
-        3
-    } else {
-        0
-    };
-    while i < b.len() && b[i].is_ascii_whitespace() {
-        i += 1;
-    }
-    i
 }

@@ -6,11 +6,13 @@
 //! (the first point array can only be told once the file is read: VTK writes cell data first)
 //! and skip every other array's values.
 
-use super::dataset::{describe_arrays, product};
-use super::{Family, Geometry, Parsed, Res, family, legacy, point_dims, xml};
+use super::dataset::{Geometry, Parsed, describe_arrays, point_dims, product};
+use super::family::{Family, family};
+use super::malformed::Res;
+use super::{legacy, xml};
 use crate::error::LoadErrorKind;
-use crate::field::Location;
 use crate::field::scalar::{self, ScalarVolume};
+use crate::field::tensor_field::Location;
 
 /// A scalar volume from the bytes of a VTK file.
 pub(crate) fn parse_scalar_bytes(bytes: &[u8]) -> Res<ScalarVolume> {

@@ -1,7 +1,7 @@
 //! Reading a legacy file: lines, tokens, and counted runs of ASCII or big-endian binary values.
 
 use super::super::binary::{Scalar, decode_into, parse_number, try_vec};
-use super::super::{Res, malformed};
+use super::super::malformed::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
 
 /// Element type of a legacy array; `Bit` is packed in binary files.

@@ -9,9 +9,10 @@
 mod cursor;
 
 use super::binary::{Scalar, parse_number, to_indices, try_vec};
-use super::{ArrayDesc, Cells, Geometry, Parsed, Res, malformed};
+use super::dataset::{ArrayDesc, Cells, Geometry, Parsed};
+use super::malformed::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
-use crate::field::{DatasetKind, Location};
+use crate::field::tensor_field::{DatasetKind, Location};
 use cursor::{Cursor, LType, ltype};
 
 fn count(tok: Option<&&str>, what: &str) -> Res<usize> {

@@ -1,10 +1,10 @@
 //! Numbers held in attributes: coordinates, extents, direction matrices and counts.
 
 use super::tokenize::Tag;
-use super::{Res, malformed};
 use crate::error::escape_for_error as esc;
 use crate::field::vtk::binary::parse_number;
-use crate::field::vtk::point_dims;
+use crate::field::vtk::dataset::point_dims;
+use crate::field::vtk::malformed::{Res, malformed};
 
 pub(super) fn floats<const N: usize>(s: Option<&str>, what: &str) -> Res<Option<[f64; N]>> {
     let Some(s) = s else { return Ok(None) };

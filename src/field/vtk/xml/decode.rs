@@ -6,10 +6,10 @@ use std::io::Read;
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as B64;
 
-use super::tokenize::Tag;
-use super::{Res, malformed};
+use super::tokenize::{Doc, Tag};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
 use crate::field::vtk::binary::{Scalar, decode_into, parse_ascii, try_vec};
+use crate::field::vtk::malformed::{Res, malformed};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum Compressor {
@@ -26,6 +26,52 @@ pub(super) struct Ctx<'a> {
     pub big_endian: bool,
     pub compressor: Compressor,
     pub appended: Option<(usize, bool)>,
+}
+
+/// The file-wide decoding settings the `<VTKFile>` root element states, and the dataset type
+/// it names.
+pub(super) fn header_ctx<'a>(b: &'a [u8], doc: &Doc) -> Res<(Ctx<'a>, String)> {
+    let root = doc
+        .tags
+        .first()
+        .filter(|t| t.name == "VTKFile")
+        .ok_or_else(|| LoadErrorKind::NotVtk("XML without a <VTKFile> root element".into()))?;
+    let header = match root.get("header_type").unwrap_or("UInt32") {
+        "UInt32" => 4,
+        "UInt64" => 8,
+        other => return Err(malformed(format!("header_type '{}'", esc(other)))),
+    };
+    let big_endian = match root.get("byte_order").unwrap_or("LittleEndian") {
+        "LittleEndian" => false,
+        "BigEndian" => true,
+        other => return Err(malformed(format!("byte_order '{}'", esc(other)))),
+    };
+    let compressor = match root.get("compressor").unwrap_or("") {
+        "" => Compressor::None,
+        "vtkZLibDataCompressor" => Compressor::Zlib,
+        "vtkLZ4DataCompressor" => Compressor::Lz4,
+        "vtkLZMADataCompressor" => Compressor::Lzma,
+        other => {
+            return Err(LoadErrorKind::UnsupportedDataset(format!(
+                "compressor '{}'",
+                esc(other)
+            )));
+        }
+    };
+    let ty = root
+        .get("type")
+        .ok_or_else(|| malformed("<VTKFile> without a type"))?
+        .to_string();
+    Ok((
+        Ctx {
+            b,
+            header,
+            big_endian,
+            compressor,
+            appended: doc.appended,
+        },
+        ty,
+    ))
 }
 
 /// How many values (or bytes) an array must hold: `min..=max`.

@@ -9,9 +9,10 @@
 //! zlib/lz4/lzma blocks; UInt32 or UInt64 headers; either byte order.
 
 //!
-//! Layout: `tokenize` (start tags and where appended data begins), `decode` (one DataArray's
-//! bytes and values), `attrs` (numbers in attributes), `serial` (one `.vti/.vtr/.vts/.vtu/.vtp`
-//! dataset), `pvti` (pieces merged into the whole extent).
+//! Layout: `tokenize` (start tags and where appended data begins), `decode` (the encoding the
+//! root element states, one DataArray's bytes and values), `attrs` (numbers in attributes),
+//! `serial` (one `.vti/.vtr/.vts/.vtu/.vtp` dataset), `pvti` (pieces merged into the whole
+//! extent).
 
 mod attrs;
 mod decode;
@@ -21,55 +22,13 @@ mod tokenize;
 
 use std::path::Path;
 
-use super::{Parsed, ReadOptions, Res, assemble, malformed};
+use super::assemble::assemble;
+use super::dataset::Parsed;
+use super::malformed::Res;
 use crate::error::{LoadErrorKind, escape_for_error as esc};
-use crate::field::TensorField;
-use decode::{Compressor, Ctx};
-use tokenize::Doc;
-
-fn header_ctx<'a>(b: &'a [u8], doc: &Doc) -> Res<(Ctx<'a>, String)> {
-    let root = doc
-        .tags
-        .first()
-        .filter(|t| t.name == "VTKFile")
-        .ok_or_else(|| LoadErrorKind::NotVtk("XML without a <VTKFile> root element".into()))?;
-    let header = match root.get("header_type").unwrap_or("UInt32") {
-        "UInt32" => 4,
-        "UInt64" => 8,
-        other => return Err(malformed(format!("header_type '{}'", esc(other)))),
-    };
-    let big_endian = match root.get("byte_order").unwrap_or("LittleEndian") {
-        "LittleEndian" => false,
-        "BigEndian" => true,
-        other => return Err(malformed(format!("byte_order '{}'", esc(other)))),
-    };
-    let compressor = match root.get("compressor").unwrap_or("") {
-        "" => Compressor::None,
-        "vtkZLibDataCompressor" => Compressor::Zlib,
-        "vtkLZ4DataCompressor" => Compressor::Lz4,
-        "vtkLZMADataCompressor" => Compressor::Lzma,
-        other => {
-            return Err(LoadErrorKind::UnsupportedDataset(format!(
-                "compressor '{}'",
-                esc(other)
-            )));
-        }
-    };
-    let ty = root
-        .get("type")
-        .ok_or_else(|| malformed("<VTKFile> without a type"))?
-        .to_string();
-    Ok((
-        Ctx {
-            b,
-            header,
-            big_endian,
-            compressor,
-            appended: doc.appended,
-        },
-        ty,
-    ))
-}
+use crate::field::options::ReadOptions;
+use crate::field::tensor_field::TensorField;
+use decode::header_ctx;
 
 /// Read an XML file.
 pub(crate) fn read(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {

@@ -3,14 +3,17 @@
 use std::path::Path;
 
 use super::attrs::{count_attr, direction, extent, floats};
+use super::decode::header_ctx;
 use super::serial::parse_serial;
 use super::tokenize::{Doc, tokenize};
-use super::{Res, header_ctx, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
 use crate::field::input::{file_identity, read_regular_file};
+use crate::field::options::ReadOptions;
+use crate::field::tensor_field::{DatasetKind, Location, TensorField};
+use crate::field::vtk::assemble::assemble;
 use crate::field::vtk::binary::try_vec;
-use crate::field::vtk::{ArrayDesc, Geometry, Parsed, ReadOptions, assemble, pick, point_dims};
-use crate::field::{DatasetKind, Location, TensorField};
+use crate::field::vtk::dataset::{ArrayDesc, Geometry, Parsed, pick, point_dims};
+use crate::field::vtk::malformed::{Res, malformed};
 
 /// Read a `.pvti` and merge its pieces into one field in whole-extent order.
 pub(super) fn read_pvti(path: &Path, doc: &Doc, opts: &ReadOptions) -> Res<TensorField> {

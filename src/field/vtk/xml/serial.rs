@@ -3,11 +3,11 @@
 use super::attrs::{count_attr, direction, extent, floats};
 use super::decode::{Ctx, Need};
 use super::tokenize::{Doc, Tag};
-use super::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
+use crate::field::tensor_field::{DatasetKind, Location};
 use crate::field::vtk::binary::to_indices;
-use crate::field::vtk::{ArrayDesc, Cells, Geometry, Parsed, point_dims};
-use crate::field::{DatasetKind, Location};
+use crate::field::vtk::dataset::{ArrayDesc, Cells, Geometry, Parsed, point_dims};
+use crate::field::vtk::malformed::{Res, malformed};
 
 /// Rows of one piece's array that go, in order, into the merged array: (piece, first row, rows).
 type Segments = Vec<(usize, usize, usize)>;

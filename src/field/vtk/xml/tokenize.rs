@@ -1,7 +1,7 @@
 //! Tokenising the XML part of a VTK file: start tags with their attributes, parents and text.
 
-use super::{Res, malformed};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
+use crate::field::vtk::malformed::{Res, malformed};
 
 /// Deepest element nesting accepted. VTK files nest fewer than 10 deep; the cap keeps the
 /// open-element stack (and the error path) small whatever the file holds.

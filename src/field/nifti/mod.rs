@@ -1,0 +1,184 @@
+//! NIfTI-1 tensor volumes (`.nii`, `.nii.gz`): FSL `dtifit --save_tensor`, MRtrix
+//! `dwi2tensor`, DIPY/nibabel, ANTs/ITK.
+//!
+//! The `nifti` crate parses the 348-byte header and builds the sform/qform affines; the bytes
+//! are ours: read whole through the bounded regular-file reader, inflated no further than the
+//! header's dimensions need (and never further than the compressed size could hold), and the
+//! voxel data is checked against the bytes present before anything is allocated for it. The
+//! crate reads no NIfTI-2 (a 540-byte header): such a file is refused by its `sizeof_hdr`.
+//!
+//! Layouts (the file's own word wins, then `--order`, then the default):
+//! - 5-D `X×Y×Z×1×6` with intent SYMMATRIX: NIfTI's lower triangle by rows `xx xy yy xz yz zz`
+//!   ("file"). DIPY writes this, and so does ITK (hence ANTs) for its tensor images: it keeps
+//!   them as the upper triangle `xx xy xz yy yz zz` in memory and reorders them on writing.
+//! - 5-D `X×Y×Z×1×6` without that intent: `--order`, default `fsl` (`xx xy xz yy yz zz`). ITK
+//!   writes 6-vector images (intent VECTOR) with their components unreordered, so tensors
+//!   handled as vectors there come out in its upper-triangle order; DIPY sets the intent
+//!   whenever it writes the lower triangle (and writes FSL's 4-D order otherwise).
+//! - 4-D `X×Y×Z×6`: `--order`, default `fsl` (`xx xy xz yy yz zz`); MRtrix needs `--order mrtrix`;
+//! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major.
+//!
+//! Tensors are taken to be in the voxel axes unless `--tensor-frame` says otherwise: FSL, DIPY
+//! and ANTs (whose tensors ITK's direction matrix, the rotation of the qform, takes to world)
+//! all store them so.
+//!
+//! Scalar volumes ([`parse_scalar`]: FA maps, masks, anatomy) and FSL's eigen sets share the
+//! header, data and affine code (`read_header`, `Header::voxels`), so they land in the
+//! same world as tensors.
+//!
+//! Layout: `header` (the header: lattice, values per voxel, data type, voxel-to-world matrix),
+//! `voxels` (the voxel data); this module makes tensor fields and scalar volumes of them.
+
+mod header;
+mod voxels;
+
+use std::path::Path;
+
+use nalgebra::{Matrix3, Matrix4};
+use nifti::NiftiHeader;
+
+use crate::field::frame::{
+    FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
+    smallest_spacing, tensor_rotation,
+};
+use crate::field::options::ReadOptions;
+use crate::field::order::ComponentOrder;
+use crate::field::scalar::{self, ScalarVolume};
+use crate::field::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
+pub(crate) use header::{Header, read_header};
+use header::{Res, Shape, Values, field, read};
+
+const INTENT_SYMMATRIX: i16 = 1005;
+
+/// Read a NIfTI-1 tensor volume from the file's bytes (gzip-compressed or not).
+pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+    let head = read_header(bytes, tensor_components)?;
+    let voxels = head.voxels(bytes)?;
+    let (layout, expand) = layout(&head.h, &head.shape, opts)?;
+    let affine = head.affine()?;
+    let components = head.shape.components;
+    let mut comps = vec![0.0f64; components];
+    let mut tensors = Vec::with_capacity(head.shape.voxels);
+    for v in 0..head.shape.voxels {
+        for (c, out) in comps.iter_mut().enumerate() {
+            *out = voxels.get(c, v);
+        }
+        tensors.push(expand(&comps));
+    }
+    let array = TensorArrayInfo {
+        name: "tensor".into(),
+        components,
+        location: Location::Point,
+    };
+    lattice_field(head.dims(), affine, opts, tensors, array, layout)
+}
+
+/// Read a NIfTI-1 scalar volume (3-D, or 4-D and up with one value per voxel) from the file's
+/// bytes: any integer or float datatype, `scl_slope` and `scl_inter` applied, placed in RAS by
+/// the same sform/qform/pixdim rule as tensors.
+pub fn parse_scalar(bytes: &[u8]) -> Res<ScalarVolume> {
+    let head = read(bytes, Values::Scalar, |_| Ok(()))?;
+    let voxels = head.voxels(bytes)?;
+    let (a, source) = head.affine()?;
+    let values = (0..head.shape.voxels)
+        .map(|v| voxels.get(0, v) as f32)
+        .collect();
+    scalar::checked(head.dims(), values, rows4(&a), source)
+}
+
+/// The field of `tensors` (file order, in the frame they were stored in) on a NIfTI lattice of
+/// `dims` voxels placed by the affine `a` (from `source`): positions in world (RAS), and the
+/// rotation that `--tensor-frame` (default `voxel`) takes the tensors to world with.
+pub(crate) fn lattice_field(
+    dims: [usize; 3],
+    (a, source): (Matrix4<f64>, &'static str),
+    opts: &ReadOptions,
+    tensors: Vec<[f64; 9]>,
+    array: TensorArrayInfo,
+    layout: Layout,
+) -> Res<TensorField> {
+    let linear: Matrix3<f64> = a.fixed_view::<3, 3>(0, 0).into_owned();
+    let tensor_frame = opts.tensor_frame.unwrap_or(TensorFrame::Voxel);
+    let rotation = tensor_rotation(tensor_frame, &linear);
+    if rotation.is_none() && tensor_frame != TensorFrame::World {
+        return Err(field(
+            source,
+            "the voxel-to-world matrix is singular: no rotation to take voxel-frame tensors to world",
+        ));
+    }
+    let n = tensors.len();
+    Ok(TensorField {
+        format: "nifti".into(),
+        dataset: DatasetKind::ImageData,
+        dims: Some(dims),
+        points: n,
+        cells: dims.iter().map(|d| d.saturating_sub(1)).product(),
+        array,
+        positions: lattice_positions(&a, dims),
+        tensors,
+        direction: rotation.as_ref().map(rows3),
+        spacing: smallest_spacing(&linear, dims),
+        meta: ReadMeta {
+            layout: Some(layout),
+            frame: Some(FrameInfo {
+                tensor_frame,
+                world: "RAS".into(),
+                voxel_to_world: Some(rows4(&a)),
+                source: source.into(),
+            }),
+            masked: 0,
+        },
+    })
+}
+
+/// A tensor volume has 6 or 9 values per voxel.
+fn tensor_components(components: usize) -> Res<()> {
+    if components == 1 {
+        return Err(field(
+            "dim",
+            "a scalar volume (one value per voxel), not tensors: a tensor volume has 6 or 9 volumes",
+        ));
+    }
+    if components != 6 && components != 9 {
+        return Err(field(
+            "dim",
+            format!("{components} volumes per voxel; a tensor volume has 6 or 9"),
+        ));
+    }
+    Ok(())
+}
+
+type Expand = fn(&[f64]) -> [f64; 9];
+
+/// The component order and the function expanding one voxel's numbers to a row-major matrix.
+fn layout(h: &NiftiHeader, s: &Shape, opts: &ReadOptions) -> Res<(Layout, Expand)> {
+    if s.components == 9 {
+        return Ok((Layout::full(), |c| std::array::from_fn(|i| c[i])));
+    }
+    let (order, why) = if s.five_d && h.intent_code == INTENT_SYMMATRIX {
+        (ComponentOrder::Nifti, Why::File)
+    } else if let Some(o) = opts.order {
+        (o, Why::Flag)
+    } else {
+        // Only the SYMMATRIX intent says "lower triangle": ITK writes its tensors so (and
+        // marks them), but a 6-vector image (intent VECTOR, or none) in its own upper-triangle
+        // order, FSL's order too.
+        (ComponentOrder::Fsl, Why::Default)
+    };
+    let expand: Expand = match order {
+        ComponentOrder::Vtk => |c| ComponentOrder::Vtk.expand(c),
+        ComponentOrder::Fsl => |c| ComponentOrder::Fsl.expand(c),
+        ComponentOrder::Nifti => |c| ComponentOrder::Nifti.expand(c),
+        ComponentOrder::Mrtrix => |c| ComponentOrder::Mrtrix.expand(c),
+    };
+    Ok((Layout::six(order, why), expand))
+}
+
+/// Whether `path` names a NIfTI file by its extension.
+pub fn is_nifti_path(path: &Path) -> bool {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    name.ends_with(".nii") || name.ends_with(".nii.gz")
+}

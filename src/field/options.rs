@@ -1,0 +1,19 @@
+//! What a caller may tell the tensor readers (VTK, NIfTI, NRRD, FSL's eigen sets) that the
+//! file does not say.
+
+use super::frame::TensorFrame;
+use super::order::ComponentOrder;
+
+/// How to read a tensor file (VTK, NIfTI).
+#[derive(Debug, Clone, Default)]
+pub struct ReadOptions {
+    /// Tensor array to read, by name (VTK). `None`: the active tensors, else the first 9- or
+    /// 6-component point array, else the first such cell array.
+    pub array: Option<String>,
+    /// Component order of 6-component arrays where the file does not say; `None`: the
+    /// format's default (VTK: `vtk`; NIfTI: `fsl`, unless a 5-D file has intent SYMMATRIX).
+    pub order: Option<ComponentOrder>,
+    /// The axes the stored tensors are in; `None`: the format's default (NIfTI: `voxel`).
+    /// VTK files are read as before: image data tensors rotated by the image's `Direction`.
+    pub tensor_frame: Option<TensorFrame>,
+}
