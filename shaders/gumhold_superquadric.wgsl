@@ -2,8 +2,8 @@
 // (third column the symmetry axis) scaled by the radii, where the solid lies in the unit box;
 // the quad is that of the smallest ball about the centre holding the solid (sq_bound: 1 for an
 // ellipsoid, √2 for a cylinder, at most √3, the box's corner). The first crossing is found by
-// superquadric.wgsl (docs/superquadric.md §6). Composed as common.wgsl + superquadric.wgsl +
-// this + gumhold_solid.wgsl + outputs.wgsl.
+// superquadric.wgsl (docs/book/src/developer/superquadric-derivation.md §6). Composed as
+// common.wgsl + superquadric.wgsl + this + gumhold_solid.wgsl + outputs.wgsl.
 
 struct Solid {
     scale: vec3<f32>,

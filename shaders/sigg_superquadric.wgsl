@@ -4,7 +4,7 @@
 // intersection of the hull of the box's eight projected corners and the ellipsoid's eq. 5 box
 // (both exact in front of the camera plane; the first is tighter for boxy glyphs, the second for
 // round ones), and a frustum plane is missed when it misses all eight corners. Per fragment the first crossing from the glyph-near origin by
-// superquadric.wgsl (docs/superquadric.md §6).
+// superquadric.wgsl (docs/book/src/developer/superquadric-derivation.md §6).
 // Composed as common.wgsl + superquadric.wgsl + sigg.wgsl + this + outputs.wgsl.
 
 @vertex

@@ -10,7 +10,7 @@ use crate::effects::Effects;
 use crate::frame::Lighting;
 
 /// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
-/// to 32 px across measured fastest in every view (README, "Doing less work").
+/// to 32 px across measured fastest in every view (docs/book/src/concepts/doing-less-work.md).
 pub const DEFAULT_SPLAT: u32 = 32;
 
 /// How glyphs are drawn.

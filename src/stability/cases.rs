@@ -750,7 +750,8 @@ pub fn all(quick: bool) -> Vec<Probe> {
     v
 }
 
-/// A documented inherent limit that covers this row, if any (the reason is in docs/stability.md).
+/// A documented inherent limit that covers this row, if any (the reasons are in
+/// docs/book/src/results/stability.md).
 pub fn documented_limit(row: &Row) -> Option<&'static str> {
     match row.case {
         "9-intersecting" if !row.depth_correction => Some(

@@ -1,7 +1,8 @@
 //! The CPU twin of shaders/superquadric.wgsl: the f32 ray–superquadric root finder the GPU's
-//! superquadric glyphs call (docs/superquadric.md §6), line by line with the shader's names and
-//! in the shader's precision, so the tests can judge it against the exact f64 reference
-//! (`crate::reference::superquadric`) and the 50-digit worked cases.
+//! superquadric glyphs call (docs/book/src/developer/superquadric-derivation.md §6), line by
+//! line with the shader's names and in the shader's precision, so the tests can judge it
+//! against the exact f64 reference (`crate::reference::superquadric`) and the 50-digit worked
+//! cases.
 //!
 //! Local unit coordinates: the solid is `|z| ≤ 1`, `(|x|/R_β(z))^(2/α) + (|y|/R_c(z))^(2/α) ≤ 1`
 //! with exponents `e = (α, β, c)` in `(0, 5]`. Two finders, chosen per glyph:
@@ -277,10 +278,10 @@ fn sq_log_add(a: f32, b: f32) -> f32 {
 }
 
 /// `sq_gauge_grad_log`: logs of the components of `∇H` at absolute coordinates `a` for `c ≠ β`
-/// (docs/superquadric.md §4, as the reference's `local_gradient`): `∂H/∂x = A/R_β`,
-/// `∂H/∂y = B/R_c`, `∂H/∂|z| = A u (|z|/R_β)^(2/β − 1)/R_β + B w (|z|/R_c)^(2/c − 1)/R_c`. At the
-/// poles and where the profile has closed to below [`SQ_TINY`] (the tips) the normal is the
-/// axis.
+/// (docs/book/src/developer/superquadric-derivation.md §4, as the reference's
+/// `local_gradient`): `∂H/∂x = A/R_β`, `∂H/∂y = B/R_c`,
+/// `∂H/∂|z| = A u (|z|/R_β)^(2/β − 1)/R_β + B w (|z|/R_c)^(2/c − 1)/R_c`. At the poles and where
+/// the profile has closed to below [`SQ_TINY`] (the tips) the normal is the axis.
 fn sq_gauge_grad_log(a: Vec3, e: Vec3) -> Vec3 {
     let pole = Vec3::new(SQ_NEG, SQ_NEG, 0.0);
     if a.x <= 0.0 && a.y <= 0.0 {
