@@ -2,6 +2,7 @@
 //! FSLeyes or Slicer show it (direction-encoded colour on black, glyph shapes readable, the
 //! middle axial slice seen face-on); a stress field or the demo as ParaView shows it (shape
 //! classes on white, the whole field from an oblique view).
+//! (The table of them for users: docs/book/src/user-guide/dti.md, "Defaults for DTI files".)
 //!
 //! The kind is told by the file format, not guessed from the tensors: NIfTI and NRRD are the
 //! formats diffusion tools write; VTK files, where stress and DTI fields both occur, keep the

@@ -11,7 +11,7 @@ use crate::frame::Lighting;
 use crate::shape::Capabilities;
 
 /// `render --splat`'s default, and the viewer's: on grid40 at 1024x768 splatting every glyph up
-/// to 32 px across measured fastest in every view (README, "Doing less work").
+/// to 32 px across measured fastest in every view (docs/book/src/concepts/doing-less-work.md).
 pub const DEFAULT_SPLAT: u32 = 32;
 
 /// How glyphs are drawn.

@@ -1,5 +1,6 @@
-//! The figures the README promises for the canonical scene: grid40 (64,000 ellipsoids) at
-//! 1024x768, Gumhold's method on the GPU against the exact f64 reference.
+//! The bounds the book promises for the canonical scene (docs/book/src/results/accuracy.md):
+//! grid40 (64,000 ellipsoids) at 1024x768, Gumhold's method on the GPU against the exact f64
+//! reference.
 
 mod common;
 
@@ -36,10 +37,11 @@ fn grid40_gumhold_meets_the_published_bounds() {
         let frame = gpu.render(&scene, &camera, &req).unwrap();
         let a = compare(&frame, &reference, &scene);
         eprintln!("splat {}: {a:?}", req.splat_pixels());
-        // grid40's acceptance bounds (README, Accuracy). Coverage and identity flip only on pixel centres
-        // within f32 rounding of a silhouette or an intersection curve; depth (relative to the
-        // glyph's largest radius) and normals are limited at the rims by the f32 interpolation
-        // of q (drawn quads) or by the pixel ray's f32 offset (splats).
+        // grid40's acceptance bounds (docs/book/src/results/accuracy.md). Coverage and identity
+        // flip only on pixel centres within f32 rounding of a silhouette or an intersection
+        // curve; depth (relative to the glyph's largest radius) and normals are limited at the
+        // rims by the f32 interpolation of q (drawn quads) or by the pixel ray's f32 offset
+        // (splats).
         assert!(a.coverage_mismatch <= 5e-4, "{a:?}");
         assert!(a.id_mismatch <= 1e-3, "{a:?}");
         assert!(a.depth_err_rel_p99 <= 1e-4, "{a:?}");

@@ -89,7 +89,7 @@ fn reference_check_on_a_small_demo() {
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let j = json(&o);
-    // Same bounds as the acceptance figures for grid40 (README, "Accuracy").
+    // Same bounds as the acceptance figures for grid40 (docs/book/src/results/accuracy.md).
     assert!(j["coverage_mismatch"].as_f64().unwrap() <= 5e-4, "{j}");
     assert!(j["id_mismatch"].as_f64().unwrap() <= 1e-3, "{j}");
     assert!(j["depth_err_rel_p99"].as_f64().unwrap() <= 1e-4, "{j}");

@@ -1,8 +1,11 @@
-//! Everything the README shows works: run every `tensorglyph` command line of README.md, in
-//! README order, with the binary this build made, and check that each exits 0 and writes the
-//! files it names.
+//! Everything the README and the book show works: run every `tensorglyph` command line of
+//! README.md and then of every page of the book (docs/book/src, in the order SUMMARY.md lists
+//! them), with the binary this build made, and check that each exits 0 and writes the files it
+//! names.
 //!
 //! # Which lines
+//!
+//! The same rules for README.md and every book page:
 //!
 //! - **Fenced blocks**: every line inside a ```` ```sh ```` block that starts with `tensorglyph `.
 //!   Each is split into words as a POSIX shell would (the `shlex` crate: quotes and backslashes,
@@ -17,16 +20,18 @@
 //!   before its first `.`, made of ASCII letters only with at least one upper-case letter
 //!   (`FILE`, `N`, `WxH`, `DEG`, `--size=WxH`, `OUT.png`).
 //!
-//! At least [`MIN_COMMANDS`] lines must be found, so the test cannot pass by matching nothing.
+//! At least [`MIN_COMMANDS`] lines must be found, so the test cannot pass by matching nothing. A
+//! line that repeats one already run (the same words: the README's examples reappear in the
+//! book) is reported and not run again.
 //!
 //! # How they run
 //!
 //! In a temporary directory whose `tests` entry is a symlink to the repository's `tests/` (the
-//! README's commands read `tests/data/…`, and `grid40.vtk`, which the README's first `demo` line
-//! writes there). Each command has [`TIME_LIMIT`] to exit with status 0 (it is killed
+//! commands read `tests/data/…`, and `grid40.vtk`, which the README's first `demo` line writes
+//! there; the book's *Getting started* page writes it again). Each command has [`TIME_LIMIT`] to exit with status 0 (it is killed
 //! otherwise). Every file or folder it names as an output (`-o`/`--output`, `--out`,
 //! `--screenshot`, `--diff`, `--write-vtk`, and `grid40.png` for `demo` without `-o` or
-//! `--write-vtk`, as the README says) is removed before the command runs and must exist after
+//! `--write-vtk`, as the book says) is removed before the command runs and must exist after
 //! it: a PNG must start with the PNG signature, a folder must not be empty. A `--json` run must
 //! print JSON objects on stdout (exactly one for `info`, `render` and `demo`; one per line for
 //! `stability`). All commands run and every failure is listed at the end.
@@ -41,12 +46,12 @@
 //! # What is not run verbatim
 //!
 //! Apart from the scripted mode added to `view` lines, the lines in [`SUBSTITUTIONS`] run with a
-//! smaller workload than the README prints, because this test runs the debug build inside
+//! smaller workload than the page prints, because this test runs the debug build inside
 //! `cargo test` and CI's whole run must stay well within its time limit. Each entry says why.
-//! The options kept are the README's, so the command line is still checked by clap and the
+//! The options kept are the page's, so the command line is still checked by clap and the
 //! same code paths run; only the volume size, the image size, the frame count and the frame
-//! budget shrink. A substitution that
-//! matches no README line fails the test, so the table cannot go stale. Every other line runs
+//! budget shrink. A substitution that matches no line fails the test, so the table cannot go
+//! stale. Every other line runs
 //! exactly as printed.
 
 mod common;
@@ -56,8 +61,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// The README shows 37 command lines (33 in ```` ```sh ```` blocks, 4 inline) as of this test.
-const MIN_COMMANDS: usize = 35;
+/// At least this many command lines must be found. README.md and the book show 98 as of this
+/// test (14 in the README, 84 in the book's pages; 86 distinct); a few fewer are allowed, so that
+/// a page may lose a line without editing this.
+const MIN_COMMANDS: usize = 93;
 
 /// How long one command may run before it is killed and counted as a failure.
 const TIME_LIMIT: Duration = Duration::from_secs(180);
@@ -70,7 +77,7 @@ enum When {
     Lacks(&'static str),
 }
 
-/// A heavy README command run with a smaller workload.
+/// A heavy command line run with a smaller workload.
 struct Substitution {
     /// The subcommand it applies to.
     subcommand: &'static str,
@@ -81,7 +88,7 @@ struct Substitution {
     reason: &'static str,
 }
 
-/// Every heavy README line and what runs instead. The times are of the debug build on a 2-core
+/// Every heavy line and what runs instead. The times are of the debug build on a 2-core
 /// machine with lavapipe, measured when this table was written.
 const SUBSTITUTIONS: &[Substitution] = &[
     Substitution {
@@ -122,10 +129,12 @@ const SUBSTITUTIONS: &[Substitution] = &[
     },
 ];
 
-/// One command line of the README.
+/// One command line of the README or a book page.
 #[derive(Debug)]
 struct ReadmeCommand {
-    /// 1-based line of README.md where it starts.
+    /// The page, relative to the repository (README.md, docs/book/src/…).
+    file: String,
+    /// 1-based line of the page where it starts.
     line: usize,
     /// The words after `tensorglyph`, as printed.
     args: Vec<String>,
@@ -145,12 +154,13 @@ fn is_placeholder(word: &str) -> bool {
         || word.split_once('.').is_some_and(|(stem, _)| meta(stem))
 }
 
-fn split(text: &str, line: usize) -> Vec<String> {
-    shlex::split(text).unwrap_or_else(|| panic!("README.md:{line}: cannot split {text:?}"))
+fn split(text: &str, file: &str, line: usize) -> Vec<String> {
+    shlex::split(text).unwrap_or_else(|| panic!("{file}:{line}: cannot split {text:?}"))
 }
 
-/// The command lines of `readme`, in order (the rules are in the module documentation).
-fn extract(readme: &str) -> Vec<ReadmeCommand> {
+/// The command lines of `readme`, the text of `file`, in order (the rules are in the module
+/// documentation).
+fn extract(file: &str, readme: &str) -> Vec<ReadmeCommand> {
     let mut out = Vec::new();
     // None: outside a fence; Some(is_sh): inside one.
     let mut fence: Option<bool> = None;
@@ -161,7 +171,7 @@ fn extract(readme: &str) -> Vec<ReadmeCommand> {
         let trimmed = text.trim_start();
         if trimmed.starts_with("```") {
             if let Some((l, p)) = para.take() {
-                inline_commands(&p, l, &mut out);
+                inline_commands(file, &p, l, &mut out);
             }
             fence = match fence {
                 Some(_) => None,
@@ -172,15 +182,19 @@ fn extract(readme: &str) -> Vec<ReadmeCommand> {
         match fence {
             Some(true) => {
                 if text.starts_with("tensorglyph ") {
-                    let mut words = split(text, line);
+                    let mut words = split(text, file, line);
                     words.remove(0);
-                    out.push(ReadmeCommand { line, args: words });
+                    out.push(ReadmeCommand {
+                        file: file.to_string(),
+                        line,
+                        args: words,
+                    });
                 }
             }
             Some(false) => {}
             None if text.trim().is_empty() => {
                 if let Some((l, p)) = para.take() {
-                    inline_commands(&p, l, &mut out);
+                    inline_commands(file, &p, l, &mut out);
                 }
             }
             None => match &mut para {
@@ -193,13 +207,32 @@ fn extract(readme: &str) -> Vec<ReadmeCommand> {
         }
     }
     if let Some((l, p)) = para.take() {
-        inline_commands(&p, l, &mut out);
+        inline_commands(file, &p, l, &mut out);
     }
     out
 }
 
+/// The book's pages in the order SUMMARY.md lists them, relative to the repository.
+fn book_pages(repo: &Path) -> Vec<String> {
+    let src = "docs/book/src";
+    let summary = fs::read_to_string(repo.join(src).join("SUMMARY.md")).expect("SUMMARY.md");
+    let mut pages = Vec::new();
+    let mut rest = summary.as_str();
+    while let Some(k) = rest.find("](") {
+        rest = &rest[k + 2..];
+        let Some(end) = rest.find(')') else { break };
+        let target = rest[..end].trim_start_matches("./");
+        if target.ends_with(".md") {
+            pages.push(format!("{src}/{target}"));
+        }
+        rest = &rest[end..];
+    }
+    assert!(!pages.is_empty(), "SUMMARY.md lists no page");
+    pages
+}
+
 /// The complete commands among the inline code spans of one paragraph starting at `first_line`.
-fn inline_commands(para: &str, first_line: usize, out: &mut Vec<ReadmeCommand>) {
+fn inline_commands(file: &str, para: &str, first_line: usize, out: &mut Vec<ReadmeCommand>) {
     let mut rest = para;
     let mut offset = 0;
     while let Some(open) = rest.find('`') {
@@ -214,7 +247,7 @@ fn inline_commands(para: &str, first_line: usize, out: &mut Vec<ReadmeCommand>) 
         if !span.starts_with("tensorglyph ") && !span.starts_with("xvfb-run ") {
             continue;
         }
-        let words = split(&span, line);
+        let words = split(&span, file, line);
         let start = match words.first().map(String::as_str) {
             Some("tensorglyph") => 1,
             Some("xvfb-run") => match words.iter().position(|w| w == "tensorglyph") {
@@ -226,6 +259,7 @@ fn inline_commands(para: &str, first_line: usize, out: &mut Vec<ReadmeCommand>) 
         let args = &words[start..];
         if args.len() >= 2 && !args.iter().any(|w| is_placeholder(w)) {
             out.push(ReadmeCommand {
+                file: file.to_string(),
                 line,
                 args: args.to_vec(),
             });
@@ -384,12 +418,12 @@ impl Display {
                 None => {
                     if std::env::var_os("CI").is_some() {
                         panic!(
-                            "CI is set but Xvfb could not be started for the README's view lines \
+                            "CI is set but Xvfb could not be started for the view lines \
                              (is the xvfb package installed?)"
                         );
                     }
                     eprintln!(
-                        "no X server could be started (install xvfb): the README's view lines \
+                        "no X server could be started (install xvfb): the view lines \
                          are skipped"
                     );
                     Display::Unavailable
@@ -414,7 +448,7 @@ fn show(args: &[String]) -> String {
         if plain {
             line.push_str(a);
         } else {
-            line.push_str(&shlex::try_quote(a).expect("no NUL in a README line"));
+            line.push_str(&shlex::try_quote(a).expect("no NUL in a command line"));
         }
     }
     line
@@ -428,13 +462,19 @@ fn tail(path: &Path, n: usize) -> String {
 }
 
 #[test]
-fn every_readme_command_line_works() {
+fn every_readme_and_book_command_line_works() {
     let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let readme = fs::read_to_string(repo.join("README.md")).expect("README.md");
-    let commands = extract(&readme);
+    let mut pages = vec!["README.md".to_string()];
+    pages.extend(book_pages(repo));
+    let mut commands = Vec::new();
+    for page in &pages {
+        let text = fs::read_to_string(repo.join(page)).unwrap_or_else(|e| panic!("{page}: {e}"));
+        commands.extend(extract(page, &text));
+    }
     assert!(
         commands.len() >= MIN_COMMANDS,
-        "only {} command lines found in README.md (expected at least {MIN_COMMANDS}): {commands:#?}",
+        "only {} command lines found in README.md and the book (expected at least \
+         {MIN_COMMANDS}): {commands:#?}",
         commands.len()
     );
 
@@ -448,25 +488,36 @@ fn every_readme_command_line_works() {
     let mut used = vec![false; SUBSTITUTIONS.len()];
     let mut failures = Vec::new();
     let mut skipped = 0;
+    let mut repeated = 0;
+    // Each distinct command line and where it was first shown.
+    let mut seen: Vec<(&[String], String)> = Vec::new();
     let total = commands.len();
     let started = Instant::now();
     eprintln!(
-        "{total} command lines from README.md, run in {}",
+        "{total} command lines from README.md and {} book pages, run in {}",
+        pages.len() - 1,
         work.display()
     );
 
     for (k, cmd) in commands.iter().enumerate() {
         let k = k + 1;
+        let at = format!("{}:{}", cmd.file, cmd.line);
         let printed = show(&cmd.args);
         let mut args = cmd.args.clone();
         let reasons = substitute(&mut args, &mut used);
+        if let Some((_, first)) = seen.iter().find(|(a, _)| *a == cmd.args.as_slice()) {
+            eprintln!("[{k}/{total}] {at}: {printed}\n    the same line as {first}: not run again");
+            repeated += 1;
+            continue;
+        }
+        seen.push((&cmd.args, at.clone()));
         let view = args[0] == "view";
         if view && !has_option(&args, "--screenshot") {
             set_option(&mut args, "--frames", Some("2"));
             set_option(&mut args, "--screenshot", Some(&format!("view-{k}.png")));
         }
         let run = show(&args);
-        eprintln!("[{k}/{total}] README.md:{}: {printed}", cmd.line);
+        eprintln!("[{k}/{total}] {at}: {printed}");
         if run != printed {
             eprintln!("    runs as: {run}");
             for r in &reasons {
@@ -536,8 +587,7 @@ fn every_readme_command_line_works() {
             eprintln!("    ok in {secs:.1} s");
         } else {
             let report = format!(
-                "README.md:{}: {printed}\n    ran: {run}\n    {}\n    stderr (last lines):\n{}",
-                cmd.line,
+                "{at}: {printed}\n    ran: {run}\n    {}\n    stderr (last lines):\n{}",
                 problems.join("; "),
                 tail(&stderr, 15)
             );
@@ -553,18 +603,19 @@ fn every_readme_command_line_works() {
         .map(|(s, _)| format!("{} ({})", s.subcommand, s.reason))
         .collect();
     eprintln!(
-        "{} command lines in {:.0} s: {} failed, {skipped} skipped",
+        "{} command lines ({} distinct) in {:.0} s: {} failed, {skipped} skipped",
         total,
+        total - repeated,
         started.elapsed().as_secs_f64(),
         failures.len()
     );
     assert!(
         stale.is_empty(),
-        "substitutions that match no README line (remove them): {stale:#?}"
+        "substitutions that match no line of the README or the book (remove them): {stale:#?}"
     );
     assert!(
         failures.is_empty(),
-        "{} README command lines failed:\n\n{}",
+        "{} command lines of the README and the book failed:\n\n{}",
         failures.len(),
         failures.join("\n\n")
     );
@@ -585,8 +636,10 @@ fn extraction_rules() {
               tensorglyph not-sh\n\
               ```\n\
               Under X: `xvfb-run -s \"-screen 0 8x8x24\" tensorglyph view --demo grid40`.\n";
-    let got: Vec<(usize, Vec<String>)> =
-        extract(md).into_iter().map(|c| (c.line, c.args)).collect();
+    let got: Vec<(usize, Vec<String>)> = extract("page.md", md)
+        .into_iter()
+        .map(|c| (c.line, c.args))
+        .collect();
     let w = |s: &[&str]| s.iter().map(|x| x.to_string()).collect::<Vec<_>>();
     assert_eq!(
         got,

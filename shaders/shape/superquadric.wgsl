@@ -2,7 +2,7 @@
 // (third column the symmetry axis) scaled by the radii, where the solid lies in the unit box;
 // Gumhold's quad is that of the smallest ball about the centre holding the solid (sq_bound: 1
 // for an ellipsoid, √2 for a cylinder, at most √3, the box's corner). The first crossing is
-// found by superquadric_finder.wgsl (docs/superquadric.md §6); mesh:N maps a shared grid through
+// found by superquadric_finder.wgsl (docs/book/src/developer/superquadric-derivation.md §6); mesh:N maps a shared grid through
 // the exponents (superquadric_mesh.wgsl); Gumhold's splats are superquadric_splat.wgsl.
 // Twin: src/twin/superquadric.rs.
 

@@ -1,6 +1,7 @@
-// The superquadric ray–surface root finder (docs/superquadric.md §6), functions only; composed
-// after common.wgsl. Mirrored line by line in f32 by src/twin/superquadric.rs, whose tests judge
-// it against the exact f64 reference (src/reference/superquadric.rs).
+// The superquadric ray–surface root finder (docs/book/src/developer/superquadric-derivation.md
+// §6), functions only; composed after common.wgsl. Mirrored line by line in f32 by
+// src/twin/superquadric.rs, whose tests judge it against the exact f64 reference
+// (src/reference/superquadric.rs).
 //
 // Local unit coordinates: the solid is |z| <= 1, (|x|/R_β(z))^(2/α) + (|y|/R_c(z))^(2/α) <= 1,
 // R_e(z) = (1 − |z|^(2/e))^(e/2), with exponents e = (α, β, c) in (0, 5]; it lies in [−1, 1]³.
@@ -193,7 +194,8 @@ fn sq_log_add(a: f32, b: f32) -> f32 {
     return hi + log2(1.0 + exp2(lo - hi));
 }
 
-// Logs of the components of ∇H at absolute coordinates a (c ≠ β; docs/superquadric.md §4):
+// Logs of the components of ∇H at absolute coordinates a (c ≠ β;
+// docs/book/src/developer/superquadric-derivation.md §4):
 // ∂H/∂x = A/R_β, ∂H/∂y = B/R_c, ∂H/∂|z| = A u (|z|/R_β)^(2/β − 1)/R_β + B w (|z|/R_c)^(2/c − 1)/R_c.
 // At the poles and where the profile has closed (tips) the axis.
 fn sq_gauge_grad_log(a: vec3<f32>, e: vec3<f32>) -> vec3<f32> {

@@ -3,7 +3,7 @@
 // grid on the unit sphere (superquadric_grid in src/render/mesh.rs); sqm_vertex maps a grid
 // direction d = (cos θ sin φ, sin θ sin φ, cos φ) through the glyph's own exponents (α, β, c) to
 // its surface, as Teem's limnObjectPolarSuperquadFancyAdd places its vertices (signed powers;
-// docs/superquadric.md §1, local z the symmetry axis):
+// docs/book/src/developer/superquadric-derivation.md §1, local z the symmetry axis):
 //
 //     x = cos^α θ sin^β φ,   y = sin^α θ R_c(|z|),   z = cos^β φ,
 //     R_c(|z|) = K_c^(c/2),   K_c = 1 − |cos φ|^(2β/c)   (= sin^β φ when c = β).

@@ -38,9 +38,10 @@ pub struct SceneArgs {
     /// files; fsl for NIfTI, where 5-D files with intent SYMMATRIX say nifti themselves).
     #[arg(long, value_parser = one_of::<ComponentOrder>(ComponentOrder::NAMES))]
     pub order: Option<ComponentOrder>,
-    /// The axes the file's tensors are in (default: voxel for NIfTI; VTK image tensors are
-    /// rotated by the image's Direction): voxel (rotated into world by the voxel-to-world
-    /// matrix), fsl (voxel, with FSL's x-flip for positive-determinant matrices) or world.
+    /// The axes the file's tensors are in (default: voxel for NIfTI, world for NRRD; VTK image
+    /// tensors are rotated by the image's Direction): voxel (rotated into world by the
+    /// voxel-to-world matrix), fsl (voxel, with FSL's x-flip for positive-determinant matrices)
+    /// or world.
     #[arg(long, value_parser = one_of::<TensorFrame>(TensorFrame::NAMES))]
     pub tensor_frame: Option<TensorFrame>,
     /// Colour scheme (default: shape; dec for DTI files, NIfTI and NRRD).
@@ -59,7 +60,7 @@ pub struct SceneArgs {
     #[arg(long, default_value = "none", value_parser = one_of::<Normalize>(Normalize::NAMES))]
     pub normalize: Normalize,
     /// Smallest radius as a fraction of the glyph's largest (keeps T invertible). Default 0.01;
-    /// 0.2 for stress-like fields sized by the automatic log map (uniaxial stress is a needle
+    /// 0.25 for stress-like fields sized by the automatic log map (uniaxial stress is a needle
     /// otherwise).
     #[arg(long, value_name = "EPS")]
     pub min_radius: Option<f64>,
@@ -311,7 +312,8 @@ impl CameraArgs {
 }
 
 /// How much work a frame does: a preset, and options on top of it. The defaults are what
-/// measured fastest on lavapipe with the reference's accuracy (README, "Doing less work").
+/// measured fastest on lavapipe with the reference's accuracy
+/// (docs/book/src/concepts/doing-less-work.md).
 #[derive(Args, Debug, Clone)]
 pub struct DrawArgs {
     /// A named way of drawing: baseline (a quad per glyph, no culling, file order), culled,
@@ -472,8 +474,8 @@ pub struct EffectArgs {
     /// viewer); default above-left of the camera, -0.5,0.8,0.35.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_light)]
     pub light: Option<[f64; 3]>,
-    /// Shadow map side in texels (default: the power of two at or above the image's longer
-    /// side in samples, 512 to 4096).
+    /// Shadow map side in texels (default: the power of two at or above twice the image's
+    /// longer side in samples, 1024 to 4096).
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(64..=8192))]
     pub shadow_map: Option<u32>,

@@ -30,7 +30,7 @@ pub struct BenchArgs {
     /// Timed repetitions per configuration.
     #[arg(long, default_value_t = 5)]
     pub frames: u32,
-    /// A scene: grid40, grid:N or a VTK file; repeatable (default grid40).
+    /// A scene: grid40, grid:N or a tensor file; repeatable (default grid40).
     #[arg(long = "scene")]
     pub scenes: Vec<String>,
     /// Seconds one frame may take; configurations predicted or measured slower are skipped and

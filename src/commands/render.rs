@@ -82,7 +82,8 @@ pub struct FrameArgs {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// A VTK file (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti).
+    /// A tensor file: VTK (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti), NIfTI-1 (.nii, .nii.gz),
+    /// NRRD (.nrrd, .nhdr) or an FSL eigen set (PREFIX_L1.nii.gz … or PREFIX).
     pub file: Option<PathBuf>,
     /// A built-in field instead of a file: grid40 or grid:N.
     #[arg(long)]

@@ -12,7 +12,9 @@ use tensorglyph::viewer::{self, Options, state::Settings};
 
 #[derive(Args, Debug)]
 pub struct ViewArgs {
-    /// A VTK file (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti); or drop one on the window.
+    /// A tensor file: VTK (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti), NIfTI-1 (.nii, .nii.gz),
+    /// NRRD (.nrrd, .nhdr) or an FSL eigen set (PREFIX_L1.nii.gz … or PREFIX); or drop one on
+    /// the window.
     pub file: Option<PathBuf>,
     /// A built-in field instead of a file: grid40 or grid:N.
     #[arg(long)]

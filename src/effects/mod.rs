@@ -79,8 +79,8 @@ impl Shadows {
 
     /// The shadow map side for an image of `width`×`height` samples: the power of two at or
     /// above twice the longer side, 1024 to 4096. On grid40 at 1024x768 this keeps the shadows
-    /// within about 2 % of the exact ones (README, "Figures"); a finer map costs more to draw
-    /// than it shows.
+    /// within about 2 % of the exact ones (measured in docs/notes/measurements.md); a finer map
+    /// costs more to draw than it shows.
     pub fn map_for(width: u32, height: u32) -> u32 {
         width
             .max(height)

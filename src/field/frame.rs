@@ -1,5 +1,6 @@
 //! Voxel-to-world geometry shared by the NIfTI and NRRD readers, and what a field says about
 //! its layout and frames (reported by `info`).
+//! (Each format's conventions for users: docs/book/src/user-guide/dti.md.)
 //!
 //! No tensor file says whether its tensors are in the voxel axes or in world axes, so the
 //! reader is told ([`TensorFrame`], with a default per format) and records what it used.

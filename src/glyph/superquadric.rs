@@ -1,4 +1,4 @@
-//! Tensor → superquadric glyph shape (docs/superquadric.md §2–3).
+//! Tensor → superquadric glyph shape (docs/book/src/developer/superquadric-derivation.md §2–3).
 //!
 //! Two published mappings, picked per glyph:
 //!
@@ -325,9 +325,10 @@ fn barycentric(p: [f64; 2], t: [[f64; 2]; 3]) -> [f64; 3] {
 /// Exponents below this are raised to it: `2/e` must stay finite for the powers to.
 pub const EXPONENT_MIN: f64 = 1e-300;
 
-/// The solid's inside–outside function (docs/superquadric.md §1, §4) of exponents `e = (α, β,
-/// c)` at absolute local coordinates `a = (|x|, |y|, |z|)`: `N_α(|x| / R_β(z), |y| / R_c(z))`,
-/// ≤ 1 exactly on the solid, non-decreasing in each argument, ∞ beyond `|z| = 1`.
+/// The solid's inside–outside function (docs/book/src/developer/superquadric-derivation.md §1,
+/// §4) of exponents `e = (α, β, c)` at absolute local coordinates `a = (|x|, |y|, |z|)`:
+/// `N_α(|x| / R_β(z), |y| / R_c(z))`, ≤ 1 exactly on the solid, non-decreasing in each
+/// argument, ∞ beyond `|z| = 1`.
 pub fn gauge(e: [f64; 3], a: [f64; 3]) -> f64 {
     let [ax, ay, az] = a;
     if az >= 1.0 {

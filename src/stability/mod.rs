@@ -2,6 +2,8 @@
 //! small scene and camera (≤ 256×192) rendered by every GPU method and by the exact f64
 //! reference, or a CPU-side numerical probe (the µ form, the eigensolver). Every row gets a
 //! status: `pass`, `degraded` (numbers against the bounds in its reason) or `fail`.
+//! (The cases, the judging and the documented limits for users:
+//! docs/book/src/results/stability.md.)
 //!
 //! What "right" means per method family:
 //! - Exact impostors (gumhold, sigg) must match the reference within [`Bounds::TIGHT`]; past

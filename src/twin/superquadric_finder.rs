@@ -1,5 +1,5 @@
 //! The CPU twin of shaders/shape/superquadric_finder.wgsl: the f32 ray–superquadric root finder
-//! the GPU's superquadric glyphs call (docs/superquadric.md §6), line by line with the shader's
+//! the GPU's superquadric glyphs call (docs/book/src/developer/superquadric-derivation.md §6), line by line with the shader's
 //! names and in the shader's precision, so the tests can judge it against the exact f64
 //! intersection (`crate::shape::superquadric::Superquadric`) and the 50-digit worked cases.
 //!
@@ -277,7 +277,7 @@ fn sq_log_add(a: f32, b: f32) -> f32 {
 }
 
 /// `sq_gauge_grad_log`: logs of the components of `∇H` at absolute coordinates `a` for `c ≠ β`
-/// (docs/superquadric.md §4, as the reference's `local_gradient`): `∂H/∂x = A/R_β`,
+/// (docs/book/src/developer/superquadric-derivation.md §4, as the reference's `local_gradient`): `∂H/∂x = A/R_β`,
 /// `∂H/∂y = B/R_c`, `∂H/∂|z| = A u (|z|/R_β)^(2/β − 1)/R_β + B w (|z|/R_c)^(2/c − 1)/R_c`. At the
 /// poles and where the profile has closed to below [`SQ_TINY`] (the tips) the normal is the
 /// axis.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Worked cases for superquadric glyphs (docs/superquadric.md), computed at 50 digits with mpmath.
+"""Worked cases for superquadric glyphs (docs/book/src/developer/superquadric-derivation.md), computed at 50 digits with mpmath.
 
 Writes tests/data/superquadric_vectors.json beside this script:
 

@@ -5,6 +5,7 @@
 //! one compute invocation and nothing in the draw. Superquadrics keep only the drawn glyphs'
 //! instance indices ([`glyph_list_layout`]): their quad is cheap to rebuild, and what they save
 //! is the splats' ray casting per pixel centre rather than per 4x4 block of the rasteriser.
+//! (The book's account, with the presets: docs/book/src/concepts/doing-less-work.md.)
 //!
 //! With `--splat N`, glyphs whose proxy spans at most N×N pixels are not drawn at all: the
 //! compute pass ray casts their pixels itself (keeping each pixel's nearest depth with an atomic

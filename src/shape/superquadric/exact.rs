@@ -1,5 +1,5 @@
-//! Exact f64 ray–superquadric intersection (docs/superquadric.md §4), the judge of the GPU's
-//! superquadric glyphs.
+//! Exact f64 ray–superquadric intersection (docs/book/src/developer/superquadric-derivation.md
+//! §4), the judge of the GPU's superquadric glyphs.
 //!
 //! Two certified searches, neither of which samples the ray and so neither of which can step over
 //! a thin crossing (a sharp γ = 10 corner nicked by a ray, a grazing ray):

@@ -89,7 +89,7 @@ fn sq_ln_cos(cz: f64, sp: f64) -> f64 {
 /// The f64 twin of `sqm_vertex` (shaders/superquadric_mesh.wgsl), formula for formula: the
 /// grid direction `d` of [`superquadric_grid`] mapped through the exponents `e = (α, β, c)` to
 /// the superquadric's surface, and the unit outward normal there, in local unit coordinates
-/// (docs/superquadric.md §1: local z the symmetry axis).
+/// (docs/book/src/developer/superquadric-derivation.md §1: local z the symmetry axis).
 ///
 /// With (cos θ, sin θ) the direction of `d`'s (x, y) and (sin φ, cos φ) its distance from the
 /// axis and its z (signed powers throughout):

@@ -1,4 +1,4 @@
-//! Superquadric glyphs (docs/superquadric.md): Kindlmann's shapes of the tensor and
+//! Superquadric glyphs (docs/book/src/developer/superquadric-derivation.md): Kindlmann's shapes of the tensor and
 //! `--sharpness` (Schultz–Kindlmann's for indefinite tensors, [`crate::glyph::superquadric`]),
 //! the solid in its local unit box (third column the symmetry axis), scaled by the radii. The
 //! exact intersection ([`exact`]) judges the GPU's root finder (shaders/shape/superquadric.wgsl);

@@ -1,9 +1,9 @@
 //! The documented inherent limits: the rows whose excess is a known limit of the method, not
-//! a fault (the reasons are in docs/stability.md).
+//! a fault (the reasons are in docs/book/src/results/stability.md).
 
 use crate::stability::Row;
 
-/// A documented inherent limit that covers this row, if any (the reason is in docs/stability.md).
+/// A documented inherent limit that covers this row, if any (the reason is in docs/book/src/results/stability.md).
 pub fn documented_limit(row: &Row) -> Option<&'static str> {
     match row.case {
         "9-intersecting" if !row.depth_correction => Some(
