@@ -9,17 +9,17 @@ use anyhow::{Result, anyhow, bail, ensure};
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 
-use tensorglyph::camera::{Framing, ViewPreset};
-use tensorglyph::defaults::Defaults;
-use tensorglyph::effects::{Effects, Outlines, Shading, Shadows, light};
-use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
-pub use tensorglyph::frame::parse_size;
-use tensorglyph::glyph::superquadric::{MAX_GAMMA, Sharpness};
-use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
-use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
-use tensorglyph::scene::UnderlaySource;
-use tensorglyph::select::{Mask, Plane, Selection, Slicing, parse_roi};
-use tensorglyph::staging::{Demo, Recipe, Source};
+use crate::camera::{Framing, ViewPreset};
+use crate::defaults::Defaults;
+use crate::effects::{Effects, Outlines, Shading, Shadows, light};
+use crate::field::{ComponentOrder, ReadOptions, TensorFrame};
+pub use crate::frame::parse_size;
+use crate::glyph::superquadric::{MAX_GAMMA, Sharpness};
+use crate::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
+use crate::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
+use crate::scene::UnderlaySource;
+use crate::select::{Mask, Plane, Selection, Slicing, parse_roi};
+use crate::staging::{Demo, Recipe, Source};
 
 /// A value parser for one of `names` (clap lists them in `--help` and in its error).
 pub fn one_of<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>

@@ -11,18 +11,18 @@ use super::args::{
     CameraArgs, DrawArgs, EffectArgs, SceneArgs, SelectArgs, parse_color, parse_size, source,
 };
 use super::progress::Terminal;
-use tensorglyph::backend::Backend;
-use tensorglyph::camera::Camera;
-use tensorglyph::defaults::DataKind;
-use tensorglyph::frame::Frame;
-use tensorglyph::image_out::{write_png, write_png_dpi};
-use tensorglyph::legend::raster::{Caption, burn};
-use tensorglyph::metrics::{Accuracy, compare, diff_image};
-use tensorglyph::request::{FrameRequest, GlyphKind, Method};
-use tensorglyph::scene::UnderlaySource;
-use tensorglyph::scene::Visibility;
-use tensorglyph::staging::{Demo, Recipe, Source, Timings, stage};
-use tensorglyph::tiles::Tiling;
+use crate::backend::Backend;
+use crate::camera::Camera;
+use crate::defaults::DataKind;
+use crate::frame::Frame;
+use crate::image_out::{write_png, write_png_dpi};
+use crate::legend::raster::{Caption, burn};
+use crate::metrics::{Accuracy, compare, diff_image};
+use crate::request::{FrameRequest, GlyphKind, Method};
+use crate::scene::UnderlaySource;
+use crate::scene::Visibility;
+use crate::staging::{Demo, Recipe, Source, Timings, stage};
+use crate::tiles::Tiling;
 
 /// Image and output options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
@@ -157,8 +157,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
 pub fn demo(args: DemoArgs) -> Result<()> {
     let demo = Demo { n: 40 };
     if let Some(path) = &args.write_vtk {
-        let field = tensorglyph::field::synthetic::grid(demo.n);
-        tensorglyph::field::synthetic::write_legacy_vtk(&field, path)
+        let field = crate::field::synthetic::grid(demo.n);
+        crate::field::synthetic::write_legacy_vtk(&field, path)
             .with_context(|| format!("{}: cannot write", path.display()))?;
         if !args.frame.scene.quiet {
             eprintln!("wrote {} ({} tensors)", path.display(), field.len());
@@ -185,7 +185,7 @@ fn check_output(path: &Path, inputs: &[&Path]) -> Result<()> {
     if path.is_dir() {
         bail!("{}: is a folder, not a file", path.display());
     }
-    tensorglyph::image_out::check_output(path, inputs)
+    crate::image_out::check_output(path, inputs)
         .with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
 }
@@ -215,7 +215,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     }
     let mut framing = cam.framing()?;
     let defaults = DataKind::of(src).defaults();
-    tensorglyph::frame::check_size(image.size.0, image.size.1)?;
+    crate::frame::check_size(image.size.0, image.size.1)?;
     if let Some(d) = image.dpi
         && !(d.is_finite() && d > 0.0 && d / 0.0254 < f64::from(u32::MAX))
     {
@@ -308,7 +308,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             &camera,
             &FrameRequest { frames: 1, ..req },
             &mut Timings::default(),
-            &tensorglyph::progress::Silent,
+            &crate::progress::Silent,
         )?;
         if let Some(d) = &image.diff {
             write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
@@ -364,9 +364,9 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         glyphs_degenerate: degenerate,
         frame_ms: frame.median_ms(),
         fragments: frame.fragments,
-        bytes_per_glyph: tensorglyph::render::mesh::bytes_per_glyph(method),
+        bytes_per_glyph: crate::render::mesh::bytes_per_glyph(method),
         timings_ms: timings,
-        peak_rss_bytes: tensorglyph::mem::peak_rss_bytes(),
+        peak_rss_bytes: crate::mem::peak_rss_bytes(),
         accuracy,
     };
     if image.json {
