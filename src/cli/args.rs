@@ -171,6 +171,9 @@ pub struct SelectArgs {
     /// volume are dropped. Its lattice need not be the tensors'.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
+    /// A mask handed over in memory instead of `--mask`'s file (the Python package's arrays).
+    #[arg(skip)]
+    pub mask_volume: Option<Mask>,
 }
 
 /// `LO,HI` with LO < HI, both finite.
@@ -233,10 +236,11 @@ impl SelectArgs {
         if !planes.is_empty() && planes.len() < self.slices.len() {
             bail!("--slice all cannot be given with planes");
         }
-        let mask = match &self.mask {
+        let mask = match (&self.mask_volume, &self.mask) {
+            (Some(mask), _) => Some(mask.clone()),
             // The load error names the file and the place; one line, no chain to repeat it.
-            Some(path) => Some(Mask::read(path).map_err(|e| anyhow!("--mask {e}"))?),
-            None => None,
+            (None, Some(path)) => Some(Mask::read(path).map_err(|e| anyhow!("--mask {e}"))?),
+            (None, None) => None,
         };
         let sel = Selection {
             fa_min: self.fa_min.unwrap_or(0.0),

@@ -74,10 +74,28 @@ where
     }
 }
 
+/// Options of one group `A` of the command line's (`SceneArgs`, `render::FrameArgs`, …)
+/// parsed from arguments spelled as on the command line, for front ends that bring their own
+/// data (the Python package): the same defaults and checks; an error is the command line's
+/// one line.
+pub fn parse_options<A: clap::Args>(
+    args: impl IntoIterator<Item = impl Into<OsString> + Clone>,
+) -> Result<A, String> {
+    #[derive(Parser)]
+    #[command(name = "tensorglyph", no_binary_name = true)]
+    struct Options<A: clap::Args> {
+        #[command(flatten)]
+        options: A,
+    }
+    Options::<A>::try_parse_from(args)
+        .map(|o| o.options)
+        .map_err(|e| usage_line(&e))
+}
+
 /// Help and version as clap prints them; any other command-line error as one line (clap's
 /// first, with the accepted values where it has them), exit status 2 like every other error.
 fn usage_error(e: clap::Error) -> i32 {
-    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    use clap::error::ErrorKind;
     if matches!(
         e.kind(),
         ErrorKind::DisplayHelp
@@ -88,6 +106,13 @@ fn usage_error(e: clap::Error) -> i32 {
         let _ = e.print();
         return e.exit_code();
     }
+    eprintln!("{}", usage_line(&e));
+    2
+}
+
+/// A command-line error as one line: clap's first, with the accepted values where it has them.
+fn usage_line(e: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
     let rendered = e.render().to_string();
     let mut line = rendered
         .lines()
@@ -103,6 +128,5 @@ fn usage_error(e: clap::Error) -> i32 {
         line.push(' ');
         line.push_str(&args.join(", "));
     }
-    eprintln!("{line}");
-    2
+    line
 }
