@@ -229,7 +229,8 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         report,
     } = render_frame(src, args, backend, &progress)?;
     if let (Some(d), Some(diff)) = (&image.diff, &diff) {
-        write_png(d, &inputs, w, h, diff).with_context(|| format!("{}: cannot write", d.display()))?;
+        write_png(d, &inputs, w, h, diff)
+            .with_context(|| format!("{}: cannot write", d.display()))?;
     }
     write_png_dpi(output, &inputs, w, h, &color, image.dpi)
         .with_context(|| format!("{}: cannot write", output.display()))?;
@@ -377,8 +378,7 @@ where
             .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?
             .len()
     };
-    let mut frame: Frame =
-        tiling.render(backend, &scene, &camera, &req, &mut timings, progress)?;
+    let mut frame: Frame = tiling.render(backend, &scene, &camera, &req, &mut timings, progress)?;
 
     let mut diff = None;
     let accuracy = if image.reference_check {

@@ -69,7 +69,10 @@ pub fn checked_affine(rows: [[f64; 4]; 4]) -> Result<Matrix4<f64>, LoadErrorKind
     if rows[3] != [0.0, 0.0, 0.0, 1.0] {
         return Err(error(
             "affine",
-            format!("the last row is {:?}; a voxel-to-world matrix ends in 0, 0, 0, 1", rows[3]),
+            format!(
+                "the last row is {:?}; a voxel-to-world matrix ends in 0, 0, 0, 1",
+                rows[3]
+            ),
         ));
     }
     let a = Matrix4::from_fn(|i, j| rows[i][j]);
@@ -105,7 +108,10 @@ pub fn lattice(
         ));
     }
     let a = checked_affine(affine)?;
-    let tensors = values.chunks_exact(c).map(|t| components.expand(t)).collect();
+    let tensors = values
+        .chunks_exact(c)
+        .map(|t| components.expand(t))
+        .collect();
     let array = TensorArrayInfo {
         name: "array".into(),
         components: c,
@@ -148,7 +154,10 @@ pub fn points(
     if !positions.iter().flatten().all(|x| x.is_finite()) {
         return Err(error("positions", "hold a number that is not finite"));
     }
-    let tensors = values.chunks_exact(c).map(|t| components.expand(t)).collect();
+    let tensors = values
+        .chunks_exact(c)
+        .map(|t| components.expand(t))
+        .collect();
     let mut field = TensorField::from_points(positions, tensors);
     field.format = "array".into();
     field.array = TensorArrayInfo {
