@@ -20,7 +20,7 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use numpy::ndarray::{Array2, Array3, Axis, IxDyn};
-use numpy::{PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray3, PyReadonlyArrayDyn};
+use numpy::{PyArray2, PyArray3, PyReadonlyArray3, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
@@ -254,7 +254,7 @@ impl Field {
     }
 
     /// A NIfTI-1 file's bytes (a nibabel image's `to_bytes()`), read by the file reader;
-    /// `args` as for [`Field::read`].
+    /// `args` as for `Field::read`.
     #[staticmethod]
     fn from_nifti_bytes(
         py: Python<'_>,
@@ -414,7 +414,7 @@ impl Deref for Held<'_> {
         match self {
             Held::Gpu(g) => match &**g {
                 Gpu::Ready(b) => b,
-                _ => unreachable!("Renderer::backend holds the lock only on a ready GPU"),
+                _ => unreachable!("Renderer::back_end holds the lock only on a ready GPU"),
             },
             Held::Reference(b) => b,
         }
@@ -433,7 +433,7 @@ struct Renderer {
 }
 
 impl Renderer {
-    fn backend(&self, method: Method) -> anyhow::Result<(Held<'_>, bool)> {
+    fn back_end(&self, method: Method) -> anyhow::Result<(Held<'_>, bool)> {
         if !method.is_gpu() || self.choice == "cpu" {
             return Ok((Held::Reference(Backend::Reference), false));
         }
@@ -484,7 +484,7 @@ impl Renderer {
     fn render<'py>(
         &self,
         py: Python<'py>,
-        data: Option<Data<'_>>,
+        data: Option<Data<'py>>,
         args: Vec<String>,
         demo: Option<String>,
         mask: Option<PyRef<'_, Volume>>,
@@ -523,7 +523,7 @@ impl Renderer {
                 &source,
                 &frame,
                 |method| {
-                    let (held, fell) = self.backend(method)?;
+                    let (held, fell) = self.back_end(method)?;
                     fell_back = fell;
                     Ok(held)
                 },

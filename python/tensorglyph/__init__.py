@@ -260,9 +260,13 @@ def _field(data: Any, affine: Any, layout: Any, frame: Any, positions: Any, args
         args += _order_args(layout, frame)
         return os.fspath(data)
     if hasattr(data, "quadratic_form") and not isinstance(data, np.ndarray):
-        # A DIPY TensorFit: (..., 3, 3) tensors in the voxel axes.
+        # A DIPY TensorFit: tensors in the voxel axes, taken as DIPY saves them (its
+        # lower_triangular, NIfTI's order): quadratic_form is V Λ Vᵀ, symmetric only to
+        # round-off, and its lower triangle is what a file of the fit holds.
+        q = np.asarray(data.quadratic_form, dtype=np.float64)
+        lower = q[..., [0, 1, 1, 2, 2, 2], [0, 0, 1, 0, 1, 2]]
         return Field.from_array(
-            data.quadratic_form, affine=affine, frame=frame, positions=positions
+            lower, layout="nifti", affine=affine, frame=frame, positions=positions
         )._inner
     if _is_nibabel(data):
         if any(v is not None for v in given.values()):
@@ -358,6 +362,10 @@ class Renderer:
         underlay = options.pop("underlay", None)
         args: list = []
         field = None if data is None else _field(data, affine, layout, frame, positions, args)
+        arrays = [v for v in (mask, underlay) if v is not None and not isinstance(v, (str, os.PathLike))]
+        if arrays and isinstance(field, str):
+            # Arrays take the tensors' lattice: read the file first to know it.
+            field, args = _tensorglyph.Field.read(field, args), []
         vol_affine = None
         if isinstance(field, _tensorglyph.Field) and field.dims is not None:
             info = json.loads(field.info_json([]))

@@ -19,7 +19,7 @@ def one_line(excinfo):
     "call, words",
     [
         (lambda: tg.render(np.ones((4, 4, 4, 5))), "(4, 4, 4, 5)"),
-        (lambda: tg.render(np.ones((4, 4, 6))), "lattice"),
+        (lambda: tg.render(np.ones((4, 4, 6)), layout="fsl"), "lattice"),
         (lambda: tg.render(np.full((3, 3, 3, 6), np.nan), layout="fsl"), "no"),
         (lambda: tg.render(np.ones((3, 3, 3, 6)), layout="upper"), "layout 'upper'"),
         (lambda: tg.render(np.ones((3, 3, 3, 6))), "layout="),

@@ -66,10 +66,12 @@ def test_info_is_info_json_of_the_same_file(tmp_path):
 def test_info_of_a_fit_is_info_json_of_its_saved_tensors(dipy_fits, tmp_path):
     fit, affine = dipy_fits["small_64D"]
     path = save_dipy_tensors(fit, affine, tmp_path / "t.nii.gz")
-    ours = tg.Field.from_array(fit.quadratic_form, affine=affine).info(samples=[1])
+    lower = np.asarray(fit.quadratic_form)[..., [0, 1, 1, 2, 2, 2], [0, 0, 1, 0, 1, 2]]
+    ours = tg.Field.from_array(lower, layout="nifti", affine=affine).info(samples=[1])
     theirs = cli_info(path, "--sample", "1")
-    # What differs is what it was read from: an array of nine values, not a NIfTI file of six.
-    assert (ours["format"], ours["tensor_array"]) == ("array", {"name": "array", "components": 9, "location": "point"})
+    # What differs is what it was read from: an array, its layout given, not a NIfTI file.
+    assert (ours["format"], ours["tensor_array"]) == ("array", {"name": "array", "components": 6, "location": "point"})
+    assert ours["layout"] == {"order": "nifti", "why": "flag"} and theirs["layout"]["why"] == "file"
     assert ours["frame"]["source"] == "affine" and theirs["frame"]["source"] == "sform"
     for key in ("format", "tensor_array", "layout", "frame"):
         ours.pop(key), theirs.pop(key)
