@@ -19,7 +19,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use numpy::ndarray::{Array2, Array3, Axis, IxDyn};
+use numpy::ndarray::{Array2, Array3, Axis};
 use numpy::{PyArray2, PyArray3, PyReadonlyArray3, PyReadonlyArrayDyn, PyUntypedArrayMethods};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -156,16 +156,12 @@ fn tensor_frame(frame: Option<&str>) -> Result<Option<TensorFrame>, Failure> {
         .transpose()
 }
 
-/// The values of a `(X, Y, Z, C)` or `(N, C)` array in NIfTI's order (x fastest), and the
-/// leading dimensions.
-fn values_x_fastest(a: &PyReadonlyArrayDyn<'_, f64>) -> (Vec<usize>, Vec<f64>) {
-    let view = a.as_array();
-    let shape = view.shape().to_vec();
-    let lead = shape[..shape.len() - 1].to_vec();
-    let mut order: Vec<usize> = (0..lead.len()).rev().collect();
-    order.push(lead.len());
-    let values = view.permuted_axes(IxDyn(&order)).iter().copied().collect();
-    (lead, values)
+/// The values of an array in its memory order (C order: the last index fastest), copied once.
+fn values_in_order(a: &PyReadonlyArrayDyn<'_, f64>) -> Vec<f64> {
+    match a.as_slice() {
+        Ok(values) => values.to_vec(),
+        Err(_) => a.as_array().iter().copied().collect(),
+    }
 }
 
 /// A tensor field held by Python: read from a file, or made of arrays.
@@ -205,7 +201,7 @@ impl Field {
         })
     }
 
-    /// A lattice: `values` is `(X, Y, Z, C)` with C the layout's count, placed by `affine`.
+    /// A lattice: `values` is `(X, Y, Z, C)` (C the layout's count), placed by `affine`.
     #[staticmethod]
     #[pyo3(signature = (values, layout, affine, frame=None))]
     fn from_lattice(
@@ -215,13 +211,30 @@ impl Field {
         affine: [[f64; 4]; 4],
         frame: Option<&str>,
     ) -> PyResult<Self> {
-        let (lead, values) = values_x_fastest(&values);
+        let shape = values.shape().to_vec();
+        let values = values_in_order(&values);
         let (layout, frame) = (layout.to_string(), frame.map(str::to_string));
         detached(py, move || {
             let components = components(&layout)?;
-            let dims: [usize; 3] = lead
-                .try_into()
-                .map_err(|_| Failure::value("a lattice has three dimensions (X, Y, Z)"))?;
+            let &[x, y, z, c] = shape.as_slice() else {
+                return Err(Failure::value("a lattice is (X, Y, Z, C)"));
+            };
+            if c != components.len() {
+                return Err(Failure::value(format!(
+                    "{c} values per voxel for layout '{layout}'"
+                )));
+            }
+            // NIfTI's voxel order, x fastest, from numpy's C order, z fastest.
+            let mut xfast = Vec::with_capacity(values.len());
+            for k in 0..z {
+                for j in 0..y {
+                    for i in 0..x {
+                        let at = ((i * y + j) * z + k) * c;
+                        xfast.extend_from_slice(&values[at..at + c]);
+                    }
+                }
+            }
+            let (values, dims) = (xfast, [x, y, z]);
             let frame = tensor_frame(frame.as_deref())?;
             let field = array::lattice(dims, affine, components, &values, frame)
                 .map_err(|e| Failure::Value(e.to_string()))?;
@@ -237,7 +250,7 @@ impl Field {
         layout: &str,
         positions: PyReadonlyArrayDyn<'_, f64>,
     ) -> PyResult<Self> {
-        let (_, values) = values_x_fastest(&values);
+        let values = values_in_order(&values);
         let positions: Vec<[f64; 3]> = positions
             .as_array()
             .rows()

@@ -182,7 +182,7 @@ class Field:
                     f"positions of shape {p.shape} for tensors of shape {shape}: "
                     "give (N, 3) positions for (N, 6) or (N, 3, 3) tensors"
                 )
-            return cls(_tensorglyph.Field.from_points(a, kind, p))
+            return cls(_tensorglyph.Field.from_points(np.ascontiguousarray(a), kind, p))
         if len(lead) == 4 and lead[3] == 1:
             a = a.reshape(lead[:3] + a.shape[-1:])
             lead = lead[:3]
@@ -367,7 +367,7 @@ class Renderer:
             # Arrays take the tensors' lattice: read the file first to know it.
             field, args = _tensorglyph.Field.read(field, args), []
         vol_affine = None
-        if isinstance(field, _tensorglyph.Field) and field.dims is not None:
+        if arrays and isinstance(field, _tensorglyph.Field) and field.dims is not None:
             info = json.loads(field.info_json([]))
             vol_affine = (info.get("frame") or {}).get("voxel_to_world")
         mask_volume = underlay_volume = None
