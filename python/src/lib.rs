@@ -164,6 +164,9 @@ fn values_in_order(a: &PyReadonlyArrayDyn<'_, f64>) -> Vec<f64> {
     }
 }
 
+/// Eigenvalues `(N, 3)` and eigenvectors `(N, 3, 3)`.
+type Eigen<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<f64>>);
+
 /// A tensor field held by Python: read from a file, or made of arrays.
 #[pyclass(frozen, module = "tensorglyph._tensorglyph")]
 struct Field {
@@ -318,10 +321,7 @@ impl Field {
     /// Eigenvalues `(N, 3)` (descending) and eigenvectors `(N, 3, 3)` (`[i, :, k]` is e_k, as
     /// DIPY's `evecs`) of every symmetrised world tensor, in file order; NaN where a tensor is
     /// not finite.
-    fn eigen<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> PyResult<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray3<f64>>)> {
+    fn eigen<'py>(&self, py: Python<'py>) -> PyResult<Eigen<'py>> {
         let field = self.field.clone();
         let (values, vectors) = detached(py, move || {
             use tensorglyph::tensor::eigen::{symmetric_eigen, symmetrise};
