@@ -6,7 +6,9 @@
 //!
 //! The kind is told by the file format, not guessed from the tensors: NIfTI and NRRD are the
 //! formats diffusion tools write; VTK files, where stress and DTI fields both occur, keep the
-//! general defaults. Every default is an option's default only: a flag given wins.
+//! general defaults. A field handed over in memory says which it is (the Python package: a
+//! lattice of tensors, a DIPY fit or a nibabel image is diffusion data, tensors at points are
+//! not). Every default is an option's default only: a flag given wins.
 
 use crate::glyph::{ColorScheme, SizeBy};
 use crate::staging::Source;
@@ -41,6 +43,7 @@ impl DataKind {
             {
                 DataKind::Diffusion
             }
+            Source::Field(f) if f.diffusion => DataKind::Diffusion,
             _ => DataKind::General,
         }
     }

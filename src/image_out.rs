@@ -174,22 +174,32 @@ pub fn write_png_dpi(
     rgba: &[u8],
     dpi: Option<f64>,
 ) -> std::io::Result<()> {
-    write_atomic(path, inputs, |w| {
-        let mut enc = png::Encoder::new(w, width, height);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        if let Some(dpi) = dpi {
-            let per_metre = (dpi / 0.0254).round() as u32;
-            enc.set_pixel_dims(Some(png::PixelDimensions {
-                xppu: per_metre,
-                yppu: per_metre,
-                unit: png::Unit::Meter,
-            }));
-        }
-        let mut writer = enc.write_header().map_err(Error::other)?;
-        writer.write_image_data(rgba).map_err(Error::other)?;
-        writer.finish().map_err(Error::other)
-    })
+    write_atomic(path, inputs, |w| encode_png(w, width, height, rgba, dpi))
+}
+
+/// An RGBA8 image as PNG bytes into `w`, as [`write_png_dpi`] writes them (for images kept in
+/// memory: the Python package's notebook display).
+pub fn encode_png(
+    w: &mut impl Write,
+    width: u32,
+    height: u32,
+    rgba: &[u8],
+    dpi: Option<f64>,
+) -> std::io::Result<()> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(png::ColorType::Rgba);
+    enc.set_depth(png::BitDepth::Eight);
+    if let Some(dpi) = dpi {
+        let per_metre = (dpi / 0.0254).round() as u32;
+        enc.set_pixel_dims(Some(png::PixelDimensions {
+            xppu: per_metre,
+            yppu: per_metre,
+            unit: png::Unit::Meter,
+        }));
+    }
+    let mut writer = enc.write_header().map_err(Error::other)?;
+    writer.write_image_data(rgba).map_err(Error::other)?;
+    writer.finish().map_err(Error::other)
 }
 
 #[cfg(test)]

@@ -61,8 +61,10 @@ pub mod info;
 pub mod legend;
 pub mod mem;
 
-// Front ends in the library (the binary adds arguments and output formatting).
+// Front ends in the library; `cli` is the command line (arguments, dispatch and output
+// formatting), which the binary and the Python package's console script run.
 pub mod bench;
+pub mod cli;
 pub mod stability;
 pub mod viewer;
 

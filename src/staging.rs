@@ -8,6 +8,7 @@
 
 use std::path::PathBuf;
 use std::str::FromStr;
+use std::sync::Arc;
 use std::time::Instant;
 
 use glam::DVec3;
@@ -67,26 +68,54 @@ impl std::fmt::Display for Demo {
     }
 }
 
-/// Where a scene comes from: a file or a built-in demo field.
+/// Where a scene comes from: a file, a built-in demo field, or a field already in memory.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Source {
     File(PathBuf),
     Demo(Demo),
+    Field(InMemory),
 }
 
+/// A field the caller made or read itself (the Python package's arrays), shared: staging
+/// copies it, the caller keeps it for the next image.
+#[derive(Debug, Clone)]
+pub struct InMemory {
+    pub field: Arc<TensorField>,
+    /// What messages and the legend call it.
+    pub name: String,
+    /// Diffusion data (a lattice from a DTI fit): the DTI defaults, as NIfTI and NRRD files
+    /// get them ([`crate::defaults`]).
+    pub diffusion: bool,
+}
+
+/// The same field (one allocation), name and kind: a field is never changed once made.
+impl PartialEq for InMemory {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.field, &other.field)
+            && self.name == other.name
+            && self.diffusion == other.diffusion
+    }
+}
+
+impl Eq for InMemory {}
+
 impl Source {
+    /// The field, read (the read options apply to files only: an in-memory field was read
+    /// or made with its own).
     pub fn load(&self, opts: &ReadOptions) -> Result<TensorField, LoadError> {
         match self {
             Source::File(p) => read_field(p, opts),
             Source::Demo(d) => Ok(crate::field::synthetic::grid(d.n)),
+            Source::Field(f) => Ok((*f.field).clone()),
         }
     }
 
-    /// The file's path, or `demo grid40`.
+    /// The file's path, `demo grid40`, or the in-memory field's name.
     pub fn name(&self) -> String {
         match self {
             Source::File(p) => p.display().to_string(),
             Source::Demo(d) => format!("demo {d}"),
+            Source::Field(f) => f.name.clone(),
         }
     }
 }
@@ -147,10 +176,12 @@ impl Recipe {
     }
 }
 
-/// The scalar volume an underlay file names (FA and MD come from the glyphs: `None`).
+/// The scalar volume an underlay file names, or the one handed over (FA and MD come from the
+/// glyphs: `None`).
 pub fn read_underlay(source: &Option<UnderlaySource>) -> Result<Option<ScalarVolume>, LoadError> {
     match source {
         Some(UnderlaySource::File(path)) => crate::field::read_scalar_volume(path).map(Some),
+        Some(UnderlaySource::Volume(v)) => Ok(Some((*v.volume).clone())),
         _ => Ok(None),
     }
 }
@@ -170,8 +201,10 @@ fn add_underlay(
     let values = match (source, volume) {
         (UnderlaySource::Fa, _) => Values::Fa,
         (UnderlaySource::Md, _) => Values::Md,
-        (UnderlaySource::File(_), Some(v)) => Values::Volume(v),
-        (UnderlaySource::File(_), None) => unreachable!("the volume is read first"),
+        (UnderlaySource::File(_) | UnderlaySource::Volume(_), Some(v)) => Values::Volume(v),
+        (UnderlaySource::File(_) | UnderlaySource::Volume(_), None) => {
+            unreachable!("the volume is read first")
+        }
     };
     let planes = selection.slicing.planes().ok_or(UnderlayError::NoLattice)?;
     let u = underlay::build(

@@ -5,8 +5,9 @@
 //! the reader by the file's name. The readers (`vtk`, `nifti`, `nrrd`, `fsl_eigen`) are below
 //! it, and below them what they share: the [`TensorField`] they make, the [`ScalarVolume`]
 //! (`scalar`), [`ReadOptions`], `frame`, `order`, `number`, `input` and `guard`. `synthetic`
-//! makes fields in code.
+//! makes fields in code, `array` of numbers handed over in memory (as the NIfTI reader would).
 
+pub mod array;
 pub mod frame;
 pub mod fsl_eigen;
 mod guard;

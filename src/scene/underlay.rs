@@ -10,6 +10,7 @@
 
 use std::path::PathBuf;
 use std::str::FromStr;
+use std::sync::Arc;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -36,7 +37,25 @@ pub enum UnderlaySource {
     Md,
     /// A scalar volume (NIfTI, NRRD or VTK image), sampled through its own voxel-to-world matrix.
     File(PathBuf),
+    /// A scalar volume handed over in memory (the Python package's arrays), sampled the same way.
+    Volume(NamedVolume),
 }
+
+/// A scalar volume in memory and what messages call it.
+#[derive(Debug, Clone)]
+pub struct NamedVolume {
+    pub name: String,
+    pub volume: Arc<ScalarVolume>,
+}
+
+/// The same volume (one allocation) and name: a volume is never changed once made.
+impl PartialEq for NamedVolume {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.volume, &other.volume) && self.name == other.name
+    }
+}
+
+impl Eq for NamedVolume {}
 
 impl FromStr for UnderlaySource {
     type Err = String;
@@ -57,6 +76,7 @@ impl std::fmt::Display for UnderlaySource {
             Self::Fa => write!(f, "FA"),
             Self::Md => write!(f, "MD"),
             Self::File(p) => write!(f, "{}", p.display()),
+            Self::Volume(v) => write!(f, "{}", v.name),
         }
     }
 }

@@ -9,16 +9,16 @@ use clap::Args;
 
 use super::args::{SceneArgs, one_of, parse_size};
 use super::progress::Terminal;
-use tensorglyph::backend::render_gpu;
-use tensorglyph::bench::{self, Options, Row, chart, report};
-use tensorglyph::camera::{Camera, Framing};
-use tensorglyph::defaults::DataKind;
-use tensorglyph::progress::Progress;
-use tensorglyph::render::{GpuContext, GpuRenderer};
-use tensorglyph::request::{FrameRequest, GlyphKind, Method, Preset};
-use tensorglyph::scene::Scene;
-use tensorglyph::select::Selection;
-use tensorglyph::staging::{self, Demo, Source, Timings, field_spacing};
+use crate::backend::render_gpu;
+use crate::bench::{self, Options, Row, chart, report};
+use crate::camera::{Camera, Framing};
+use crate::defaults::DataKind;
+use crate::progress::Progress;
+use crate::render::{GpuContext, GpuRenderer};
+use crate::request::{FrameRequest, GlyphKind, Method, Preset};
+use crate::scene::Scene;
+use crate::select::Selection;
+use crate::staging::{self, Demo, Source, Timings, field_spacing};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -190,7 +190,7 @@ fn run_staged(
             }
         }
     }
-    large.peak_rss_bytes = tensorglyph::mem::peak_rss_bytes();
+    large.peak_rss_bytes = crate::mem::peak_rss_bytes();
     large
 }
 

@@ -5,8 +5,8 @@ use std::io::IsTerminal;
 use std::sync::Mutex;
 use std::time::Duration;
 
+use crate::progress::Progress;
 use indicatif::{ProgressBar, ProgressStyle};
-use tensorglyph::progress::Progress;
 
 pub struct Terminal {
     on: bool,

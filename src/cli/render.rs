@@ -1,6 +1,7 @@
 //! `tensorglyph render` and `tensorglyph demo`: headless frames to PNG, with timing and an
 //! optional accuracy check against the f64 reference.
 
+use std::ops::Deref;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
@@ -11,18 +12,19 @@ use super::args::{
     CameraArgs, DrawArgs, EffectArgs, SceneArgs, SelectArgs, parse_color, parse_size, source,
 };
 use super::progress::Terminal;
-use tensorglyph::backend::Backend;
-use tensorglyph::camera::Camera;
-use tensorglyph::defaults::DataKind;
-use tensorglyph::frame::Frame;
-use tensorglyph::image_out::{write_png, write_png_dpi};
-use tensorglyph::legend::raster::{Caption, burn};
-use tensorglyph::metrics::{Accuracy, compare, diff_image};
-use tensorglyph::request::{FrameRequest, GlyphKind, Method};
-use tensorglyph::scene::UnderlaySource;
-use tensorglyph::scene::Visibility;
-use tensorglyph::staging::{Demo, Recipe, Source, Timings, stage};
-use tensorglyph::tiles::Tiling;
+use crate::backend::Backend;
+use crate::camera::Camera;
+use crate::defaults::DataKind;
+use crate::frame::Frame;
+use crate::image_out::{write_png, write_png_dpi};
+use crate::legend::raster::{Caption, burn};
+use crate::metrics::{Accuracy, compare, diff_image};
+use crate::progress::Progress;
+use crate::request::{FrameRequest, GlyphKind, Method};
+use crate::scene::UnderlaySource;
+use crate::scene::Visibility;
+use crate::staging::{Demo, Recipe, Source, Timings, stage};
+use crate::tiles::Tiling;
 
 /// Image and output options of `render` and `demo`.
 #[derive(Args, Debug, Clone)]
@@ -110,7 +112,7 @@ pub struct DemoArgs {
 
 /// What `render --json` prints.
 #[derive(Serialize)]
-struct RenderReport {
+pub struct RenderReport {
     method: Method,
     glyph: GlyphKind,
     /// Shading and the effects on, e.g. "deferred+outlines+shadows".
@@ -157,8 +159,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
 pub fn demo(args: DemoArgs) -> Result<()> {
     let demo = Demo { n: 40 };
     if let Some(path) = &args.write_vtk {
-        let field = tensorglyph::field::synthetic::grid(demo.n);
-        tensorglyph::field::synthetic::write_legacy_vtk(&field, path)
+        let field = crate::field::synthetic::grid(demo.n);
+        crate::field::synthetic::write_legacy_vtk(&field, path)
             .with_context(|| format!("{}: cannot write", path.display()))?;
         if !args.frame.scene.quiet {
             eprintln!("wrote {} ({} tensors)", path.display(), field.len());
@@ -185,7 +187,7 @@ fn check_output(path: &Path, inputs: &[&Path]) -> Result<()> {
     if path.is_dir() {
         bail!("{}: is a folder, not a file", path.display());
     }
-    tensorglyph::image_out::check_output(path, inputs)
+    crate::image_out::check_output(path, inputs)
         .with_context(|| format!("{}: cannot write", path.display()))?;
     Ok(())
 }
@@ -193,15 +195,13 @@ fn check_output(path: &Path, inputs: &[&Path]) -> Result<()> {
 fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     let FrameArgs {
         image,
-        camera: cam,
-        draw,
-        effects,
         scene: scene_args,
         select,
+        ..
     } = args;
     let mut inputs: Vec<&Path> = match src {
         Source::File(p) => vec![p.as_path()],
-        Source::Demo(_) => Vec::new(),
+        Source::Demo(_) | Source::Field(_) => Vec::new(),
     };
     if let Some(UnderlaySource::File(p)) = &select.underlay {
         inputs.push(p.as_path());
@@ -213,9 +213,96 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             bail!("--diff needs --reference-check");
         }
     }
+    let progress = Terminal::new(scene_args.quiet);
+    let backend = |method| {
+        let (backend, fell_back) = Backend::for_method(method)?;
+        if fell_back {
+            eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
+        }
+        Ok(Box::new(backend))
+    };
+    let Rendered {
+        width: w,
+        height: h,
+        color,
+        diff,
+        report,
+    } = render_frame(src, args, backend, &progress)?;
+    if let (Some(d), Some(diff)) = (&image.diff, &diff) {
+        write_png(d, &inputs, w, h, diff)
+            .with_context(|| format!("{}: cannot write", d.display()))?;
+    }
+    write_png_dpi(output, &inputs, w, h, &color, image.dpi)
+        .with_context(|| format!("{}: cannot write", output.display()))?;
+    if image.json {
+        super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
+    } else if !scene_args.quiet {
+        eprintln!(
+            "wrote {} ({}x{}, {} glyphs, {:.1} ms/frame, {:?})",
+            output.display(),
+            w,
+            h,
+            report.glyphs_drawn,
+            report.frame_ms,
+            report.method
+        );
+        if report.glyphs_clamped > 0 {
+            eprintln!(
+                "{} glyphs larger than the 98th percentile were shown at its size (--scale auto)",
+                report.glyphs_clamped
+            );
+        }
+        if let Some(a) = &report.accuracy {
+            eprintln!("{}", serde_json::to_string_pretty(a)?);
+        }
+    }
+    Ok(())
+}
+
+/// The options of `render` without its input and output (`--size 640x480`, `--glyph
+/// superquadric` …), parsed with the command line's defaults and checks, for front ends that
+/// bring their own data and take the pixels (the Python package); an error is the command
+/// line's one line.
+pub fn parse_frame_args(
+    args: impl IntoIterator<Item = impl Into<std::ffi::OsString> + Clone>,
+) -> std::result::Result<FrameArgs, String> {
+    super::parse_options(args)
+}
+
+/// An image `render` made, before it is written: RGBA8 pixels (row-major from the top left),
+/// with `--diff`'s picture when asked for and what `--json` prints.
+pub struct Rendered {
+    pub width: u32,
+    pub height: u32,
+    pub color: Vec<u8>,
+    pub diff: Option<Vec<u8>>,
+    pub report: RenderReport,
+}
+
+/// What `render` does between its arguments and its PNG: check the options, stage `src`,
+/// frame the camera, draw with the back end `backend` gives for the method (asked for once the
+/// scene is staged, so a bad file fails before any GPU is set up), check against the
+/// reference, burn the legend, and report. `--diff` and `-o` are the caller's to write.
+pub fn render_frame<B>(
+    src: &Source,
+    args: &FrameArgs,
+    backend: impl FnOnce(Method) -> Result<B>,
+    progress: &dyn Progress,
+) -> Result<Rendered>
+where
+    B: Deref<Target = Backend>,
+{
+    let FrameArgs {
+        image,
+        camera: cam,
+        draw,
+        effects,
+        scene: scene_args,
+        select,
+    } = args;
     let mut framing = cam.framing()?;
     let defaults = DataKind::of(src).defaults();
-    tensorglyph::frame::check_size(image.size.0, image.size.1)?;
+    crate::frame::check_size(image.size.0, image.size.1)?;
     if let Some(d) = image.dpi
         && !(d.is_finite() && d > 0.0 && d / 0.0254 < f64::from(u32::MAX))
     {
@@ -231,8 +318,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         middle_slice: defaults.middle_slice && select.no_slice(),
         ..scene_args.recipe(select.selection()?, cam.glyph, &defaults)?
     };
-    let progress = Terminal::new(scene_args.quiet);
-    let staged = stage(src, &recipe, &progress)?;
+    let staged = stage(src, &recipe, progress)?;
     let mut timings: Timings = staged.timings;
     let mut scene = staged.scene;
     // The whole field, not the selection: a slice is drawn where it is in the volume; but one
@@ -249,10 +335,8 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     if draw.sort() {
         scene.sort_front_to_back(&camera);
     }
-    let (backend, fell_back) = Backend::for_method(cam.method)?;
-    if fell_back {
-        eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
-    }
+    let backend = backend(cam.method)?;
+    let backend: &Backend = &backend;
     let req = backend.adapt(
         FrameRequest {
             aux: image.reference_check,
@@ -283,8 +367,8 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         .outlines
         .map_or(0, |o| o.width.div_ceil(ssaa) + 1);
     let tiling = Tiling {
-        margin: Tiling::new(&backend, ssaa).margin.max(reach),
-        ..Tiling::new(&backend, ssaa)
+        margin: Tiling::new(backend, ssaa).margin.max(reach),
+        ..Tiling::new(backend, ssaa)
     };
     let tiles = if tiling.fits_whole(w, h) {
         1
@@ -294,9 +378,9 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             .with_context(|| format!("--ssaa {ssaa} renders {}x{} samples", w * ssaa, h * ssaa))?
             .len()
     };
-    let mut frame: Frame =
-        tiling.render(&backend, &scene, &camera, &req, &mut timings, &progress)?;
+    let mut frame: Frame = tiling.render(backend, &scene, &camera, &req, &mut timings, progress)?;
 
+    let mut diff = None;
     let accuracy = if image.reference_check {
         let reference = Tiling {
             margin: tiling.margin,
@@ -308,12 +392,9 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
             &camera,
             &FrameRequest { frames: 1, ..req },
             &mut Timings::default(),
-            &tensorglyph::progress::Silent,
+            &crate::progress::Silent,
         )?;
-        if let Some(d) = &image.diff {
-            write_png(d, &inputs, w, h, &diff_image(&frame, &reference))
-                .with_context(|| format!("{}: cannot write", d.display()))?;
-        }
+        diff = image.diff.as_ref().map(|_| diff_image(&frame, &reference));
         Some(compare(&frame, &reference, &scene).with_effects(&frame, &reference, &req.effects))
     } else {
         None
@@ -329,9 +410,6 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         );
         burn(&mut frame.color, w, h, &frame.ids, &caption, req.background);
     }
-    write_png_dpi(output, &inputs, w, h, &frame.color, image.dpi)
-        .with_context(|| format!("{}: cannot write", output.display()))?;
-
     let Visibility {
         eye_inside,
         behind_camera,
@@ -364,32 +442,16 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         glyphs_degenerate: degenerate,
         frame_ms: frame.median_ms(),
         fragments: frame.fragments,
-        bytes_per_glyph: tensorglyph::render::mesh::bytes_per_glyph(method),
+        bytes_per_glyph: crate::render::mesh::bytes_per_glyph(method),
         timings_ms: timings,
-        peak_rss_bytes: tensorglyph::mem::peak_rss_bytes(),
+        peak_rss_bytes: crate::mem::peak_rss_bytes(),
         accuracy,
     };
-    if image.json {
-        super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
-    } else if !scene_args.quiet {
-        eprintln!(
-            "wrote {} ({}x{}, {} glyphs, {:.1} ms/frame, {:?})",
-            output.display(),
-            w,
-            h,
-            report.glyphs_drawn,
-            report.frame_ms,
-            method
-        );
-        if report.glyphs_clamped > 0 {
-            eprintln!(
-                "{} glyphs larger than the 98th percentile were shown at its size (--scale auto)",
-                report.glyphs_clamped
-            );
-        }
-        if let Some(a) = &report.accuracy {
-            eprintln!("{}", serde_json::to_string_pretty(a)?);
-        }
-    }
-    Ok(())
+    Ok(Rendered {
+        width: w,
+        height: h,
+        color: frame.color,
+        diff,
+        report,
+    })
 }

@@ -9,17 +9,17 @@ use anyhow::{Result, anyhow, bail, ensure};
 use clap::Args;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 
-use tensorglyph::camera::{Framing, ViewPreset};
-use tensorglyph::defaults::Defaults;
-use tensorglyph::effects::{Effects, Outlines, Shading, Shadows, light};
-use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame};
-pub use tensorglyph::frame::parse_size;
-use tensorglyph::glyph::superquadric::{MAX_GAMMA, Sharpness};
-use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
-use tensorglyph::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
-use tensorglyph::scene::UnderlaySource;
-use tensorglyph::select::{Mask, Plane, Selection, Slicing, parse_roi};
-use tensorglyph::staging::{Demo, Recipe, Source};
+use crate::camera::{Framing, ViewPreset};
+use crate::defaults::Defaults;
+use crate::effects::{Effects, Outlines, Shading, Shadows, light};
+use crate::field::{ComponentOrder, ReadOptions, TensorFrame};
+pub use crate::frame::parse_size;
+use crate::glyph::superquadric::{MAX_GAMMA, Sharpness};
+use crate::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
+use crate::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
+use crate::scene::UnderlaySource;
+use crate::select::{Mask, Plane, Selection, Slicing, parse_roi};
+use crate::staging::{Demo, Recipe, Source};
 
 /// A value parser for one of `names` (clap lists them in `--help` and in its error).
 pub fn one_of<T>(names: &'static [&'static str]) -> impl TypedValueParser<Value = T>
@@ -171,6 +171,9 @@ pub struct SelectArgs {
     /// volume are dropped. Its lattice need not be the tensors'.
     #[arg(long, value_name = "FILE")]
     pub mask: Option<PathBuf>,
+    /// A mask handed over in memory instead of `--mask`'s file (the Python package's arrays).
+    #[arg(skip)]
+    pub mask_volume: Option<Mask>,
 }
 
 /// `LO,HI` with LO < HI, both finite.
@@ -233,10 +236,11 @@ impl SelectArgs {
         if !planes.is_empty() && planes.len() < self.slices.len() {
             bail!("--slice all cannot be given with planes");
         }
-        let mask = match &self.mask {
+        let mask = match (&self.mask_volume, &self.mask) {
+            (Some(mask), _) => Some(mask.clone()),
             // The load error names the file and the place; one line, no chain to repeat it.
-            Some(path) => Some(Mask::read(path).map_err(|e| anyhow!("--mask {e}"))?),
-            None => None,
+            (None, Some(path)) => Some(Mask::read(path).map_err(|e| anyhow!("--mask {e}"))?),
+            (None, None) => None,
         };
         let sel = Selection {
             fa_min: self.fa_min.unwrap_or(0.0),

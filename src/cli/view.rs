@@ -6,9 +6,9 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use super::args::{CameraArgs, DrawArgs, EffectArgs, SceneArgs, SelectArgs, parse_size};
-use tensorglyph::defaults::DataKind;
-use tensorglyph::staging::{Demo, Source};
-use tensorglyph::viewer::{self, Options, state::Settings};
+use crate::defaults::DataKind;
+use crate::staging::{Demo, Source};
+use crate::viewer::{self, Options, state::Settings};
 
 #[derive(Args, Debug)]
 pub struct ViewArgs {

@@ -6,10 +6,10 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use super::args::one_of;
-use tensorglyph::bench::report::write_atomic;
-use tensorglyph::render::{GpuContext, GpuRenderer};
-use tensorglyph::request::{GlyphKind, Method};
-use tensorglyph::stability::{self, Options, Status, report};
+use crate::bench::report::write_atomic;
+use crate::render::{GpuContext, GpuRenderer};
+use crate::request::{GlyphKind, Method};
+use crate::stability::{self, Options, Status, report};
 
 #[derive(Args, Debug)]
 pub struct StabilityArgs {

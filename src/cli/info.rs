@@ -7,7 +7,7 @@ use clap::Args;
 
 use super::args::{SceneArgs, source};
 use super::progress::Terminal;
-use tensorglyph::staging::{self, Demo};
+use crate::staging::{self, Demo};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
@@ -33,11 +33,11 @@ pub fn run(args: InfoArgs) -> Result<()> {
     let field = staging::read(&src, &args.scene.read_options(), &progress)?;
     let set = staging::decompose(&field, &progress);
     let report =
-        tensorglyph::info::info_report(&field, &set, &args.samples).map_err(anyhow::Error::msg)?;
+        crate::info::info_report(&field, &set, &args.samples).map_err(anyhow::Error::msg)?;
     if args.json {
         super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
     } else {
-        super::stdout::print(&tensorglyph::info::human_summary(&report))?;
+        super::stdout::print(&crate::info::human_summary(&report))?;
     }
     Ok(())
 }

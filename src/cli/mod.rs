@@ -1,0 +1,132 @@
+//! The `tensorglyph` command line: demo, info, render, view, bench, stability. [`main`] parses
+//! the arguments and runs the command; the binary (`src/main.rs`) and any other front end that
+//! offers the same command line call it.
+//!
+//! One module per subcommand; `args` holds the options they share, `progress` the terminal's
+//! progress bars.
+
+pub mod args;
+pub mod bench;
+pub mod info;
+pub mod progress;
+pub mod render;
+pub mod stability;
+pub mod stdout;
+pub mod view;
+
+use std::ffi::OsString;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "tensorglyph",
+    version,
+    about = "Ray-cast glyphs for 3D symmetric tensor fields"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render the built-in 40³ demo field (64,000 glyphs) to a PNG.
+    Demo(render::DemoArgs),
+    /// Summarise a tensor field: counts, eigenvalue ranges, FA, shape classes, samples.
+    Info(info::InfoArgs),
+    /// Render a field headless to a PNG.
+    Render(render::RenderArgs),
+    /// Explore a field interactively: orbit, slice, restyle, pick glyphs, save screenshots.
+    View(view::ViewArgs),
+    /// Time every method on the same scenes and chart speed against accuracy.
+    Bench(bench::BenchArgs),
+    /// Adversarial stability suite: every method and glyph against the reference.
+    Stability(stability::StabilityArgs),
+}
+
+/// Run the command line `args` (the program's name first, as `std::env::args_os` gives it)
+/// and return the process's exit status: 0, or 2 for any error, which is printed as one line
+/// on stderr. Help and version print as clap prints them.
+pub fn main<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        Err(e) => return usage_error(e),
+    };
+    let result = match cli.command {
+        Command::Demo(a) => render::demo(a),
+        Command::Info(a) => info::run(a),
+        Command::Render(a) => render::run(a),
+        Command::Bench(a) => bench::run(a),
+        Command::Stability(a) => stability::run(a),
+        Command::View(a) => view::run(a),
+    };
+    match result {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            2
+        }
+    }
+}
+
+/// Options of one group `A` of the command line's (`SceneArgs`, `render::FrameArgs`, …)
+/// parsed from arguments spelled as on the command line, for front ends that bring their own
+/// data (the Python package): the same defaults and checks; an error is the command line's
+/// one line.
+pub fn parse_options<A: clap::Args>(
+    args: impl IntoIterator<Item = impl Into<OsString> + Clone>,
+) -> Result<A, String> {
+    #[derive(Parser)]
+    #[command(name = "tensorglyph", no_binary_name = true)]
+    struct Options<A: clap::Args> {
+        #[command(flatten)]
+        options: A,
+    }
+    Options::<A>::try_parse_from(args)
+        .map(|o| o.options)
+        .map_err(|e| usage_line(&e))
+}
+
+/// Help and version as clap prints them; any other command-line error as one line (clap's
+/// first, with the accepted values where it has them), exit status 2 like every other error.
+fn usage_error(e: clap::Error) -> i32 {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        // What `e.exit()` does, without ending the process: print, then its status.
+        let _ = e.print();
+        return e.exit_code();
+    }
+    eprintln!("{}", usage_line(&e));
+    2
+}
+
+/// A command-line error as one line: clap's first, with the accepted values where it has them.
+fn usage_line(e: &clap::Error) -> String {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let rendered = e.render().to_string();
+    let mut line = rendered
+        .lines()
+        .next()
+        .unwrap_or("error: bad arguments")
+        .to_string();
+    if let Some(ContextValue::Strings(values)) = e.get(ContextKind::ValidValue) {
+        line.push_str(&format!(" (one of: {})", values.join(", ")));
+    }
+    if e.kind() == ErrorKind::MissingRequiredArgument
+        && let Some(ContextValue::Strings(args)) = e.get(ContextKind::InvalidArg)
+    {
+        line.push(' ');
+        line.push_str(&args.join(", "));
+    }
+    line
+}
