@@ -134,7 +134,10 @@ impl Shape for Kind {
     }
 
     /// A plain instance (a synthetic scene's) as a bar, or as a head for odd glyph indices, so
-    /// that a scene of them exercises both solids.
+    /// that a scene of several exercises both solids. (A one-glyph scene stays a bar: the
+    /// stability suite's probes place their eye and near plane for the glyph's ellipsoid, and a
+    /// head well inside it, seen through a near plane of 1e-7, sends the meshes' far fragments
+    /// to depth 1.0, where the depth test drops them.)
     fn adopt(&self, g: &GlyphInstance) -> GlyphInstance {
         GlyphInstance {
             shape: if g.glyph % 2 == 1 { [HEAD, 0] } else { [0, 0] },
