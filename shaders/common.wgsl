@@ -134,6 +134,11 @@ struct MeshPoint {
     n_local: vec3<f32>,
 }
 
+// The kind's two parameter words of instance `instance` (GlyphInstance::shape).
+fn load_shape_words(instance: u32) -> vec2<u32> {
+    return shapes[instance - chunk.base];
+}
+
 // The exponents (α, β, c) of superquadric instance `instance` (unpack_exponents in
 // src/glyph/superquadric.rs).
 fn load_exponents(instance: u32) -> vec3<f32> {

@@ -12,7 +12,9 @@ use crate::scene::Scene;
 pub struct Accuracy {
     /// Fraction of all pixels where one frame shows a glyph and the other background.
     pub coverage_mismatch: f64,
-    /// Fraction of pixels covered in both whose front-most glyph differs.
+    /// Fraction of pixels covered in both whose front-most glyph differs (the glyph, not the
+    /// instance: where a glyph is several instances, its parts meeting at equal depth are one
+    /// glyph's).
     pub id_mismatch: f64,
     /// |z_view − z_ref| / (that glyph's largest radius), on pixels showing the same glyph; both
     /// view depths are taken relative to the glyph's centre (see `Frame::aux`).
@@ -23,7 +25,7 @@ pub struct Accuracy {
     pub normal_err_deg_max: f64,
     /// PSNR of the RGB images (∞ for identical images is reported as 99).
     pub color_psnr_db: f64,
-    /// Pixels compared for depth and normal.
+    /// Pixels compared for depth and normal (the same instance in front).
     pub same_glyph_pixels: usize,
     /// With outlines: fraction of all pixels whose outline state differs.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -51,6 +53,7 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         .iter()
         .map(|g| f64::from(g.radii.iter().copied().fold(0.0f32, f32::max)))
         .collect();
+    let glyph = |id: u32| scene.instances.get(id as usize - 1).map(|g| g.glyph);
     for k in 0..n {
         let (a, b) = (frame.ids[k], reference.ids[k]);
         if (a != 0) != (b != 0) {
@@ -58,8 +61,12 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         }
         if a != 0 && b != 0 {
             both += 1;
-            if a != b {
+            let same_glyph = glyph(a).zip(glyph(b)).is_some_and(|(x, y)| x == y);
+            if a != b && !same_glyph {
                 id_diff += 1;
+            } else if a != b {
+                // Two parts of one glyph meeting at equal depth: neither depth nor normal
+                // belongs to the other.
             } else if let (Some(fa), Some(ra)) = (&frame.aux, &reference.aux) {
                 let (p, q) = (fa[k], ra[k]);
                 let r = radius.get(a as usize - 1).copied().unwrap_or(1.0);

@@ -204,6 +204,8 @@ pub struct Selection {
     pub roi: Option<[f64; 6]>,
     /// Keep glyphs whose centre is in a non-zero, finite voxel of this volume.
     pub mask: Option<Mask>,
+    /// Keep glyphs whose largest |σ| is at least this (`--min-stress`; 0 keeps all).
+    pub min_stress: f64,
 }
 
 impl Default for Selection {
@@ -215,6 +217,7 @@ impl Default for Selection {
             slicing: Slicing::Whole,
             roi: None,
             mask: None,
+            min_stress: 0.0,
         }
     }
 }
@@ -324,6 +327,7 @@ impl Selection {
             && self.slicing == Slicing::Whole
             && self.roi.is_none()
             && self.mask.is_none()
+            && self.min_stress <= 0.0
     }
 
     /// Errors that do not depend on the data: FA bounds outside [0, 1] or NaN, fa-min above
@@ -406,6 +410,9 @@ impl Selection {
         if let Some(mask) = &self.mask {
             parts.push(format!("--mask {}", escape_path(mask.path())));
         }
+        if self.min_stress > 0.0 {
+            parts.push(format!("--min-stress {}", self.min_stress));
+        }
         if parts.is_empty() {
             "everything".into()
         } else {
@@ -435,6 +442,10 @@ impl Selection {
                     let fa = shape::fa(g.eigenvalues.map(f64::from));
                     fa >= self.fa_min && (self.fa_max >= 1.0 || fa <= self.fa_max)
                 })
+                && (self.min_stress <= 0.0
+                    || g.eigenvalues
+                        .iter()
+                        .any(|l| f64::from(l.abs()) >= self.min_stress))
         };
         // rayon's collect keeps the order of the input.
         set.glyphs

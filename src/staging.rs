@@ -381,7 +381,7 @@ pub fn stage(
     timings.scene = ms(t);
     timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
     Ok(Staged {
-        glyphs_selected: built.scene.instances.len(),
+        glyphs_selected: built.selected.len(),
         glyphs_clamped: built.glyphs_clamped,
         glyphs_valid: built.glyphs_valid,
         face: built.face,
@@ -399,7 +399,7 @@ pub struct Built {
     pub scene: Scene,
     /// Instances `--scale auto` scaled down to the robust largest size.
     pub glyphs_clamped: usize,
-    /// Instance k is glyph `selected[k]` of the set.
+    /// Glyph k of the scene (its instances' `glyph`) is glyph `selected[k]` of the set.
     pub selected: Vec<usize>,
     /// Bounding box (`frame_centre ± frame_half`) and sphere of the whole field.
     pub frame_centre: DVec3,

@@ -7,7 +7,8 @@
 // fragment's position (glyph_pixel_ray, as Sigg's method does): V interpolated across the quad
 // is only as exact as an attribute plane rounded over the whole screen, and at the rims that
 // error moves the nearly tangent ray's hit by more than the depth bound (perspective rays stay
-// within it). The kind's shape file (the interface in common.wgsl's `Solid`) gives the
+// within it). So are the near-plane proxy's rays, whose V lies next to the eye, which may lie
+// next to the surface: there a quadric's constant term cancels in f32. The kind's shape file (the interface in common.wgsl's `Solid`) gives the
 // bounding sphere (`shape_radius`), the scale, bounding ellipsoid and parameters (`shape_of`),
 // the eye test (`shape_contains`) and the entry (`shape_entry`: t and local normal, discarding
 // on a miss).
@@ -33,6 +34,8 @@ struct VsOut {
     @location(9) @interpolate(flat) shape: vec4<f32>,
     // The glyph centre in view space: the orthographic ray's reference point.
     @location(10) @interpolate(flat) c_view: vec3<f32>,
+    // 1 on the near-plane proxy (the eye inside the bounding ellipsoid).
+    @location(11) @interpolate(flat) near: u32,
 }
 
 // The quad of a glyph's bounding ellipsoid (g, its rotation o, shape_of): corner s at
@@ -129,6 +132,7 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
     out.tz = (ot * r2) * sc;
     out.shape = solid.shape;
     out.c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
+    out.near = u32(q.near);
     return out;
 }
 
@@ -141,19 +145,26 @@ fn ray_cast(in: VsOut) -> Hit {
     var v_t = in.v_t;
     var t_min = -1.0;
     var r: ParamRay;
-    if is_ortho() {
-        // Parameter space from view space is Nᵀ; the whole line: orthographic rays are
-        // clipped by the depth range.
+    // The pixel's own ray from its glyph-near origin (as Sigg's): orthographic rays, and those
+    // of the near-plane proxy, whose point V lies next to the eye, and so next to the surface
+    // the eye is close to, where a quadric's constant term cancels in f32.
+    let pixel = is_ortho() || in.near != 0u;
+    if pixel {
+        // Parameter space from view space is Nᵀ; orthographic rays take the whole line (the
+        // depth range clips them), perspective ones what lies in front of the eye.
         r = glyph_pixel_ray(in.position.xy, in.c_view, transpose(n));
         o_t = r.o_t;
         v_t = r.v_t;
-        t_min = -3.0e38;
+        t_min = select(-r.t0, -3.0e38, is_ortho());
     }
     let entry = shape_entry(o_t, v_t, in.shape, t_min);
     let t = entry.x;
     var p_view: vec3<f32>;
     var hit: Hit;
-    if is_ortho() {
+    if pixel {
+        if !(is_ortho() || r.t0 + t > 0.0) {
+            discard;
+        }
         let off = r.off + t * r.d;
         p_view = in.c_view + off;
         hit.z_rel = off.z;

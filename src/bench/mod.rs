@@ -329,13 +329,15 @@ pub fn run(
 /// `reference` (rendered from `from`) with its ids renumbered to the instance order of `to` (the
 /// same glyphs reordered).
 fn reorder_ids(reference: &Frame, from: &Scene, to: &Scene) -> Frame {
+    // An instance is itself (a glyph's parts share its index, not their geometry).
+    let key = |g: &crate::scene::GlyphInstance| bytemuck::cast::<_, [u32; 14]>(*g);
     let mut new_index = vec![0u32; from.instances.len()];
-    let mut by_glyph = std::collections::HashMap::with_capacity(to.instances.len());
+    let mut by_instance = std::collections::HashMap::with_capacity(to.instances.len());
     for (k, g) in to.instances.iter().enumerate() {
-        by_glyph.insert(g.glyph, k as u32 + 1);
+        by_instance.insert(key(g), k as u32 + 1);
     }
     for (k, g) in from.instances.iter().enumerate() {
-        new_index[k] = by_glyph.get(&g.glyph).copied().unwrap_or(0);
+        new_index[k] = by_instance.get(&key(g)).copied().unwrap_or(0);
     }
     let mut f = reference.clone();
     for id in &mut f.ids {

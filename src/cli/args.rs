@@ -69,6 +69,14 @@ pub struct SceneArgs {
     /// shapes, whose sharpness is fixed (β_max = 3).
     #[arg(long, value_name = "GAMMA", allow_hyphen_values = true)]
     pub sharpness: Option<f64>,
+    /// Principal-stress glyphs (--glyph principal): a cone head at each end of every bar,
+    /// pointing outward for tension and inward for compression.
+    #[arg(long)]
+    pub arrows: bool,
+    /// Hide stresses below S in magnitude: principal-stress bars whose |σ| < S, and glyphs of
+    /// other kinds whose largest |σ| < S (the stress twin of --fa-min).
+    #[arg(long, value_name = "S")]
+    pub min_stress: Option<f64>,
     /// No progress bars.
     #[arg(long, short)]
     pub quiet: bool,
@@ -85,6 +93,11 @@ impl SceneArgs {
 
     /// The style asked for, with `defaults` (of the data's kind) for what was not.
     pub fn style(&self, defaults: &Defaults) -> Result<GlyphStyle> {
+        let min_stress = self.min_stress.unwrap_or(0.0);
+        ensure!(
+            min_stress.is_finite() && min_stress >= 0.0,
+            "--min-stress must be a finite number ≥ 0, got {min_stress}"
+        );
         if let Some(e) = self.min_radius {
             ensure!(
                 e.is_finite() && (0.0..=1.0).contains(&e),
@@ -106,6 +119,8 @@ impl SceneArgs {
             size_by: self.size_by.unwrap_or(defaults.size_by),
             min_radius: self.min_radius,
             sharpness,
+            arrows: self.arrows,
+            min_stress,
             ..GlyphStyle::default()
         })
     }
@@ -120,11 +135,24 @@ impl SceneArgs {
         ensure!(
             self.sharpness.is_none() || glyph.caps().sharpness,
             "--sharpness applies to --glyph {}",
-            sharp_kinds()
+            kinds_with(|c| c.sharpness)
         );
+        ensure!(
+            !self.arrows || glyph.caps().arrows,
+            "--arrows applies to --glyph {}",
+            kinds_with(|c| c.arrows)
+        );
+        let mut style = self.style(defaults)?;
+        if let (None, Some(color)) = (self.color, glyph.shape().default_color()) {
+            style.color = color;
+        }
+        let selection = Selection {
+            min_stress: style.min_stress,
+            ..selection
+        };
         Ok(Recipe {
             read: self.read_options(),
-            style: self.style(defaults)?,
+            style,
             selection,
             glyph,
             underlay: None,
@@ -253,6 +281,8 @@ impl SelectArgs {
             },
             roi: self.roi,
             mask,
+            // From the scene options (SceneArgs::recipe), which hold --min-stress.
+            min_stress: 0.0,
         };
         sel.check()?;
         Ok(sel)
@@ -542,11 +572,11 @@ fn parse_light(s: &str) -> Result<[f64; 3], String> {
     }
 }
 
-/// The kinds `--sharpness` shapes, as `--glyph` spells them ("superquadric").
-fn sharp_kinds() -> String {
+/// The kinds whose capabilities pass `has`, as `--glyph` spells them ("superquadric").
+fn kinds_with(has: fn(&crate::shape::Capabilities) -> bool) -> String {
     let names: Vec<&str> = GlyphKind::VALUES
         .iter()
-        .filter(|k| k.caps().sharpness)
+        .filter(|k| has(&k.caps()))
         .map(|k| k.name())
         .collect();
     names.join(" or --glyph ")

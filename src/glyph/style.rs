@@ -146,6 +146,14 @@ pub const DEFAULT_MIN_RADIUS: f64 = 0.01;
 /// needles otherwise, too thin to see; at most 4:1, the principal direction still reads.
 pub const STRESS_MIN_RADIUS: f64 = 0.25;
 
+/// A principal-stress bar's radius, as a fraction of the robust largest half-length (the glyph
+/// size `--scale auto` gives): thin enough that three bars read as axes, thick enough to shade.
+pub const BAR_WIDTH: f64 = 0.07;
+
+/// A principal stress within this fraction of its glyph's largest |σ| of zero is drawn in the
+/// neutral colour.
+pub const NEUTRAL_FRACTION: f64 = 0.05;
+
 /// User options for glyph geometry and colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GlyphStyle {
@@ -162,6 +170,12 @@ pub struct GlyphStyle {
     pub solid_color: [u8; 3],
     /// How sharp superquadric glyphs are (`--sharpness`).
     pub sharpness: Sharpness,
+    /// Principal-stress glyphs: cone heads on the bars, outward for tension, inward for
+    /// compression (`--arrows`).
+    pub arrows: bool,
+    /// Principal-stress glyphs: bars whose |σ| is below this are hidden (`--min-stress`; the
+    /// selection hides whole glyphs below it).
+    pub min_stress: f64,
 }
 
 impl Default for GlyphStyle {
@@ -175,6 +189,8 @@ impl Default for GlyphStyle {
             class_threshold: DEFAULT_CLASS_THRESHOLD,
             solid_color: [200, 200, 200],
             sharpness: Sharpness::default(),
+            arrows: false,
+            min_stress: 0.0,
         }
     }
 }
@@ -220,6 +236,9 @@ impl GlyphStyle {
             solid_color: self.solid_color,
             md_range,
             sharpness: self.sharpness,
+            arrows: self.arrows,
+            min_stress: self.min_stress,
+            bar_width: 0.0,
         };
         if size_by == SizeBy::Log {
             // λ_ref: a low percentile of the largest |λ|, so that most glyphs sit where the
@@ -248,6 +267,17 @@ impl GlyphStyle {
                 }
             }
         }
+        // Bars one width for the whole field: a fraction of the robust largest half-length.
+        let reference = if style.cap.is_finite() {
+            style.cap
+        } else {
+            percentile_largest(set, &style, AUTO_PERCENTILE)
+        };
+        style.bar_width = if reference > 0.0 {
+            BAR_WIDTH * reference
+        } else {
+            1.0
+        };
         style
     }
 }
@@ -295,6 +325,13 @@ pub struct ResolvedStyle {
     /// (MD min, MD max) of the field, for [`ColorScheme::Md`].
     pub md_range: (f64, f64),
     pub sharpness: Sharpness,
+    /// Principal-stress glyphs: cone heads (`--arrows`).
+    pub arrows: bool,
+    /// Principal-stress glyphs: bars below this |σ| are hidden.
+    pub min_stress: f64,
+    /// Principal-stress glyphs: the bars' radius (world units), [`BAR_WIDTH`] of the robust
+    /// largest half-length.
+    pub bar_width: f64,
 }
 
 impl ResolvedStyle {
@@ -309,6 +346,28 @@ impl ResolvedStyle {
         }
         let floor = self.min_radius * r[0].max(r[1]).max(r[2]);
         r.map(|x| x.max(floor) as f32)
+    }
+
+    /// Half-lengths along the glyph's frame order: [`Self::radii`] without the minimum radius
+    /// (a principal stress's bar is as long as its stress says, however short).
+    pub fn lengths(&self, g: &Glyph) -> [f32; 3] {
+        let mut r = self.unclamped(g);
+        let largest = r[0].max(r[1]).max(r[2]);
+        if largest > self.cap {
+            r = r.map(|x| x * (self.cap / largest));
+        }
+        r.map(|x| x as f32)
+    }
+
+    /// The colour of a principal stress σ of a glyph whose largest |σ| is `largest`: tension
+    /// red, compression blue, and white within [`NEUTRAL_FRACTION`] of `largest` of zero.
+    pub fn sign_color(sigma: f64, largest: f64) -> [u8; 4] {
+        let s = if sigma.abs() <= NEUTRAL_FRACTION * largest {
+            0.0
+        } else {
+            sigma.signum()
+        };
+        to_rgba8(diverging(s))
     }
 
     /// The superquadric this glyph is drawn as (`--glyph superquadric`): its shape follows

@@ -7,7 +7,7 @@ use glam::DVec3;
 use super::cylinder::cylinder_frame;
 use super::geometry::bounding_radius;
 use super::mesh::{Mesh, prism_sides};
-use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, RayHit, Shape, stable_roots};
+use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, stable_roots};
 use crate::glyph::{Glyph, ResolvedStyle};
 
 pub const WGSL: &str = include_str!("../../shaders/shape/capsule.wgsl");
@@ -27,19 +27,14 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: false,
             benched_by_default: false,
+            arrows: false,
         }
     }
 
     /// The cylinder's frame: the capsule's axis is the cylinder's.
-    fn place(
-        &self,
-        _g: &Glyph,
-        rotation: [f32; 4],
-        radii: [f32; 3],
-        _style: &ResolvedStyle,
-    ) -> ([f32; 4], [f32; 3], [u32; 2]) {
-        let (rotation, radii) = cylinder_frame(rotation, radii);
-        (rotation, radii, [0; 2])
+    fn place(&self, g: &Glyph, _part: usize, style: &ResolvedStyle) -> Option<Part> {
+        let frame = cylinder_frame(g.rotation, style.radii(g));
+        Some(Part::whole(g, style, frame, [0; 2]))
     }
 
     /// The box of the segment swept by the ball (which may reach beyond the cylinder's box:
@@ -398,6 +393,7 @@ mod tests {
             )),
             radii: DVec3::new(1.0, 0.35, 0.25),
             exponents: DVec3::ZERO,
+            params: [0; 2],
         };
         let half = Kind.bounds(&geo);
         let mut reach = DVec3::ZERO;

@@ -6,10 +6,12 @@ use glam::{DMat3, DVec3};
 
 use super::geometry::{bounding_radius, permuted_frame};
 use super::mesh::{Mesh, prism_sides};
-use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, RayHit, Shape, stable_roots};
+use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, stable_roots};
 use crate::glyph::{Glyph, ResolvedStyle};
 
 pub const WGSL: &str = include_str!("../../shaders/shape/cylinder.wgsl");
+/// The slab test it enters by (shared with the principal-stress bars).
+pub const SLAB_WGSL: &str = include_str!("../../shaders/shape/slab.wgsl");
 
 /// The cylinder kind.
 pub struct Kind;
@@ -26,18 +28,13 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: false,
             benched_by_default: true,
+            arrows: false,
         }
     }
 
-    fn place(
-        &self,
-        _g: &Glyph,
-        rotation: [f32; 4],
-        radii: [f32; 3],
-        _style: &ResolvedStyle,
-    ) -> ([f32; 4], [f32; 3], [u32; 2]) {
-        let (rotation, radii) = cylinder_frame(rotation, radii);
-        (rotation, radii, [0; 2])
+    fn place(&self, g: &Glyph, _part: usize, style: &ResolvedStyle) -> Option<Part> {
+        let frame = cylinder_frame(g.rotation, style.radii(g));
+        Some(Part::whole(g, style, frame, [0; 2]))
     }
 
     fn bounds(&self, geo: &GlyphGeometry) -> DVec3 {
@@ -66,7 +63,7 @@ impl Shape for Kind {
     }
 
     fn wgsl(&self) -> &'static [&'static str] {
-        &[WGSL]
+        &[SLAB_WGSL, WGSL]
     }
 }
 

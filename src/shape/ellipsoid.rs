@@ -10,7 +10,7 @@ use glam::{DMat3, DVec3};
 use super::geometry::bounding_radius;
 use super::mesh::{Mesh, normalize};
 use super::rules::EYE_INSIDE_E2;
-use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, RayHit, Shape, stable_roots};
+use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, stable_roots};
 use crate::glyph::{Glyph, ResolvedStyle};
 
 pub const WGSL: &str = include_str!("../../shaders/shape/ellipsoid.wgsl");
@@ -30,17 +30,12 @@ impl Shape for Kind {
             conservative_depth: true,
             sharpness: false,
             benched_by_default: true,
+            arrows: false,
         }
     }
 
-    fn place(
-        &self,
-        _g: &Glyph,
-        rotation: [f32; 4],
-        radii: [f32; 3],
-        _style: &ResolvedStyle,
-    ) -> ([f32; 4], [f32; 3], [u32; 2]) {
-        (rotation, radii, [0; 2])
+    fn place(&self, g: &Glyph, _part: usize, style: &ResolvedStyle) -> Option<Part> {
+        Some(Part::whole(g, style, (g.rotation, style.radii(g)), [0; 2]))
     }
 
     /// The box of the glyph's capped cylinder, which holds the ellipsoid: scenes are framed

@@ -50,6 +50,8 @@ pub struct GlyphGeometry {
     pub radii: DVec3,
     /// Superquadric exponents (α, β, c) ([`GlyphInstance::exponents`]; 0 for other glyphs).
     pub exponents: DVec3,
+    /// The kind's parameter words as stored ([`GlyphInstance::shape`]).
+    pub params: [u32; 2],
 }
 
 impl GlyphGeometry {
@@ -66,6 +68,7 @@ impl GlyphGeometry {
             frame: quat_to_mat3_unnormalised(q),
             radii: DVec3::from(g.radii.map(f64::from)),
             exponents: DVec3::from(g.exponents().map(f64::from)),
+            params: g.shape,
         }
     }
 

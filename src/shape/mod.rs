@@ -12,6 +12,7 @@ pub mod cylinder;
 pub mod ellipsoid;
 pub mod geometry;
 pub mod mesh;
+pub mod principal;
 pub mod rules;
 pub mod superquadric;
 
@@ -37,6 +38,9 @@ pub enum GlyphKind {
     /// Kindlmann's superquadric (Schultz–Kindlmann's for indefinite tensors), shaped by the
     /// tensor and `--sharpness` ([`crate::glyph::superquadric`]).
     Superquadric,
+    /// Principal stresses: a bar along each eigenvector, half-length ∝ |σ_i|, coloured by the
+    /// sign of σ_i, with arrowheads on request ([`principal`]).
+    Principal,
 }
 
 crate::names::named_values!(GlyphKind {
@@ -44,6 +48,7 @@ crate::names::named_values!(GlyphKind {
     Cylinder => "cylinder",
     Capsule => "capsule",
     Superquadric => "superquadric",
+    Principal => "principal",
 });
 
 impl GlyphKind {
@@ -54,12 +59,44 @@ impl GlyphKind {
             GlyphKind::Cylinder => &cylinder::Kind,
             GlyphKind::Capsule => &capsule::Kind,
             GlyphKind::Superquadric => &superquadric::Kind,
+            GlyphKind::Principal => &principal::Kind,
         }
     }
 
     /// What the kind takes ([`Shape::caps`]).
     pub fn caps(self) -> Capabilities {
         self.shape().caps()
+    }
+}
+
+/// One instance of a glyph, as a kind places it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Part {
+    /// Where the instance's centre is, relative to the glyph's centre (world units).
+    pub offset: [f64; 3],
+    /// The instance frame (unit quaternion x, y, z, w).
+    pub rotation: [f32; 4],
+    pub radii: [f32; 3],
+    /// The kind's parameter words.
+    pub params: [u32; 2],
+    pub color: [u8; 4],
+}
+
+impl Part {
+    /// The whole glyph as one instance at its centre, coloured by `style`.
+    pub fn whole(
+        g: &Glyph,
+        style: &ResolvedStyle,
+        (rotation, radii): ([f32; 4], [f32; 3]),
+        params: [u32; 2],
+    ) -> Self {
+        Part {
+            offset: [0.0; 3],
+            rotation,
+            radii,
+            params,
+            color: style.color(g),
+        }
     }
 }
 
@@ -76,6 +113,8 @@ pub struct Capabilities {
     pub conservative_depth: bool,
     /// Shaped by `--sharpness` (the style's sharpness is part of the instance).
     pub sharpness: bool,
+    /// Takes `--arrows` (heads on its parts).
+    pub arrows: bool,
     /// Measured by `bench` when no `--glyph` is given (the main speed table; other kinds have
     /// bench runs of their own, with `--glyph`).
     pub benched_by_default: bool,
@@ -107,16 +146,22 @@ pub trait Shape: Send + Sync {
     fn kind(&self) -> GlyphKind;
     fn caps(&self) -> Capabilities;
 
-    /// The instance of glyph `g` with eigenvector frame `rotation` and `radii` along it (the
-    /// style's): the instance frame, its radii and the kind's parameter words
-    /// ([`GlyphInstance::shape`]).
-    fn place(
-        &self,
-        g: &Glyph,
-        rotation: [f32; 4],
-        radii: [f32; 3],
-        style: &ResolvedStyle,
-    ) -> ([f32; 4], [f32; 3], [u32; 2]);
+    /// How many instances a glyph may take at most (most kinds: one; a principal-stress glyph
+    /// is three bars and their arrowheads).
+    fn parts(&self) -> usize {
+        1
+    }
+
+    /// Instance `part` (below [`Self::parts`]) of glyph `g` sized and coloured by `style`, or
+    /// `None` where the glyph has no such part: its frame, radii, parameter words
+    /// ([`GlyphInstance::shape`]) and colour.
+    fn place(&self, g: &Glyph, part: usize, style: &ResolvedStyle) -> Option<Part>;
+
+    /// The colour scheme the kind is drawn in when none is asked for (most kinds: the data's
+    /// default).
+    fn default_color(&self) -> Option<crate::glyph::ColorScheme> {
+        None
+    }
 
     /// An instance made without this kind's parameters (a synthetic scene's: its radii taken
     /// as the tensor's eigenvalues) as an instance of this kind. Most kinds take it as it is.

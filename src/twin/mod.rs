@@ -13,6 +13,7 @@ pub mod composite;
 pub mod cylinder;
 pub mod ellipsoid;
 pub mod gumhold_ellipsoid;
+pub mod principal;
 pub mod screen_box;
 pub mod sigg;
 pub mod superquadric;
@@ -43,5 +44,6 @@ pub fn of(kind: GlyphKind) -> &'static dyn ShapeTwin {
         GlyphKind::Cylinder => &cylinder::Twin,
         GlyphKind::Capsule => &capsule::Twin,
         GlyphKind::Superquadric => &superquadric::Twin,
+        GlyphKind::Principal => &principal::Twin,
     }
 }

@@ -54,6 +54,7 @@ mod tests {
             frame: DMat3::IDENTITY,
             radii: DVec3::splat(0.5),
             exponents: DVec3::ONE,
+            params: [0; 2],
         };
         let proxy = |c: DVec3, kind| glyph_proxy(&vp, &sphere(c), DVec3::ZERO, false, kind);
         for &kind in GlyphKind::VALUES {

@@ -29,7 +29,7 @@ use crate::viewer::{Options, Outcome, ViewerError};
 struct Built {
     key: BuildKey,
     scene: Scene,
-    /// Instance k is glyph `selected[k]` of the set.
+    /// Glyph k of the scene (its instances' `glyph`) is glyph `selected[k]` of the set.
     selected: Vec<usize>,
     /// Of those, glyphs `--scale auto` scaled down to the robust largest size.
     clamped: usize,
@@ -431,6 +431,7 @@ impl ViewerApp {
         let id = read_id(&self.gpu.ctx, targets, x * n + n / 2, y * n + n / 2).ok()?;
         PickInfo::of(
             id,
+            &built.scene,
             &built.selected,
             data,
             self.settings.style.class_threshold,

@@ -4,6 +4,7 @@
 use crate::error::RenderError;
 use crate::render::GpuContext;
 use crate::render::targets::{Readback, Targets};
+use crate::scene::Scene;
 use crate::tensor::shape;
 use crate::viewer::loader::Loaded;
 
@@ -21,11 +22,21 @@ pub struct PickInfo {
 }
 
 impl PickInfo {
-    /// The glyph behind id `id` (0 = background) when the scene holds `selected` glyphs of
-    /// `data.set` (instance k is glyph `selected[k]`).
-    pub fn of(id: u32, selected: &[usize], data: &Loaded, class_threshold: f64) -> Option<Self> {
-        let instance = (id as usize).checked_sub(1)?;
-        let g = data.set.glyphs.get(*selected.get(instance)?)?;
+    /// The glyph behind id `id` (0 = background) when `scene` holds `selected` glyphs of
+    /// `data.set` (an instance's `glyph` is its place in `selected`; a glyph may be several
+    /// instances).
+    pub fn of(
+        id: u32,
+        scene: &Scene,
+        selected: &[usize],
+        data: &Loaded,
+        class_threshold: f64,
+    ) -> Option<Self> {
+        let instance = scene.instances.get((id as usize).checked_sub(1)?)?;
+        let g = data
+            .set
+            .glyphs
+            .get(*selected.get(instance.glyph as usize)?)?;
         let ev = g.eigenvalues.map(f64::from);
         let index = g.index as usize;
         Some(Self {
@@ -90,13 +101,36 @@ mod tests {
         )
         .unwrap();
         let selected = vec![4, 7];
-        assert_eq!(PickInfo::of(0, &selected, &data, 0.5), None, "background");
+        // Two instances of glyph 0 of the selection, one of glyph 1.
+        let instance = |glyph| crate::scene::GlyphInstance {
+            centre: [0.0; 3],
+            color: 0,
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            radii: [1.0; 3],
+            glyph,
+            shape: [0; 2],
+        };
+        let scene = Scene::from_instances(
+            glam::DVec3::ZERO,
+            vec![instance(0), instance(0), instance(1)],
+        );
         assert_eq!(
-            PickInfo::of(3, &selected, &data, 0.5),
+            PickInfo::of(0, &scene, &selected, &data, 0.5),
+            None,
+            "background"
+        );
+        assert_eq!(
+            PickInfo::of(4, &scene, &selected, &data, 0.5),
             None,
             "no such instance"
         );
-        let p = PickInfo::of(2, &selected, &data, 0.5).unwrap();
+        assert_eq!(
+            PickInfo::of(2, &scene, &selected, &data, 0.5)
+                .unwrap()
+                .index,
+            data.set.glyphs[4].index as usize
+        );
+        let p = PickInfo::of(3, &scene, &selected, &data, 0.5).unwrap();
         let g = data.set.glyphs[7];
         assert_eq!(p.index, g.index as usize);
         assert_eq!(p.position, g.centre);

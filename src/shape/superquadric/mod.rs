@@ -12,7 +12,7 @@ use glam::DVec3;
 pub use exact::Superquadric;
 
 use super::geometry::permuted_frame;
-use super::{Capabilities, Exact, GlyphGeometry, GlyphInstance, GlyphKind, Mesh, Shape};
+use super::{Capabilities, Exact, GlyphGeometry, GlyphInstance, GlyphKind, Mesh, Part, Shape};
 use crate::glyph::superquadric::{Sharpness, is_convex, pack_exponents, superquadric_shape};
 use crate::glyph::{Glyph, ResolvedStyle};
 
@@ -40,19 +40,19 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: true,
             benched_by_default: false,
+            arrows: false,
         }
     }
 
-    fn place(
-        &self,
-        g: &Glyph,
-        rotation: [f32; 4],
-        radii: [f32; 3],
-        style: &ResolvedStyle,
-    ) -> ([f32; 4], [f32; 3], [u32; 2]) {
+    fn place(&self, g: &Glyph, _part: usize, style: &ResolvedStyle) -> Option<Part> {
         let sq = style.superquadric(g);
-        let (rotation, radii) = superquadric_frame(rotation, radii, sq.axes);
-        (rotation, radii, pack_exponents([sq.alpha, sq.beta, sq.c]))
+        let frame = superquadric_frame(g.rotation, style.radii(g), sq.axes);
+        Some(Part::whole(
+            g,
+            style,
+            frame,
+            pack_exponents([sq.alpha, sq.beta, sq.c]),
+        ))
     }
 
     /// Each glyph's radii taken as its eigenvalues (positive definite: Kindlmann's shapes at the

@@ -229,6 +229,11 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
              Schultz–Kindlmann's shapes (β_max = 3).",
         );
     }
+    if caps.arrows {
+        // Heads are instances of their own: a toggle rebuilds the scene (part of the style).
+        ui.checkbox(&mut settings.style.arrows, "arrows")
+            .on_hover_text("cone heads: outward for tension, inward for compression");
+    }
     ui.checkbox(&mut settings.depth_correction, "depth correction");
     // The presets of `render --preset` and the bench's paths; the controls below fine-tune.
     egui::ComboBox::from_label("preset")
