@@ -145,6 +145,12 @@ pub enum StageError {
     EmptySelection { asked: String, valid: usize },
     #[error("no glyph to draw: the field has no valid tensor")]
     NoValidTensor,
+    /// One of the above, with the data it is about (the file's path or the field's name).
+    #[error("{name}: {error}")]
+    Of {
+        name: String,
+        error: Box<StageError>,
+    },
     #[error(transparent)]
     Underlay(#[from] UnderlayError),
 }
@@ -161,6 +167,10 @@ pub struct Recipe {
     pub underlay: Option<UnderlaySource>,
     /// With no plane asked for, show the middle axial one (DTI data's default).
     pub middle_slice: bool,
+    /// The largest side of an underlay image resampled from a volume, in texels: the
+    /// rendered image's larger side; `None`: [`underlay::MAX_TEXELS`] (the viewer's window
+    /// may grow).
+    pub underlay_side: Option<usize>,
 }
 
 impl Recipe {
@@ -229,6 +239,7 @@ fn add_underlay(
         source.to_string(),
         &planes,
         &built.scene,
+        recipe.underlay_side.unwrap_or(underlay::MAX_TEXELS),
     )?;
     built.scene.underlay = Some(u);
     // The scene's bounds hold what it draws (near and far planes are fitted to them).
@@ -404,7 +415,15 @@ pub fn stage(
         recipe,
         volume.as_ref(),
         progress,
-    )?;
+    )
+    .map_err(|e| match e {
+        // Nothing to draw is about the data: say which.
+        e @ (StageError::EmptySelection { .. } | StageError::NoValidTensor) => StageError::Of {
+            name: crate::error::escape_path(std::path::Path::new(&source.name())),
+            error: Box::new(e),
+        },
+        e => e,
+    })?;
     drop(field);
     drop(set);
     timings.scene = ms(t);

@@ -16,7 +16,7 @@
 use std::ffi::OsString;
 use std::ops::Deref;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use numpy::ndarray::{Array2, Array3, Axis};
@@ -30,7 +30,7 @@ use tensorglyph::cli::args::SceneArgs;
 use tensorglyph::cli::render::{FrameArgs, Rendered, render_frame};
 use tensorglyph::error::{LoadError, LoadErrorKind};
 use tensorglyph::field::array::{self, Components};
-use tensorglyph::field::{ComponentOrder, ScalarVolume, TensorField, TensorFrame};
+use tensorglyph::field::{ComponentOrder, Inputs, ScalarVolume, TensorField, TensorFrame, nifti};
 use tensorglyph::progress::Silent;
 use tensorglyph::request::Method;
 use tensorglyph::scene::underlay::{NamedVolume, UnderlaySource};
@@ -280,7 +280,10 @@ impl Field {
     ) -> PyResult<Self> {
         detached(py, move || {
             let scene: SceneArgs = tensorglyph::cli::parse_options(args).map_err(Failure::Value)?;
-            let field = tensorglyph::field::nifti::parse(&bytes, &scene.read_options())
+            let inputs = Inputs::named([(name.clone(), bytes)]);
+            let field = inputs
+                .open(Path::new(&name))
+                .and_then(|input| nifti::read(&input, &scene.read_options()))
                 .map_err(|kind| Failure::Value(LoadError::new(&name, kind).to_string()))?;
             Ok(Field::new(field, name, true))
         })
@@ -390,7 +393,10 @@ impl Volume {
     #[staticmethod]
     fn from_nifti_bytes(py: Python<'_>, bytes: Vec<u8>, name: String) -> PyResult<Self> {
         detached(py, move || {
-            let volume = tensorglyph::field::nifti::parse_scalar(&bytes)
+            let inputs = Inputs::named([(name.clone(), bytes)]);
+            let volume = inputs
+                .open(Path::new(&name))
+                .and_then(|input| nifti::read_scalar(&input))
                 .map_err(|kind| Failure::Value(LoadError::new(&name, kind).to_string()))?;
             Ok(Volume {
                 volume: Arc::new(volume),

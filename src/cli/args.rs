@@ -157,6 +157,7 @@ impl SceneArgs {
             glyph,
             underlay: None,
             middle_slice: false,
+            underlay_side: None,
         })
     }
 }

@@ -324,6 +324,7 @@ where
     let recipe = Recipe {
         underlay: select.underlay.clone(),
         middle_slice: defaults.middle_slice && select.no_slice(),
+        underlay_side: Some((w.max(h) * ssaa) as usize),
         ..scene_args.recipe(select.selection()?, cam.glyph, &defaults)?
     };
     let staged = stage(src, &recipe, progress)?;

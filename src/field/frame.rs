@@ -95,12 +95,22 @@ pub struct ReadMeta {
 
 /// The rotation-or-reflection part of `m` (polar decomposition `m = R S`): `R = U Vᵀ` from the
 /// SVD, so scaling and shear are removed and the handedness of `m` is kept.
+///
+/// `m` is scaled to a largest entry of 1 first: the rotation does not depend on the scale, and
+/// voxel sizes of 1e200 (whose determinant overflows to infinity and whose SVD turns NaN) or
+/// 1e-120 (whose determinant underflows to 0) are lattices like any other. `None` for a matrix
+/// that is not finite, is singular, or whose rotation is not finite.
 pub fn polar_rotation(m: &Matrix3<f64>) -> Option<Matrix3<f64>> {
-    if !m.iter().all(|x| x.is_finite()) || m.determinant() == 0.0 {
+    let scale = m.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if !m.iter().all(|x| x.is_finite()) || scale == 0.0 {
+        return None;
+    }
+    let m = m / scale;
+    if m.determinant() == 0.0 {
         return None;
     }
     let svd = m.svd(true, true);
-    Some(svd.u? * svd.v_t?)
+    Some(svd.u? * svd.v_t?).filter(|r| r.iter().all(|x| x.is_finite()))
 }
 
 /// The matrix that takes tensors stored in `frame` to world axes for a lattice whose
@@ -113,7 +123,7 @@ pub fn tensor_rotation(frame: TensorFrame, m: &Matrix3<f64>) -> Option<Matrix3<f
             let r = polar_rotation(m)?;
             // FSL stores its voxel axes radiologically: when the matrix keeps handedness it
             // flips x before rotating (as it does for bvecs).
-            if m.determinant() > 0.0 {
+            if r.determinant() > 0.0 {
                 Some(r * Matrix3::from_diagonal(&Vector3::new(-1.0, 1.0, 1.0)))
             } else {
                 Some(r)

@@ -16,6 +16,7 @@ use nalgebra::Matrix4;
 use super::frame::{Layout, Why};
 use super::inputs::Inputs;
 use super::nifti::{self, Header};
+use super::number::try_vec;
 use super::options::ReadOptions;
 use super::tensor_field::{Location, TensorArrayInfo, TensorField};
 use crate::error::{LoadError, LoadErrorKind, escape_for_error, escape_path};
@@ -56,7 +57,9 @@ impl EigenSet {
         EXTENSIONS
             .into_iter()
             .map(|ext| Self::new(path, path.to_path_buf(), name, ext))
-            .find(|set| inputs.is_file(&set.file("V1")))
+            // Anything by that name, a dangling link or a folder too: reading the set then
+            // names the member at fault, where "PREFIX: file not found" would not.
+            .find(|set| inputs.is_named(&set.file("V1")))
     }
 
     fn new(given: &Path, prefix: PathBuf, stem: &str, ext: &'static str) -> Self {
@@ -111,12 +114,12 @@ fn read_set(inputs: &Inputs, set: &EigenSet, opts: &ReadOptions) -> Result<Tenso
             LoadErrorKind::SetMemberMissing { set: set.pattern() },
         ));
     }
-    let mut bytes = Vec::with_capacity(files.len());
+    let mut opened = Vec::with_capacity(files.len());
     for p in &files {
-        bytes.push(inputs.read(p).map_err(|k| LoadError::new(p, k))?);
+        opened.push(inputs.open(p).map_err(|k| LoadError::new(p, k))?);
     }
     let mut heads: Vec<Header> = Vec::with_capacity(files.len());
-    for (k, (p, b)) in files.iter().zip(&bytes).enumerate() {
+    for (k, (p, b)) in files.iter().zip(&opened).enumerate() {
         let (member, want) = if k < 3 {
             (EIGENVALUES[k], 1)
         } else {
@@ -155,32 +158,40 @@ fn read_set(inputs: &Inputs, set: &EigenSet, opts: &ReadOptions) -> Result<Tenso
             )));
         }
     }
-    let mut voxels = Vec::with_capacity(files.len());
-    for ((p, h), b) in files.iter().zip(&heads).zip(&bytes) {
-        voxels.push(h.voxels(b).map_err(|e| LoadError::new(p, e))?);
-    }
+    // One eigenpair at a time, each member's values read straight to f64 and added in: the
+    // tensors and one pair are all that is held.
     let n = dims[0] * dims[1] * dims[2];
-    let tensors = (0..n)
-        .map(|v| {
-            let mut t = [0.0; 9];
-            for k in 0..3 {
-                let l = voxels[k].get(0, v);
-                let e = [0, 1, 2].map(|c| voxels[3 + k].get(c, v));
-                for i in 0..3 {
-                    for j in i..3 {
-                        t[3 * i + j] += l * e[i] * e[j];
-                    }
-                }
-            }
-            // Mirrored, not computed twice: the rebuilt tensor is exactly symmetric.
+    let mut tensors = try_vec(n).map_err(|e| LoadError::new(&files[0], e))?;
+    tensors.resize(n, [0.0f64; 9]);
+    let mut l = try_vec(n).map_err(|e| LoadError::new(&files[0], e))?;
+    let mut e = try_vec(3 * n).map_err(|e| LoadError::new(&files[0], e))?;
+    l.resize(n, 0.0f64);
+    e.resize(3 * n, 0.0f64);
+    for k in 0..3 {
+        let values = |m: usize, out: &mut Vec<f64>| {
+            heads[m]
+                .each_value(&opened[m], |c, v, x| out[c * n + v] = x)
+                .map_err(|err| LoadError::new(&files[m], err))
+        };
+        values(k, &mut l)?;
+        values(3 + k, &mut e)?;
+        for (v, t) in tensors.iter_mut().enumerate() {
+            let ev = [e[v], e[n + v], e[2 * n + v]];
             for i in 0..3 {
-                for j in 0..i {
-                    t[3 * i + j] = t[3 * j + i];
+                for j in i..3 {
+                    t[3 * i + j] += l[v] * ev[i] * ev[j];
                 }
             }
-            t
-        })
-        .collect();
+        }
+    }
+    for t in &mut tensors {
+        // Mirrored, not computed twice: the rebuilt tensor is exactly symmetric.
+        for i in 0..3 {
+            for j in 0..i {
+                t[3 * i + j] = t[3 * j + i];
+            }
+        }
+    }
     let array = TensorArrayInfo {
         name: set.pattern(),
         components: 6,

@@ -19,7 +19,7 @@
 use std::borrow::Cow;
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{ErrorKind, Read};
+use std::io::{ErrorKind, Read, Seek, SeekFrom};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Mutex;
 
@@ -144,25 +144,110 @@ impl Inputs {
         }
     }
 
-    /// The whole content of the file at `path`: on the file system a regular file (symlinks
-    /// followed), read no further than the size it had when opened.
+    /// The file at `path`, opened for reading any part of it: on the file system a regular
+    /// file (symlinks followed), never read past the size it had when opened.
     ///
     /// Errors: [`LoadErrorKind::Missing`], [`LoadErrorKind::NotRegularFile`] for FIFOs, devices,
-    /// sockets and directories, [`LoadErrorKind::Io`] otherwise. The bytes are allocated with
-    /// `try_reserve` (an error, not an abort, if they cannot be had).
-    pub fn read(&self, path: &Path) -> Result<Cow<'_, [u8]>, LoadErrorKind> {
-        match &self.store {
+    /// sockets and directories, [`LoadErrorKind::Io`] otherwise.
+    pub fn open(&self, path: &Path) -> Result<Input<'_>, LoadErrorKind> {
+        let src = match &self.store {
             Store::FileSystem => {
-                let bytes = read_regular_file(path)?;
-                self.record(path);
+                let (file, len) = open_regular_file(path)?;
+                Src::File(file, len)
+            }
+            Store::Named(files) => Src::Bytes(files.get(&key(path)).ok_or(LoadErrorKind::Missing)?),
+        };
+        self.record(path);
+        Ok(Input { src })
+    }
+
+    /// The whole content of the file at `path` ([`Self::open`], then [`Input::read_all`]).
+    pub fn read(&self, path: &Path) -> Result<Cow<'_, [u8]>, LoadErrorKind> {
+        self.open(path)?.read_all()
+    }
+}
+
+/// One file opened by [`Inputs::open`]: its size, and reads of the parts a reader needs (a
+/// header, then the data it says where to find), so that nothing else is read or held.
+pub struct Input<'a> {
+    src: Src<'a>,
+}
+
+enum Src<'a> {
+    /// The file and its size when opened.
+    File(File, u64),
+    Bytes(&'a [u8]),
+}
+
+impl<'a> Input<'a> {
+    /// Its size in bytes.
+    pub fn len(&self) -> u64 {
+        match &self.src {
+            Src::File(_, len) => *len,
+            Src::Bytes(b) => b.len() as u64,
+        }
+    }
+
+    /// Whether it holds no byte.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Up to `n` bytes from byte `start` on (fewer at the end), allocated with `try_reserve`
+    /// (an error, not an abort, if they cannot be had).
+    pub fn read_at(&self, start: u64, n: u64) -> Result<Cow<'a, [u8]>, LoadErrorKind> {
+        let start = start.min(self.len());
+        let n = n.min(self.len() - start);
+        match &self.src {
+            Src::Bytes(b) => Ok(Cow::Borrowed(&b[start as usize..(start + n) as usize])),
+            Src::File(..) => {
+                let cap = usize::try_from(n).map_err(|_| {
+                    LoadErrorKind::Other(format!("the file is too large ({n} bytes)"))
+                })?;
+                let mut bytes = Vec::new();
+                bytes.try_reserve_exact(cap).map_err(|_| {
+                    LoadErrorKind::Other(format!("cannot allocate {n} bytes to read the file into"))
+                })?;
+                self.reader_at(start)?
+                    .take(n)
+                    .read_to_end(&mut bytes)
+                    .map_err(LoadErrorKind::Io)?;
                 Ok(Cow::Owned(bytes))
             }
-            Store::Named(files) => {
-                let bytes = files.get(&key(path)).ok_or(LoadErrorKind::Missing)?;
-                self.record(path);
-                Ok(Cow::Borrowed(bytes))
+        }
+    }
+
+    /// Everything ([`Self::read_at`] from 0).
+    pub fn read_all(&self) -> Result<Cow<'a, [u8]>, LoadErrorKind> {
+        self.read_at(0, self.len())
+    }
+
+    /// A reader of the bytes from `start` to the end (the size when opened).
+    pub fn reader_at(&self, start: u64) -> Result<Box<dyn Read + '_>, LoadErrorKind> {
+        let start = start.min(self.len());
+        match &self.src {
+            Src::Bytes(b) => Ok(Box::new(&b[start as usize..])),
+            Src::File(file, len) => {
+                let mut f = file;
+                f.seek(SeekFrom::Start(start)).map_err(LoadErrorKind::Io)?;
+                Ok(Box::new(f.take(len - start)))
             }
         }
+    }
+
+    /// The gzip data from byte `start` to the end, inflated on demand within the budget
+    /// ([`crate::field::gzip`]); `what` names it in errors.
+    pub fn gunzip(
+        &self,
+        start: u64,
+        what: impl Into<String>,
+    ) -> Result<crate::field::gzip::Gunzip<'_>, LoadErrorKind> {
+        let compressed = self.len() - start.min(self.len());
+        Ok(crate::field::gzip::Gunzip::new(
+            self.reader_at(start)?,
+            compressed,
+            what,
+        ))
     }
 }
 
@@ -194,9 +279,8 @@ fn open_nonblocking(path: &Path) -> std::io::Result<File> {
     o.open(path)
 }
 
-/// The whole content of the regular file at `path` (symlinks followed), as [`Inputs::read`]
-/// reads it from the file system, without recording it.
-pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, LoadErrorKind> {
+/// The regular file at `path` (symlinks followed), opened, and its size.
+fn open_regular_file(path: &Path) -> Result<(File, u64), LoadErrorKind> {
     let before = std::fs::metadata(path).map_err(io_error)?;
     if let Some(kind) = special_kind(&before) {
         return Err(LoadErrorKind::NotRegularFile(kind));
@@ -206,45 +290,19 @@ pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, LoadErrorKind> {
     if let Some(kind) = special_kind(&meta) {
         return Err(LoadErrorKind::NotRegularFile(kind));
     }
-    let len = meta.len();
-    let cap = usize::try_from(len)
-        .map_err(|_| LoadErrorKind::Other(format!("the file is too large ({len} bytes)")))?;
-    let mut bytes = Vec::new();
-    bytes.try_reserve_exact(cap).map_err(|_| {
-        LoadErrorKind::Other(format!("cannot allocate {len} bytes to read the file into"))
-    })?;
     // A file that grows while it is read is cut at the size it had when opened.
-    file.take(len)
-        .read_to_end(&mut bytes)
-        .map_err(LoadErrorKind::Io)?;
-    Ok(bytes)
+    Ok((file, meta.len()))
 }
 
-/// Deflate cannot expand data more than about 1032 times, so a gzip stream of `n` bytes
-/// never holds more than this many: a header asking for more is refused before inflating.
-const DEFLATE_MAX_RATIO: u64 = 1032;
-
-/// The first `want` bytes that the gzip data `gz` holds (all its members, as `gzip -d` reads
-/// them), fewer if it holds fewer.
-///
-/// Memory grows only with the bytes actually inflated, and `want` beyond what `gz` could
-/// possibly expand to is an error before anything is inflated; `what` names the data in it.
-pub fn gunzip_prefix(gz: &[u8], want: u64, what: &str) -> Result<Vec<u8>, LoadErrorKind> {
-    let most = (gz.len() as u64).saturating_mul(DEFLATE_MAX_RATIO);
-    if want > most {
-        return Err(LoadErrorKind::Malformed(format!(
-            "{what} needs {want} bytes, more than {} gzip-compressed bytes can hold",
-            gz.len()
-        )));
+/// The whole content of the regular file at `path` (symlinks followed), as [`Inputs::read`]
+/// reads it from the file system, without recording it.
+pub fn read_regular_file(path: &Path) -> Result<Vec<u8>, LoadErrorKind> {
+    let (file, len) = open_regular_file(path)?;
+    Input {
+        src: Src::File(file, len),
     }
-    let mut out = Vec::new();
-    flate2::read::MultiGzDecoder::new(gz)
-        .take(want)
-        .read_to_end(&mut out)
-        .map_err(|e| {
-            LoadErrorKind::Malformed(format!("{what}: gzip data is corrupt or truncated ({e})"))
-        })?;
-    Ok(out)
+    .read_all()
+    .map(Cow::into_owned)
 }
 
 /// Device and inode of the file `path` names (symlinks followed), to tell when two names are

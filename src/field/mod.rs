@@ -12,6 +12,7 @@ pub mod array;
 pub mod frame;
 pub mod fsl_eigen;
 mod guard;
+pub mod gzip;
 pub mod inputs;
 pub mod nifti;
 pub mod nrrd;
@@ -51,15 +52,9 @@ pub fn read_field_from(
     if let Some(set) = fsl_eigen::EigenSet::named_by(path, inputs) {
         fsl_eigen::read(inputs, &set, opts)
     } else if nifti::is_nifti_path(path) {
-        guard::guarded(path, || {
-            let bytes = inputs.read(path)?;
-            nifti::parse(&bytes, opts)
-        })
+        guard::guarded(path, || nifti::read(&inputs.open(path)?, opts))
     } else if nrrd::is_nrrd_path(path) {
-        guard::guarded(path, || {
-            let bytes = inputs.read(path)?;
-            nrrd::parse(inputs, path, &bytes, opts)
-        })
+        guard::guarded(path, || nrrd::read(inputs, path, opts))
     } else {
         vtk::read_field_from(inputs, path, opts)
     }
@@ -83,13 +78,12 @@ pub fn read_scalar_volume(path: &Path) -> Result<ScalarVolume, LoadError> {
 /// [`read_scalar_volume`] of the file `path` among `inputs`, which record what it read.
 pub fn read_scalar_volume_from(inputs: &Inputs, path: &Path) -> Result<ScalarVolume, LoadError> {
     guard::guarded(path, || {
-        let bytes = inputs.read(path)?;
         if nifti::is_nifti_path(path) {
-            nifti::parse_scalar(&bytes)
+            nifti::read_scalar(&inputs.open(path)?)
         } else if nrrd::is_nrrd_path(path) {
-            nrrd::parse_scalar(inputs, path, &bytes)
+            nrrd::read_scalar(inputs, path)
         } else {
-            vtk::parse_scalar_bytes(&bytes)
+            vtk::parse_scalar_bytes(&inputs.read(path)?)
         }
     })
 }

@@ -65,6 +65,16 @@ impl Scalar {
     }
 }
 
+/// A vector with room for `n` elements, or an error instead of an allocation failure (a file
+/// whose header asks for more than the machine has gets one clean line, not an abort).
+pub(crate) fn try_vec<T>(n: usize) -> Result<Vec<T>, crate::error::LoadErrorKind> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| {
+        crate::error::LoadErrorKind::Malformed(format!("cannot allocate {n} values"))
+    })?;
+    Ok(v)
+}
+
 /// Append the values in `bytes` (a whole number of elements) to `out`, converting to f64.
 pub(crate) fn decode_into(bytes: &[u8], ty: Scalar, big_endian: bool, out: &mut Vec<f64>) {
     macro_rules! all {

@@ -94,6 +94,8 @@ pub enum UnderlayError {
     Irregular { plane: Plane },
     #[error("--underlay: the field has no valid tensor to compute {what} from")]
     NoValue { what: String },
+    #[error("--underlay {what}: the volume holds no finite value to show")]
+    EmptyVolume { what: String },
 }
 
 /// Where a plane's image is, before it is moved behind its glyphs.
@@ -359,6 +361,7 @@ pub fn build(
     label: String,
     planes: &[Plane],
     scene: &Scene,
+    max_side: usize,
 ) -> Result<Underlay, UnderlayError> {
     let lattice = Lattice::of(field)?;
     let per_voxel = match values {
@@ -371,7 +374,7 @@ pub fn build(
         geometry.behind = behind(scene, &geometry, lattice.steps[plane.axis.min(2)]);
         let dims = lattice.dims;
         let (size, texels) = match (values, &per_voxel) {
-            (Values::Volume(volume), _) => resample(volume, &geometry, &lattice, (a, b)),
+            (Values::Volume(volume), _) => resample(volume, &geometry, &lattice, (a, b), max_side),
             (_, Some(voxels)) => {
                 let texels = (0..dims[b])
                     .flat_map(|jb| {
@@ -401,8 +404,13 @@ pub fn build(
         (_, Some(voxels)) => voxels.iter().copied().filter(|x| x.is_finite()).collect(),
         _ => Vec::new(),
     };
-    let window = percentiles(all, WINDOW_PERCENTILES).ok_or_else(|| UnderlayError::NoValue {
-        what: label.clone(),
+    let window = percentiles(all, WINDOW_PERCENTILES).ok_or_else(|| match values {
+        Values::Volume(_) => UnderlayError::EmptyVolume {
+            what: label.clone(),
+        },
+        _ => UnderlayError::NoValue {
+            what: label.clone(),
+        },
     })?;
     Ok(Underlay {
         planes: out,
@@ -445,12 +453,15 @@ fn behind(scene: &Scene, geometry: &PlaneGeometry, step: DVec3) -> f64 {
 }
 
 /// A volume sampled (trilinearly) at the texel centres of a grid over the plane, texels no
-/// larger than the finer of the volume's voxels and the lattice step.
+/// larger than the finer of the volume's voxels and the lattice step, and no more than
+/// `max_side` along a side (the image's pixels: a volume of 1 µm voxels under a small image
+/// needs no more texels than the image has pixels).
 fn resample(
     volume: &ScalarVolume,
     g: &PlaneGeometry,
     lattice: &Lattice,
     (a, b): (usize, usize),
+    max_side: usize,
 ) -> ([u32; 2], Vec<f32>) {
     let m = volume.voxel_to_world;
     let voxel = (0..3)
@@ -462,7 +473,7 @@ fn resample(
     let count = |edge: DVec3| {
         let n = (edge.length() / texel).ceil();
         if n.is_finite() {
-            (n as usize).clamp(1, MAX_TEXELS)
+            (n as usize).clamp(1, max_side.clamp(1, MAX_TEXELS))
         } else {
             1
         }

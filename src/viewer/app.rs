@@ -206,6 +206,7 @@ impl ViewerApp {
             underlay: key.underlay.clone(),
             // The panel shows the slicing it draws: the middle slice is set there on load.
             middle_slice: false,
+            underlay_side: None,
         };
         let volume = data.underlay.as_deref();
         let built = match staging::build(

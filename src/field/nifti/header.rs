@@ -9,6 +9,8 @@ use nalgebra::Matrix4;
 use nifti::NiftiHeader;
 
 use crate::error::LoadErrorKind;
+use crate::field::gzip::is_gzip;
+use crate::field::inputs::Input;
 use crate::field::number::Scalar;
 
 pub(super) type Res<T> = Result<T, LoadErrorKind>;
@@ -51,27 +53,33 @@ pub(crate) struct Header {
     pub(super) gz: bool,
 }
 
-/// Read and check the header of a NIfTI-1 file from its bytes (gzip-compressed or not).
+/// Read and check the header of a NIfTI-1 file (gzip-compressed or not): its first 352 bytes,
+/// nothing more.
 ///
 /// `check` is given the number of values per voxel (volumes of a 4-D file, the fifth
 /// dimension of a 5-D one, 1 for a 3-D one) and refuses what its caller cannot use, before the
 /// data type is looked at: a 3-D mask given as tensors is told as such, not as "uint8". The
 /// values are float32 or float64, as tensors are.
-pub(crate) fn read_header(bytes: &[u8], check: impl FnOnce(usize) -> Res<()>) -> Res<Header> {
-    read(bytes, Values::Tensor, check)
+pub(crate) fn read_header(input: &Input, check: impl FnOnce(usize) -> Res<()>) -> Res<Header> {
+    read_head(input, Values::Tensor, check)
 }
 
 /// [`read_header`] for tensors or for a scalar volume.
-pub(super) fn read(
-    bytes: &[u8],
+pub(super) fn read_head(
+    input: &Input,
     values: Values,
     check: impl FnOnce(usize) -> Res<()>,
 ) -> Res<Header> {
-    let gz = bytes.starts_with(&[0x1f, 0x8b]);
+    let gz = is_gzip(&input.read_at(0, 2)?);
     let head: Cow<[u8]> = if gz {
-        Cow::Owned(gunzip(bytes, MIN_OFFSET, "the header")?)
+        let mut g = input.gunzip(0, "the header")?;
+        g.need(MIN_OFFSET)?;
+        let mut b = vec![0u8; MIN_OFFSET as usize];
+        let n = g.fill(&mut b)?;
+        b.truncate(n);
+        Cow::Owned(b)
     } else {
-        Cow::Borrowed(bytes)
+        input.read_at(0, MIN_OFFSET)?
     };
     let h = header(&head)?;
     let shape = Shape::of(&h, values, check)?;
@@ -87,10 +95,6 @@ impl Header {
     pub(crate) fn affine(&self) -> Res<(Matrix4<f64>, &'static str)> {
         affine(&self.h)
     }
-}
-
-pub(super) fn gunzip(bytes: &[u8], want: u64, what: &str) -> Res<Vec<u8>> {
-    crate::field::inputs::gunzip_prefix(bytes, want, what)
 }
 
 fn header(bytes: &[u8]) -> Res<NiftiHeader> {

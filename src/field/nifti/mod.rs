@@ -41,29 +41,31 @@ use crate::field::frame::{
     FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
     smallest_spacing, tensor_rotation,
 };
+use crate::field::inputs::Input;
+use crate::field::number::try_vec;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
 use crate::field::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
 pub(crate) use header::{Header, read_header};
-use header::{Res, Shape, Values, field, read};
+use header::{Res, Shape, Values, field, read_head};
 
 const INTENT_SYMMATRIX: i16 = 1005;
 
-/// Read a NIfTI-1 tensor volume from the file's bytes (gzip-compressed or not).
-pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
-    let head = read_header(bytes, tensor_components)?;
-    let voxels = head.voxels(bytes)?;
+/// Read a NIfTI-1 tensor volume (gzip-compressed or not) from `input`.
+pub fn read(input: &Input, opts: &ReadOptions) -> Res<TensorField> {
+    let head = read_header(input, tensor_components)?;
     let (layout, expand) = layout(&head.h, &head.shape, opts)?;
     let affine = head.affine()?;
     let components = head.shape.components;
-    let mut comps = vec![0.0f64; components];
-    let mut tensors = Vec::with_capacity(head.shape.voxels);
-    for v in 0..head.shape.voxels {
-        for (c, out) in comps.iter_mut().enumerate() {
-            *out = voxels.get(c, v);
-        }
-        tensors.push(expand(&comps));
+    // Each value goes straight into its voxel's matrix, which is then expanded in place: the
+    // tensors are the only copy of the data ever held.
+    let mut tensors = try_vec(head.shape.voxels)?;
+    tensors.resize(head.shape.voxels, [0.0f64; 9]);
+    head.each_value(input, |c, v, x| tensors[v][c] = x)?;
+    for t in &mut tensors {
+        let comps = *t;
+        *t = expand(&comps[..components]);
     }
     let array = TensorArrayInfo {
         name: "tensor".into(),
@@ -73,16 +75,15 @@ pub fn parse(bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     lattice_field(head.dims(), affine, opts, tensors, array, layout)
 }
 
-/// Read a NIfTI-1 scalar volume (3-D, or 4-D and up with one value per voxel) from the file's
-/// bytes: any integer or float datatype, `scl_slope` and `scl_inter` applied, placed in RAS by
-/// the same sform/qform/pixdim rule as tensors.
-pub fn parse_scalar(bytes: &[u8]) -> Res<ScalarVolume> {
-    let head = read(bytes, Values::Scalar, |_| Ok(()))?;
-    let voxels = head.voxels(bytes)?;
+/// Read a NIfTI-1 scalar volume (3-D, or 4-D and up with one value per voxel) from `input`:
+/// any integer or float datatype, `scl_slope` and `scl_inter` applied, placed in RAS by the
+/// same sform/qform/pixdim rule as tensors. Values go straight to float32.
+pub fn read_scalar(input: &Input) -> Res<ScalarVolume> {
+    let head = read_head(input, Values::Scalar, |_| Ok(()))?;
     let (a, source) = head.affine()?;
-    let values = (0..head.shape.voxels)
-        .map(|v| voxels.get(0, v) as f32)
-        .collect();
+    let mut values = try_vec(head.shape.voxels)?;
+    values.resize(head.shape.voxels, 0.0f32);
+    head.each_value(input, |_, v, x| values[v] = x as f32)?;
     scalar::checked(head.dims(), values, rows4(&a), source)
 }
 
@@ -103,7 +104,7 @@ pub(crate) fn lattice_field(
     if rotation.is_none() && tensor_frame != TensorFrame::World {
         return Err(field(
             source,
-            "the voxel-to-world matrix is singular: no rotation to take voxel-frame tensors to world",
+            "the voxel-to-world matrix is singular or not finite: no rotation to take voxel-frame tensors to world",
         ));
     }
     let n = tensors.len();

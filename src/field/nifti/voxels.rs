@@ -1,17 +1,28 @@
-//! A NIfTI-1 file's voxel data: checked against the bytes present, inflated no further than the
-//! header's dimensions need, and read with `scl_slope` and `scl_inter` applied.
-
-use std::borrow::Cow;
+//! A NIfTI-1 file's voxel data: only the bytes the header's dimensions need are read (from
+//! `vox_offset` on), gzip data is inflated within its budget and checked to its end, and each
+//! value goes, scaled by `scl_slope` and `scl_inter`, straight to where the caller keeps it.
 
 use nifti::NiftiHeader;
 
-use super::header::{Header, MIN_OFFSET, Res, field, gunzip};
+use super::header::{Header, MIN_OFFSET, Res, field};
+use crate::field::inputs::Input;
 use crate::field::number::Scalar;
 
+/// Bytes decoded at a time.
+const BLOCK: usize = 1 << 16;
+
 impl Header {
-    /// The voxel data of the file whose bytes are `bytes`, checked against the bytes present
-    /// (inflated no further than the header's dimensions need).
-    pub(crate) fn voxels<'a>(&self, bytes: &'a [u8]) -> Res<Voxels<'a>> {
+    /// Hand every value of the file `input` to `put(c, v, value)`: value `c` of voxel `v`,
+    /// scaled, volume after volume (all voxels of value 0 first), x fastest.
+    ///
+    /// The data must hold what the header's dimensions and `vox_offset` say, checked before
+    /// anything is allocated; no more of the file is read (a gzip stream is inflated to its
+    /// end, within its budget, to check it).
+    pub(crate) fn each_value(
+        &self,
+        input: &Input,
+        mut put: impl FnMut(usize, usize, f64),
+    ) -> Res<()> {
         let (h, shape) = (&self.h, &self.shape);
         let offset = (h.vox_offset.is_finite() && h.vox_offset >= 0.0)
             .then_some(h.vox_offset as u64)
@@ -30,53 +41,81 @@ impl Header {
         let needed = offset
             .checked_add(data_len)
             .ok_or_else(|| field("vox_offset", "the data end overflows"))?;
-        let data: Cow<[u8]> = if self.gz {
-            Cow::Owned(gunzip(bytes, needed, "the voxel data")?)
-        } else {
-            Cow::Borrowed(bytes)
-        };
-        if (data.len() as u64) < needed {
-            return Err(field(
+        let short = |holds: u64| {
+            field(
                 "dim",
                 format!(
-                    "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {}",
+                    "the header's dimensions and vox_offset need {needed} bytes{}, the file holds {holds}",
                     if self.gz { " uncompressed" } else { "" },
-                    data.len()
                 ),
-            ));
-        }
+            )
+        };
         let (slope, inter) = scaling(h);
-        Ok(Voxels {
-            data,
-            start: offset as usize,
-            width: shape.width,
-            voxels: shape.voxels,
+        let big = h.endianness == nifti::Endianness::Big;
+        let mut sink = Sink {
             ty: shape.ty,
-            big: h.endianness == nifti::Endianness::Big,
+            big,
             slope,
             inter,
-        })
+            voxels: shape.voxels,
+            at: 0,
+        };
+        let mut buf = vec![0u8; BLOCK - BLOCK % shape.width];
+        let mut left = data_len;
+        if self.gz {
+            let mut g = input.gunzip(0, "the voxel data")?;
+            g.need(needed)?;
+            if g.skip(offset)? < offset {
+                return Err(short(g.inflated()));
+            }
+            while left > 0 {
+                let want = left.min(buf.len() as u64) as usize;
+                let got = g.fill(&mut buf[..want])?;
+                if got < want {
+                    return Err(short(g.inflated()));
+                }
+                sink.take(&buf[..got], &mut put);
+                left -= got as u64;
+            }
+            g.finish()
+        } else {
+            if input.len() < needed {
+                return Err(short(input.len()));
+            }
+            let mut r = input.reader_at(offset)?;
+            while left > 0 {
+                let want = left.min(buf.len() as u64) as usize;
+                r.read_exact(&mut buf[..want])
+                    .map_err(crate::error::LoadErrorKind::Io)?;
+                sink.take(&buf[..want], &mut put);
+                left -= want as u64;
+            }
+            Ok(())
+        }
     }
 }
 
-/// A NIfTI-1 file's voxel values: `components` volumes one after the other, x fastest.
-pub(crate) struct Voxels<'a> {
-    /// The file (inflated), holding the values from `start` on.
-    data: Cow<'a, [u8]>,
-    start: usize,
-    width: usize,
-    voxels: usize,
+use std::io::Read as _;
+
+/// Where the next value goes.
+struct Sink {
     ty: Scalar,
     big: bool,
     slope: f64,
     inter: f64,
+    voxels: usize,
+    /// Values handed over so far.
+    at: usize,
 }
 
-impl Voxels<'_> {
-    /// Value `c` of voxel `v`, scaled by `scl_slope` and `scl_inter`.
-    pub(crate) fn get(&self, c: usize, v: usize) -> f64 {
-        let at = self.start + (c * self.voxels + v) * self.width;
-        self.ty.read(&self.data[at..at + self.width], self.big) * self.slope + self.inter
+impl Sink {
+    /// The values in `bytes` (whole elements), handed to `put`.
+    fn take(&mut self, bytes: &[u8], put: &mut impl FnMut(usize, usize, f64)) {
+        for b in bytes.chunks_exact(self.ty.size()) {
+            let (c, v) = (self.at / self.voxels, self.at % self.voxels);
+            put(c, v, self.ty.read(b, self.big) * self.slope + self.inter);
+            self.at += 1;
+        }
     }
 }
 

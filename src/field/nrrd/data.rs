@@ -2,12 +2,12 @@
 //! header or in the detached `data file`), the `line skip` and `byte skip` before them, and
 //! their decoding, checked against the bytes present.
 
-use std::borrow::Cow;
+use std::io::{BufRead as _, Read as _};
 use std::path::Path;
 
 use super::header::{Header, Res, field, number};
-use crate::error::{escape_for_error, escape_path};
-use crate::field::inputs::{Inputs, gunzip_prefix};
+use crate::error::{LoadErrorKind, escape_for_error, escape_path};
+use crate::field::inputs::{Input, Inputs};
 use crate::field::number::Scalar;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -49,14 +49,22 @@ pub(super) fn big_endian(h: &Header, encoding: Encoding, ty: Scalar) -> Res<bool
     })
 }
 
-/// The bytes holding the data: after the header, or the detached `data file` (a regular file
-/// named relative to the header's folder).
+/// Where the values are: the file and the byte their region starts at (after the header, or
+/// the start of the detached `data file`, a regular file named relative to the header's
+/// folder).
+pub(super) struct Region<'a> {
+    pub(super) input: Input<'a>,
+    pub(super) start: u64,
+}
+
+/// The region of `h`'s data: in `input` (the header's file) after the header, or in the
+/// detached data file next to `path`.
 pub(super) fn payload<'a>(
     inputs: &'a Inputs,
     path: &Path,
     h: &Header,
-    bytes: &'a [u8],
-) -> Res<Cow<'a, [u8]>> {
+    input: Input<'a>,
+) -> Res<Region<'a>> {
     match h.get("data file") {
         Some(name) => {
             if name.starts_with("LIST") || name.contains(' ') {
@@ -66,11 +74,22 @@ pub(super) fn payload<'a>(
                 ));
             }
             let p = Inputs::next_to(path, name);
-            inputs
-                .read(&p)
-                .map_err(|e| field("data file", format!("{}: {}", escape_path(&p), e)))
+            // The folder is the user's; the name is the file's, shown cut as file text is.
+            let shown = match path.parent() {
+                Some(d) if !d.as_os_str().is_empty() => {
+                    format!("{}/{}", escape_path(d), escape_for_error(name))
+                }
+                _ => escape_for_error(name),
+            };
+            let input = inputs
+                .open(&p)
+                .map_err(|e| field("data file", format!("{shown}: {e}")))?;
+            Ok(Region { input, start: 0 })
         }
-        None => Ok(Cow::Borrowed(&bytes[h.data_start..])),
+        None => Ok(Region {
+            input,
+            start: h.data_start as u64,
+        }),
     }
 }
 
@@ -107,27 +126,49 @@ impl Scalar {
     }
 }
 
-/// Where the values begin in what [`skip`] leaves.
+/// Where the values begin in the region [`skip`] leaves.
 #[derive(Clone, Copy, PartialEq, Debug)]
 pub(super) enum Start {
     Here,
     /// After this many bytes of the inflated stream: Teem counts a gzip file's `byte skip`
     /// there (its `line skip` in the file).
-    Inflated(usize),
+    Inflated(u64),
     /// The values are the last bytes (`byte skip: -1`, raw data only).
     AtEnd,
 }
 
-/// The data after `line skip` lines and, unless it is compressed, `byte skip` bytes.
-pub(super) fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'a [u8], Start)> {
+/// The region after `line skip` lines and, unless it is compressed, `byte skip` bytes. Lines
+/// are counted as the bytes go by, never held.
+pub(super) fn skip<'a>(
+    h: &Header,
+    mut region: Region<'a>,
+    enc: Encoding,
+) -> Res<(Region<'a>, Start)> {
     if let Some(n) = h.get("line skip") {
         let n: usize = number("line skip", n)?;
-        for _ in 0..n {
-            let e = data
-                .iter()
-                .position(|&b| b == b'\n')
-                .ok_or_else(|| field("line skip", "more lines than the data holds"))?;
-            data = &data[e + 1..];
+        if n > 0 {
+            let mut r =
+                std::io::BufReader::with_capacity(1 << 16, region.input.reader_at(region.start)?);
+            let mut left = n;
+            let mut passed = 0u64;
+            while left > 0 {
+                let buf = r.fill_buf().map_err(LoadErrorKind::Io)?;
+                if buf.is_empty() {
+                    return Err(field("line skip", "more lines than the data holds"));
+                }
+                let mut used = buf.len();
+                for (i, _) in buf.iter().enumerate().filter(|(_, b)| **b == b'\n') {
+                    left -= 1;
+                    if left == 0 {
+                        used = i + 1;
+                        break;
+                    }
+                }
+                passed += used as u64;
+                r.consume(used);
+            }
+            drop(r);
+            region.start += passed;
         }
     }
     if let Some(n) = h.get("byte skip") {
@@ -136,29 +177,37 @@ pub(super) fn skip<'a>(h: &Header, mut data: &'a [u8], enc: Encoding) -> Res<(&'
             if enc != Encoding::Raw {
                 return Err(field("byte skip", "-1 is for raw data only"));
             }
-            return Ok((data, Start::AtEnd));
+            return Ok((region, Start::AtEnd));
         }
-        let n = usize::try_from(n).map_err(|_| field("byte skip", "must be -1 or ≥ 0"))?;
+        let n = u64::try_from(n).map_err(|_| field("byte skip", "must be -1 or ≥ 0"))?;
         if enc == Encoding::Gzip {
-            return Ok((data, Start::Inflated(n)));
+            return Ok((region, Start::Inflated(n)));
         }
-        data = data
-            .get(n..)
-            .ok_or_else(|| field("byte skip", "beyond the end of the data"))?;
+        if n > region.input.len() - region.start {
+            return Err(field("byte skip", "beyond the end of the data"));
+        }
+        region.start += n;
     }
-    Ok((data, Start::Here))
+    Ok((region, Start::Here))
 }
 
+/// Bytes decoded at a time.
+const BLOCK: usize = 1 << 16;
+
+/// Hand the `count` values of the region to `put`, in file order, each as soon as it is
+/// decoded: only the bytes they need are read (a gzip stream is inflated to its end, within its
+/// budget, to check it; ASCII data is read to the end of the file).
 pub(super) fn decode(
-    data: &[u8],
+    region: &Region<'_>,
     enc: Encoding,
     ty: Scalar,
     big: bool,
     count: usize,
     start: Start,
-) -> Res<Vec<f64>> {
+    mut put: impl FnMut(f64),
+) -> Res<()> {
     let width = ty.size();
-    let short = |have: usize, what: &str| {
+    let short = |have: u64, what: &str| {
         field(
             "sizes",
             format!(
@@ -167,75 +216,112 @@ pub(super) fn decode(
             ),
         )
     };
-    let bytes: Cow<[u8]> = match enc {
+    let need = (count as u64)
+        .checked_mul(width as u64)
+        .ok_or_else(|| field("sizes", "the sizes overflow"))?;
+    let have = region.input.len() - region.start.min(region.input.len());
+    let mut buf = vec![0u8; BLOCK - BLOCK % width];
+    let mut each = |bytes: &[u8]| {
+        for c in bytes.chunks_exact(width) {
+            put(ty.read(c, big));
+        }
+    };
+    match enc {
         Encoding::Ascii => {
             // Every value takes at least one byte and a separator.
-            if data.len() < count.saturating_mul(2).saturating_sub(1) {
-                return Err(short(data.len(), "ascii data"));
+            if have < (count as u64).saturating_mul(2).saturating_sub(1) {
+                return Err(short(have, "ascii data"));
             }
-            let mut out = Vec::with_capacity(count);
-            for w in data
+            let data = region.input.read_at(region.start, have)?;
+            let mut n = 0usize;
+            let mut words = data
                 .split(|b| b.is_ascii_whitespace() || *b == b',')
                 .filter(|w| !w.is_empty())
-            {
-                if out.len() == count {
+                .peekable();
+            while let Some(w) = words.next() {
+                if n == count {
                     return Err(field(
                         "sizes",
                         format!("the ascii data holds more than {count} values"),
                     ));
                 }
+                // A number running into the end of the file may have lost digits (1.5927 cut
+                // to 1.592): Teem ends its ASCII data with a newline.
+                if words.peek().is_none() && data.ends_with(w) {
+                    return Err(field(
+                        "data",
+                        format!(
+                            "the file ends inside the number '{}' (truncated?)",
+                            escape_for_error(w)
+                        ),
+                    ));
+                }
                 let s = std::str::from_utf8(w).unwrap_or("?");
-                out.push(number::<f64>("data", s)?);
+                put(number::<f64>("data", s)?);
+                n += 1;
             }
-            if out.len() < count {
+            if n < count {
                 return Err(field(
                     "sizes",
-                    format!("need {count} values, the ascii data holds {}", out.len()),
+                    format!("need {count} values, the ascii data holds {n}"),
                 ));
             }
-            return Ok(out);
+            Ok(())
         }
-        Encoding::Raw => Cow::Borrowed(data),
+        Encoding::Raw => {
+            if have < need {
+                return Err(short(have, "data"));
+            }
+            let from = if start == Start::AtEnd {
+                region.input.len() - need
+            } else {
+                region.start
+            };
+            let mut r = region.input.reader_at(from)?;
+            let mut left = need;
+            while left > 0 {
+                let want = left.min(buf.len() as u64) as usize;
+                r.read_exact(&mut buf[..want]).map_err(LoadErrorKind::Io)?;
+                each(&buf[..want]);
+                left -= want as u64;
+            }
+            Ok(())
+        }
         Encoding::Gzip => {
             let skipped = match start {
                 Start::Inflated(n) => n,
                 _ => 0,
             };
-            let want = (count as u64)
-                .saturating_mul(width as u64)
-                .saturating_add(skipped as u64);
-            let mut inflated = gunzip_prefix(data, want, "the NRRD data")?;
-            if inflated.len() < skipped {
+            let mut g = region.input.gunzip(region.start, "the NRRD data")?;
+            g.need(need.saturating_add(skipped))?;
+            if g.skip(skipped)? < skipped {
                 return Err(field(
                     "byte skip",
                     format!(
                         "{skipped} bytes, beyond the end of the data ({} bytes inflated)",
-                        inflated.len()
+                        g.inflated()
                     ),
                 ));
             }
-            inflated.drain(..skipped);
-            Cow::Owned(inflated)
+            let mut left = need;
+            while left > 0 {
+                let want = left.min(buf.len() as u64) as usize;
+                let got = g.fill(&mut buf[..want])?;
+                if got < want {
+                    return Err(short(g.inflated() - skipped, "data"));
+                }
+                each(&buf[..want]);
+                left -= want as u64;
+            }
+            g.finish()
         }
-    };
-    let need = count
-        .checked_mul(width)
-        .ok_or_else(|| field("sizes", "the sizes overflow"))?;
-    if bytes.len() < need {
-        return Err(short(bytes.len(), "data"));
     }
-    let b = if start == Start::AtEnd {
-        &bytes[bytes.len() - need..]
-    } else {
-        &bytes[..need]
-    };
-    Ok(b.chunks_exact(width).map(|c| ty.read(c, big)).collect())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::nrrd::parse;
+    use crate::field::nrrd;
     use crate::field::{ComponentOrder, ReadOptions, TensorField};
 
     /// Two voxels (2×1×1) of six components each: voxel v holds 10v+1 .. 10v+6.
@@ -264,8 +350,16 @@ mod tests {
         b
     }
 
+    /// The field read from `bytes` as the file `path`: handed over by name, or, for a path in
+    /// a folder (beside a detached data file), written there and read from the file system.
     fn read(path: &Path, bytes: &[u8]) -> Res<TensorField> {
-        parse(&Inputs::file_system(), path, bytes, &ReadOptions::default())
+        let opts = ReadOptions::default();
+        if path.is_absolute() {
+            std::fs::write(path, bytes).unwrap();
+            return nrrd::read(&Inputs::file_system(), path, &opts);
+        }
+        let name = path.to_string_lossy().into_owned();
+        nrrd::read(&Inputs::named([(name, bytes.to_vec())]), path, &opts)
     }
 
     /// The field holds the two voxels written, `xx xy xz yy yz zz` each.

@@ -35,14 +35,14 @@ use crate::field::frame::{
     FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
     smallest_spacing, tensor_rotation,
 };
-use crate::field::inputs::Inputs;
-use crate::field::number::Scalar;
+use crate::field::inputs::{Input, Inputs};
+use crate::field::number::{Scalar, try_vec};
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
 use crate::field::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
 use data::{big_endian, decode, encoding, payload, skip};
-use header::{Res, field, number, parse_header, sizes, vectors};
+use header::{Header, Res, field, header_end, number, parse_header, sizes, vectors};
 use space::{Placement, placement};
 
 type Expand = fn(&[f64]) -> [f64; 9];
@@ -73,10 +73,30 @@ impl Kind {
     }
 }
 
-/// Read a NRRD tensor volume from the bytes of `path` (the header, with or without data).
-/// A detached data file is read from `inputs`, next to `path`.
-pub fn parse(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
-    let h = parse_header(bytes)?;
+/// The header of the NRRD file `input`, read no further than its first empty line (a detached
+/// header's file is all header), and the file.
+fn open_header<'a>(inputs: &'a Inputs, path: &Path) -> Res<(Header, Input<'a>)> {
+    let input = inputs.open(path)?;
+    let mut n: u64 = 1 << 16;
+    let end = loop {
+        let b = input.read_at(0, n)?;
+        if !b.starts_with(b"NRRD000") && b.len() >= 7 {
+            break b.len();
+        }
+        match header_end(&b) {
+            Some(end) => break end,
+            None if n >= input.len() => break b.len(),
+            None => n = n.saturating_mul(4),
+        }
+    };
+    let h = parse_header(&input.read_at(0, end as u64)?)?;
+    Ok((h, input))
+}
+
+/// Read a NRRD tensor volume (`.nrrd`, or a `.nhdr` and its detached data file next to it)
+/// from `inputs`.
+pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField> {
+    let (h, input) = open_header(inputs, path)?;
     let ty = match h.need("type")? {
         "float" | "float32" => Scalar::F32,
         "double" | "float64" => Scalar::F64,
@@ -138,9 +158,8 @@ pub fn parse(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> 
         .ok_or_else(|| field("sizes", "the sizes overflow"))?;
     let encoding = encoding(&h)?;
     let big = big_endian(&h, encoding, ty)?;
-    let data = payload(inputs, path, &h, bytes)?;
-    let (data, start) = skip(&h, &data, encoding)?;
-    let values = decode(data, encoding, ty, big, count, start)?;
+    let region = payload(inputs, path, &h, input)?;
+    let (region, start) = skip(&h, region, encoding)?;
 
     let (order, tensor_of): (&str, Expand) = match kind {
         Kind::Full => ("full", |c| std::array::from_fn(|i| c[i])),
@@ -148,17 +167,27 @@ pub fn parse(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> 
         Kind::Masked => ("fsl", |c| ComponentOrder::Fsl.expand(&c[1..])),
     };
     let mut masked = 0;
-    let mut tensors = Vec::with_capacity(voxels);
-    for c in values.chunks_exact(kind.values()) {
-        // A confidence below 0.5 (or none at all: NaN) drops the voxel, as Teem's tenGlyph
-        // does; it is kept as a zero tensor so that the lattice stays whole.
-        if kind == Kind::Masked && (c[0] < 0.5 || c[0].is_nan()) {
-            masked += 1;
-            tensors.push([0.0; 9]);
-        } else {
-            tensors.push(tensor_of(c));
+    let mut tensors = try_vec(voxels)?;
+    // Each voxel's values are gathered and expanded as they are decoded: the tensors are the
+    // only copy of the data ever held.
+    let per = kind.values();
+    let mut c = [0.0f64; 9];
+    let mut k = 0;
+    decode(&region, encoding, ty, big, count, start, |x| {
+        c[k] = x;
+        k += 1;
+        if k == per {
+            k = 0;
+            // A confidence below 0.5 (or none at all: NaN) drops the voxel, as Teem's tenGlyph
+            // does; it is kept as a zero tensor so that the lattice stays whole.
+            if kind == Kind::Masked && (c[0] < 0.5 || c[0].is_nan()) {
+                masked += 1;
+                tensors.push([0.0; 9]);
+            } else {
+                tensors.push(tensor_of(&c[..per]));
+            }
         }
-    }
+    })?;
 
     let Placement {
         a,
@@ -187,7 +216,7 @@ pub fn parse(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> 
         f => tensor_rotation(f, &linear).ok_or_else(|| {
             field(
                 "space directions",
-                "singular: no rotation to take voxel-frame tensors to world",
+                "singular or too extreme for a finite rotation: no rotation to take voxel-frame tensors to world",
             )
         })?,
     };
@@ -223,10 +252,10 @@ pub fn parse(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> 
     })
 }
 
-/// Read a NRRD scalar volume (`dimension: 3`, any integer or float `type`) from the bytes of
-/// `path`, placed in RAS+ exactly as tensor volumes are.
-pub fn parse_scalar(inputs: &Inputs, path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
-    let h = parse_header(bytes)?;
+/// Read a NRRD scalar volume (`dimension: 3`, any integer or float `type`) from `inputs`,
+/// placed in RAS+ exactly as tensor volumes are. Values go straight to float32.
+pub fn read_scalar(inputs: &Inputs, path: &Path) -> Res<ScalarVolume> {
+    let (h, input) = open_header(inputs, path)?;
     let dimension: usize = number("dimension", h.need("dimension")?)?;
     if dimension != 3 {
         let first = h
@@ -284,14 +313,12 @@ pub fn parse_scalar(inputs: &Inputs, path: &Path, bytes: &[u8]) -> Res<ScalarVol
         .ok_or_else(|| field("sizes", "the sizes overflow"))?;
     let encoding = encoding(&h)?;
     let big = big_endian(&h, encoding, ty)?;
-    let data = payload(inputs, path, &h, bytes)?;
-    let (data, start) = skip(&h, &data, encoding)?;
-    let values = decode(data, encoding, ty, big, voxels, start)?;
+    let region = payload(inputs, path, &h, input)?;
+    let (region, start) = skip(&h, region, encoding)?;
+    let mut values = try_vec(voxels)?;
+    decode(&region, encoding, ty, big, voxels, start, |x| {
+        values.push(x as f32)
+    })?;
     let p = placement(&h, 0)?;
-    scalar::checked(
-        dims,
-        values.into_iter().map(|v| v as f32).collect(),
-        rows4(&p.a),
-        p.source,
-    )
+    scalar::checked(dims, values, rows4(&p.a), p.source)
 }

@@ -3,7 +3,7 @@
 use super::malformed::{Res, malformed};
 use crate::error::escape_for_error as esc;
 
-pub(crate) use crate::field::number::{Scalar, decode_into};
+pub(crate) use crate::field::number::{Scalar, decode_into, try_vec};
 
 impl Scalar {
     /// XML `type` attribute (VTK ≥ 5 names and the old `Int`/`Float` ones are not used by VTK).
@@ -30,14 +30,6 @@ impl Scalar {
             _ => v,
         }
     }
-}
-
-/// A vector with room for `n` elements, or an error instead of an allocation failure.
-pub(crate) fn try_vec<T>(n: usize) -> Res<Vec<T>> {
-    let mut v = Vec::new();
-    v.try_reserve_exact(n)
-        .map_err(|_| malformed(format!("cannot allocate {n} values")))?;
-    Ok(v)
 }
 
 /// Convert decoded index values (offsets, connectivity) to `usize`, rejecting negatives,
