@@ -1,11 +1,11 @@
 //! The mutation campaign of issue 13, on stable Rust and on every `cargo test`.
 //!
-//! Every file in `tests/data` and `tests/data/regressions` is mutated structure-aware: cut at
+//! Every file in `tests/data/vtk` and `tests/data/regressions` is mutated structure-aware: cut at
 //! structural offsets (line starts, tag boundaries, the appended-data marker, compressed block
 //! headers), bit-flipped, header numbers replaced by 0, −1, 2³¹, 2⁶³, NaN and friends, compressed
 //! block headers and payloads corrupted, base64 broken, tags nested past the depth cap and
 //! repeated, control characters planted in names, `.pvti` pieces pointed at FIFOs, devices and
-//! absolute paths. The DTI files of `tests/dti` are mutated the same way by their structure:
+//! absolute paths. The DTI files of `tests/data/dti` are mutated the same way by their structure:
 //! NIfTI-1 header fields at their offsets (inside the gzip stream of `.nii.gz`), NRRD header
 //! fields by name (data files pointed at devices, FIFOs, folders), detached NRRD data, and each
 //! file of an FSL eigen set read with the other five (by its own name and by the prefix). Each
@@ -258,7 +258,7 @@ fn env_usize(name: &str, default: u64) -> u64 {
 /// `.pvti` Sources pointed where they must not lead.
 fn pvti_cases(dir: &Path, fifo: Option<&Path>) -> Vec<(String, Vec<u8>)> {
     let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/pvti_3pieces_binary.pvti"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/vtk/pvti_3pieces_binary.pvti"),
     )
     .unwrap();
     let first = "pvti_3pieces_binary_0.vti";
@@ -289,7 +289,7 @@ fn pvti_cases(dir: &Path, fifo: Option<&Path>) -> Vec<(String, Vec<u8>)> {
         .collect()
 }
 
-/// What is read of `tests/dti`: files on their own, detached NRRD headers with their data
+/// What is read of `tests/data/dti`: files on their own, detached NRRD headers with their data
 /// file, and FSL eigen sets (six files read as one).
 enum DtiJob {
     Single(PathBuf),
@@ -357,9 +357,10 @@ fn dti_options(k: usize) -> ReadOptions {
 fn mutation_campaign() {
     let seed = env_usize("TENSORGLYPH_CAMPAIGN_SEED", 13);
     let per_file = env_usize("TENSORGLYPH_CAMPAIGN_CASES", 400) as usize;
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let root = data.join("vtk");
     let mut files = data_files(&root);
-    files.extend(data_files(&root.join("regressions")));
+    files.extend(data_files(&data.join("regressions")));
     assert!(files.len() > 90, "{} files", files.len());
 
     let shm = Path::new("/dev/shm");
@@ -382,7 +383,7 @@ fn mutation_campaign() {
         .is_ok_and(|s| s.success())
         .then_some(fifo);
 
-    let dti_root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/dti");
+    let dti_root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dti");
     let dti_jobs = dti_jobs(&dti_root);
     assert!(dti_jobs.len() > 30, "{} DTI jobs", dti_jobs.len());
 

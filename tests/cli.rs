@@ -233,11 +233,11 @@ fn demo_writes_vtk_that_reads_back() {
 }
 
 /// `info --json --sample` reproduces VTK's own read-back values on every VTK-written test file
-/// (tests/data/expected.json): float32-exact for binary and XML files, 1e-6 relative for legacy
+/// (tests/data/vtk/expected.json): float32-exact for binary and XML files, 1e-6 relative for legacy
 /// ASCII (VTK prints six significant digits there); positions to 1e-9 (cell centres are sums).
 #[test]
 fn info_samples_reproduce_vtk_values() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/vtk");
     let exp: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("expected.json")).unwrap()).unwrap();
     // expected.json writes NaN as "nan"; our JSON writes it as null.

@@ -1,6 +1,6 @@
 //! Real diffusion data end to end: DIPY's tensor fit of its `small_101D` DWI, written by DIPY's
 //! own `dipy_fit_dti` workflow, with its FA map, mean b0 and two masks beside it
-//! (`tests/dti/make_dipy_fit.py`; numpy's truth in `tests/dti/dipy_small101/expected.json`).
+//! (`tests/data/dti/make_dipy_fit.py`; numpy's truth in `tests/data/dti/dipy_small101/expected.json`).
 //!
 //! The tensors read to numpy's eigenvalues; the scalar volumes read to nibabel's values and
 //! line up with the glyphs voxel for voxel; glyph FA is DIPY's FA; `--mask` keeps the voxels
@@ -21,7 +21,7 @@ use common::cli::{json, stderr, tg};
 
 fn data(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/dti/dipy_small101")
+        .join("tests/data/dti/dipy_small101")
         .join(name)
 }
 
@@ -230,19 +230,19 @@ fn render_fails(mask: &std::path::Path) -> String {
 fn render_with_a_bad_mask_stops_with_one_line_naming_it() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     // A tensor file where a mask belongs.
-    let e = render_fails(&root.join("tests/dti/fsl4d_oblique.nii.gz"));
+    let e = render_fails(&root.join("tests/data/dti/fsl4d_oblique.nii.gz"));
     assert!(e.contains("--mask"), "{e}");
     assert!(e.contains("fsl4d_oblique.nii.gz"), "{e}");
     assert!(
         e.contains("field 'dim': 6 values per voxel: a tensor volume"),
         "{e}"
     );
-    let e = render_fails(&root.join("tests/dti/no_such_mask.nii.gz"));
+    let e = render_fails(&root.join("tests/data/dti/no_such_mask.nii.gz"));
     assert!(e.contains("no_such_mask.nii.gz: file not found"), "{e}");
-    let e = render_fails(&root.join("tests/scalars/bad_truncated.nii.gz"));
+    let e = render_fails(&root.join("tests/data/scalars/bad_truncated.nii.gz"));
     assert!(e.contains("bad_truncated.nii.gz"), "{e}");
     // A good volume in another part of the world keeps nothing: said as the selection.
-    let e = render_fails(&root.join("tests/scalars/u8.nii.gz"));
+    let e = render_fails(&root.join("tests/data/scalars/u8.nii.gz"));
     assert!(
         e.contains("the selection keeps no glyph: --mask ")
             && e.contains("u8.nii.gz leaves none of the 600 valid glyphs"),

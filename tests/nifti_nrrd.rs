@@ -1,4 +1,4 @@
-//! DTI files (NIfTI, NRRD) made by `tests/dti/make_dti_files.py`: the same world tensors in
+//! DTI files (NIfTI, NRRD) made by `tests/data/dti/make_dti_files.py`: the same world tensors in
 //! every layout and frame read back to numpy's eigenvalues with e1 on the world axis the script
 //! put it on; frames and layouts are reported; bad files fail with one line.
 
@@ -13,12 +13,12 @@ use common::cli::{json, stderr, tg};
 
 fn dti(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/dti")
+        .join("tests/data/dti")
         .join(name)
 }
 
 fn expected() -> Value {
-    let text = std::fs::read_to_string(dti("expected.json")).expect("tests/dti/expected.json");
+    let text = std::fs::read_to_string(dti("expected.json")).expect("tests/data/dti/expected.json");
     serde_json::from_str(&text).unwrap()
 }
 

@@ -1,5 +1,5 @@
-//! The VTK reader against VTK's own read-back values (tests/data/expected.json, written by
-//! tests/data/make_vtk_files.py with Debian's VTK 9.1).
+//! The VTK reader against VTK's own read-back values (tests/data/vtk/expected.json, written by
+//! tests/data/vtk/make_vtk_files.py with Debian's VTK 9.1).
 
 use std::path::{Path, PathBuf};
 
@@ -9,7 +9,7 @@ use tensorglyph::field::vtk::{ReadOptions, read_field};
 use tensorglyph::field::{ComponentOrder, Location};
 
 fn data_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/vtk")
 }
 
 fn expected() -> serde_json::Map<String, Value> {

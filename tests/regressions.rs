@@ -19,7 +19,7 @@ fn regression(name: &str) -> PathBuf {
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
+        .join("tests/data/vtk")
         .join(name)
 }
 

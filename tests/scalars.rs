@@ -1,6 +1,6 @@
 //! Scalar volumes (`read_scalar_volume`) in every format, against writers and readers other than
 //! ours: NIfTI written and read back by nibabel, NRRD written by Teem's `unu` with numpy's RAS
-//! matrix, VTK image data written and read back by VTK 9.1 (`tests/scalars/make_*.py`). A volume
+//! matrix, VTK image data written and read back by VTK 9.1 (`tests/data/scalars/make_*.py`). A volume
 //! written beside a tensor file lines up with the tensors voxel for voxel; bad files fail with
 //! one line naming the file and what is wrong.
 
@@ -17,7 +17,7 @@ fn repo(rel: &str) -> PathBuf {
 }
 
 fn scalars(name: &str) -> PathBuf {
-    repo("tests/scalars").join(name)
+    repo("tests/data/scalars").join(name)
 }
 
 fn load_json(path: &Path) -> Value {
@@ -114,7 +114,7 @@ fn lines_up(tensor_file: &str, scalar_file: &Path, value_of: impl Fn(usize) -> f
 fn a_scalar_volume_beside_a_tensor_file_lines_up_voxel_for_voxel() {
     // unu wrote this volume with nrrd_gzip_lps.nrrd's LPS geometry; voxel i holds i.
     lines_up(
-        "tests/dti/nrrd_gzip_lps.nrrd",
+        "tests/data/dti/nrrd_gzip_lps.nrrd",
         &scalars("lps_f32_gzip.nrrd"),
         |i| i as f32,
     );
@@ -122,7 +122,7 @@ fn a_scalar_volume_beside_a_tensor_file_lines_up_voxel_for_voxel() {
     // with one volume).
     for name in ["u8.nii.gz", "f32_4d1.nii.gz"] {
         let v = read(&scalars(name));
-        lines_up("tests/dti/fsl4d_oblique.nii.gz", &scalars(name), |i| {
+        lines_up("tests/data/dti/fsl4d_oblique.nii.gz", &scalars(name), |i| {
             v.values[i]
         });
     }
@@ -156,10 +156,10 @@ fn vtk_scalars_read_vtks_values_at_vtks_points() {
 
 #[test]
 fn image_data_of_the_tensor_tests_reads_its_pressure_where_the_tensor_reader_puts_points() {
-    // tests/data/make_vtk_files.py gives every image its one-component point array
+    // tests/data/vtk/make_vtk_files.py gives every image its one-component point array
     // "pressure" = 0.5 i, first, in every encoding and compressor VTK writes.
     let mut checked = 0;
-    for entry in std::fs::read_dir(repo("tests/data")).unwrap() {
+    for entry in std::fs::read_dir(repo("tests/data/vtk")).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let image = name.contains("_image_") && (name.ends_with(".vtk") || name.ends_with(".vti"));
@@ -204,19 +204,19 @@ fn fails(path: &Path, what: &str) {
 fn bad_scalar_inputs_fail_with_one_line_naming_the_file_and_the_field() {
     let tensor = "6 values per voxel: a tensor volume, not a scalar volume";
     fails(
-        &repo("tests/dti/fsl4d_oblique.nii.gz"),
+        &repo("tests/data/dti/fsl4d_oblique.nii.gz"),
         &format!("field 'dim': {tensor}"),
     );
     fails(
-        &repo("tests/dti/dipy5d_oblique.nii.gz"),
+        &repo("tests/data/dti/dipy5d_oblique.nii.gz"),
         &format!("field 'dim': {tensor}"),
     );
     fails(
-        &repo("tests/dti/full9_oblique.nii.gz"),
+        &repo("tests/data/dti/full9_oblique.nii.gz"),
         "field 'dim': 9 values per voxel",
     );
     fails(
-        &repo("tests/dti/nrrd_raw_oblique.nrrd"),
+        &repo("tests/data/dti/nrrd_raw_oblique.nrrd"),
         "field 'dimension': 4 axes, '3D-symmetric-matrix' first: a tensor volume",
     );
     fails(
@@ -245,11 +245,11 @@ fn bad_scalar_inputs_fail_with_one_line_naming_the_file_and_the_field() {
         "no one-component point-data array to read as a scalar volume; arrays present: 'vec' (3 components, point)",
     );
     fails(
-        &repo("tests/data/xml_ugrid_appraw_zlib_u32.vtu"),
+        &repo("tests/data/vtk/xml_ugrid_appraw_zlib_u32.vtu"),
         "UnstructuredGrid: a scalar volume is image data",
     );
     fails(
-        &repo("tests/data/pvti_2pieces_appended.pvti"),
+        &repo("tests/data/vtk/pvti_2pieces_appended.pvti"),
         "parallel XML file",
     );
     fails(&scalars("no_such_file.nii.gz"), "file not found");

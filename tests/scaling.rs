@@ -1,4 +1,4 @@
-//! Scaling that survives real fields: VTK's own point-load stress field (tests/stress, written
+//! Scaling that survives real fields: VTK's own point-load stress field (tests/data/stress, written
 //! by `vtkPointLoad`, a singularity at the load) shows visible glyphs with the default scale,
 //! where sizing by the single largest eigenvalue left specks; `--scale F` stays exact.
 //!
@@ -15,7 +15,7 @@ fn coverage(extra: &[&str]) -> (f64, serde_json::Value) {
 fn coverage_of(file: &str, extra: &[&str]) -> (f64, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("s.png");
-    let input = format!("{}/tests/stress/{file}", env!("CARGO_MANIFEST_DIR"));
+    let input = format!("{}/tests/data/stress/{file}", env!("CARGO_MANIFEST_DIR"));
     let input = input.as_str();
     let mut args = vec![
         "render",
@@ -51,7 +51,7 @@ fn the_default_scale_shows_a_point_load_field() {
     assert!(linear < default && linear > 0.01, "linear {linear}");
 }
 
-/// A cantilever beam solved by scikit-fem (tests/stress/make_beam.py): bending stress is
+/// A cantilever beam solved by scikit-fem (tests/data/stress/make_beam.py): bending stress is
 /// uniaxial, so its ellipsoids are needles; the stress defaults (log sizing, radii at most 4:1)
 /// and framing the field's box keep them visible.
 #[test]

@@ -208,14 +208,14 @@ fn bad_selections_are_one_clear_error() {
 
 #[test]
 fn slicing_unstructured_data_is_an_error_but_roi_works() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/vtk");
     let Some(vtu) = std::fs::read_dir(&data)
         .unwrap()
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| p.extension().is_some_and(|x| x == "vtu"))
         .min()
     else {
-        panic!("tests/data has a .vtu file");
+        panic!("tests/data/vtk has a .vtu file");
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("u.png");

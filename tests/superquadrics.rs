@@ -74,8 +74,8 @@ fn superquadrics_meet_the_release_bounds() {
         &["--demo", "grid40"],
         &["--demo", "grid40", "--zoom", "4"],
         &["--demo", "grid40", "--ortho"],
-        &["tests/stress/pointload.vti"],
-        &["tests/stress/beam.vtu"],
+        &["tests/data/stress/pointload.vti"],
+        &["tests/data/stress/beam.vtu"],
     ];
     for scene in scenes {
         check(scene, "sigg", None);

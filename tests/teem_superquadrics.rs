@@ -1,5 +1,5 @@
 //! Our superquadric glyphs are Teem's: the field of `tests/data/teem/` (written by
-//! `tests/data/make_teem_superquadrics.py`: 25 positive definite tensors sweeping Kindlmann's
+//! `tests/data/teem/make_teem_superquadrics.py`: 25 positive definite tensors sweeping Kindlmann's
 //! barycentric shape space, and oblique ones) drawn by `teem-tend glyph` (Teem 1.12, Debian's
 //! teem-apps) and by `tensorglyph render --glyph superquadric --method reference` with the same
 //! orthographic camera, compared glyph by glyph as coverage masks.

@@ -1,5 +1,5 @@
 //! `--underlay`: an FA/MD image under a slice, on the GPU and in the reference. Truth: numpy's
-//! eigenvalues of the test tensors (tests/dti/expected.json) give each texel's FA; the glyphs of
+//! eigenvalues of the test tensors (tests/data/dti/expected.json) give each texel's FA; the glyphs of
 //! the slice stay whole in front of it from either side; GPU and reference agree pixel for pixel.
 
 use std::path::PathBuf;
@@ -21,7 +21,7 @@ use common::cli::{stderr, tg};
 
 fn dti(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/dti")
+        .join("tests/data/dti")
         .join(name)
 }
 
@@ -287,7 +287,7 @@ fn the_underlay_on_the_command_line() {
         assert!(e.contains(what), "{e}");
     }
     let poly =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/legacy42_ascii_poly_T9.vtk");
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/vtk/legacy42_ascii_poly_T9.vtk");
     let r = tg(&[
         "render",
         poly.to_str().unwrap(),

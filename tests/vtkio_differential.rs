@@ -100,7 +100,7 @@ fn limitations_of(file: &str, bytes: &[u8]) -> Vec<Limitation> {
 /// those still occurs (if vtkio is fixed, this test says so and the workaround note must change).
 #[test]
 fn vtkio_agrees_where_it_reads_and_fails_only_where_documented() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/vtk");
     let exp: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("expected.json")).unwrap()).unwrap();
     let quiet = std::panic::take_hook();

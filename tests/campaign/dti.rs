@@ -1,4 +1,4 @@
-//! The campaign's structure-aware mutations of the DTI files in `tests/dti` (see
+//! The campaign's structure-aware mutations of the DTI files in `tests/data/dti` (see
 //! `tests/campaign.rs`): NIfTI-1 header fields by their offsets (inside the gzip stream for
 //! `.nii.gz`), NRRD header fields by name, detached data and FIFO, device and folder targets.
 

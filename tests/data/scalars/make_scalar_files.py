@@ -3,14 +3,14 @@
 truth: each file's values in file order (x fastest) and its voxel-to-world matrix in RAS+.
 
     pip install nibabel numpy; apt install teem-apps     (for teem-unu)
-    python3 tests/scalars/make_scalar_files.py
+    python3 tests/data/scalars/make_scalar_files.py
 
 (The VTK files come from `make_vtk_scalars.py`, which needs VTK's Python.)
 
-NIfTI files are written by nibabel on the lattice of `tests/dti/fsl4d_oblique.nii.gz` (its
+NIfTI files are written by nibabel on the lattice of `tests/data/dti/fsl4d_oblique.nii.gz` (its
 affine), one per datatype; values are nibabel's `get_fdata()` (scl_slope and scl_inter
 applied). NRRD files are written by Teem's `unu make`; `lps_f32_gzip.nrrd` has exactly the
-geometry of `tests/dti/nrrd_gzip_lps.nrrd` (copied from its header) and holds each voxel's
+geometry of `tests/data/dti/nrrd_gzip_lps.nrrd` (copied from its header) and holds each voxel's
 file-order index, so a reader that places it in another world than the tensors' shows it.
 Their RAS+ matrix is numpy's: LPS directions and origin with x and y negated.
 """

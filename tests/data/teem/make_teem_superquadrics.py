@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Superquadric glyphs against Teem: the README's side-by-side and its numbers.
 
-    python3 tests/data/make_teem_superquadrics.py [--tensorglyph target/debug/tensorglyph]
+    python3 tests/data/teem/make_teem_superquadrics.py [--tensorglyph target/debug/tensorglyph]
         [--out docs/images] [--gpu-method gumhold|sigg|none] [--gr 4,8,16,32,64]
 
 Needs python3 + numpy, Debian's teem-apps (`teem-tend`, Teem 1.12) and a built tensorglyph.
@@ -66,8 +66,8 @@ import zlib
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-DATA = os.path.join(HERE, "teem")
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
+DATA = HERE
 
 NX, NY = 5, 5  # grid (x fastest), spacing 1, origin 0, plane z = 0
 SCALE = 0.4  # radius = SCALE * |lambda|, lambda1 = 1
@@ -177,7 +177,7 @@ def write_field():
         ))
     hdr = (
         "NRRD0004\n"
-        "# superquadric glyphs against Teem: tests/data/make_teem_superquadrics.py\n"
+        "# superquadric glyphs against Teem: tests/data/teem/make_teem_superquadrics.py\n"
         "type: float\n"
         "dimension: 4\n"
         f"sizes: 7 {NX} {NY} 1\n"

@@ -2,7 +2,7 @@
 """Writes the VTK scalar volumes in this folder with VTK's own writers, and `expected_vtk.json`
 with what VTK's own readers read back: every point's position and value, in point order.
 
-Run with Debian's VTK Python:  /usr/bin/python3 tests/scalars/make_vtk_scalars.py
+Run with Debian's VTK Python:  /usr/bin/python3 tests/data/scalars/make_vtk_scalars.py
 
 - `image_extent_dir.vti`: XML image data whose extent starts at (2, 0, 1), with a rotated
   Direction, a 3-component point array first, then the one-component `fa` (float32) and

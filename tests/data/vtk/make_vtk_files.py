@@ -2,7 +2,7 @@
 """Write small tensor fields with VTK's own writers, in every format the reader supports, and
 record VTK's own read-back values in expected.json.
 
-Run with Debian's VTK Python:  /usr/bin/python3 tests/data/make_vtk_files.py
+Run with Debian's VTK Python:  /usr/bin/python3 tests/data/vtk/make_vtk_files.py
 Deterministic: the same VTK version writes the same bytes.
 """
 import json

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Stress fields written by VTK itself, for the scaling tests (tests/scaling.rs).
 
-Run with Debian's VTK Python:  /usr/bin/python3 tests/stress/make_stress_files.py
+Run with Debian's VTK Python:  /usr/bin/python3 tests/data/stress/make_stress_files.py
 
 pointload.vti: vtkPointLoad, Boussinesq's solution for a point load on an elastic half-space
 (stress ~ 1/r² near the load, a singularity at the load): 20×20×20 samples of the 9-component

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Worked cases for superquadric glyphs (docs/book/src/developer/superquadric-derivation.md), computed at 50 digits with mpmath.
 
-Writes tests/data/superquadric_vectors.json beside this script:
+Writes tests/data/superquadric/superquadric_vectors.json beside this script:
 
 - "mapping": eigenvalues (sorted descending) and sharpness -> exponents (alpha, beta, c), the
   symmetry axis (frame column) and, for indefinite tensors, Schultz-Kindlmann's (u, v) and zone.
@@ -15,7 +15,7 @@ Writes tests/data/superquadric_vectors.json beside this script:
   by a dense scan (and, for the thin cases, by construction: the ray runs outside the unit box
   before it); the crossing is checked to be transversal at 1e-30.
 
-Run: python3 tests/data/make_superquadric_vectors.py  (needs numpy and mpmath).
+Run: python3 tests/data/superquadric/make_superquadric_vectors.py  (needs numpy and mpmath).
 """
 
 import json

@@ -3,7 +3,7 @@
 workflow writes, plus scalar volumes and masks beside it, into `dipy_small101/`:
 
     pip install dipy nibabel numpy     (dipy 1.12)
-    python3 tests/dti/make_dipy_fit.py
+    python3 tests/data/dti/make_dipy_fit.py
 
 Source: `small_101D.nii.gz` (+ .bval, .bvec), 6x10x10 voxels of real DWI shipped with DIPY
 (`dipy.data.get_fnames(name="small_101D")`; 101 gradient directions and one b0).

@@ -3,7 +3,7 @@
 frame tensorglyph reads, plus bad inputs, and `expected.json` with numpy's truth.
 
     pip install nibabel numpy
-    python3 tests/dti/make_dti_files.py
+    python3 tests/data/dti/make_dti_files.py
 
 The field (5x4x3 voxels) has, at voxel v (x fastest), its largest eigenvector along world axis
 v % 3 (x, y, z) and random smaller eigenvalues and roll about that axis, so a reader that gets

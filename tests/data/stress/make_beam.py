@@ -5,7 +5,7 @@ Run with a Python that has scipy (the pyenv `python3` here; Debian's /usr/bin/py
 but no scipy, and VTK is not needed: meshio writes the file):
 
     python3 -m pip install scikit-fem meshio      # tested with scikit-fem 12.0.2, meshio 5.3.5
-    python3 tests/stress/make_beam.py
+    python3 tests/data/stress/make_beam.py
 
 It takes about a minute (most of it scipy's sparse direct solve) and writes, beside this script:
 
