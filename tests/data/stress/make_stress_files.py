@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Stress fields written by VTK itself, for the scaling tests (tests/scaling.rs).
+"""Stress fields written by VTK itself, for the scaling tests (tests/cli/scaling.rs).
 
 Run with Debian's VTK Python:  /usr/bin/python3 tests/data/stress/make_stress_files.py
 
