@@ -16,6 +16,7 @@ mod scenes;
 mod effects;
 mod figures;
 mod gumhold;
+mod kinds;
 mod less_work;
 mod mesh;
 mod prepass;
