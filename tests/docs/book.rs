@@ -1,5 +1,6 @@
-//! The book's links hold, checked without mdbook: every relative link and image of README.md and
-//! of every page of the book's sources (docs/book/src) names a file that exists, every `#anchor`
+//! The book's links hold, checked without mdbook: every relative link and image of README.md, of
+//! the test map (tests/README.md) and of every page of the book's sources (docs/book/src) names a
+//! file that exists, every `#anchor`
 //! names a heading of the page it points into, and docs/book/src/SUMMARY.md lists every page of
 //! docs/book/src and nothing else.
 //!
@@ -12,7 +13,7 @@
 //! - **A book page's** links must stay inside docs/book/src, since mdBook copies nothing else
 //!   into the HTML book (the generated reports are under docs/book/src/generated/, which links to
 //!   docs/bench and docs/stability, where the `bench` and `stability` commands write them).
-//!   README.md's links must stay inside the repository.
+//!   README.md's and tests/README.md's links must stay inside the repository.
 //! - **Anchors** follow mdBook's rule for heading ids (`id_from_content` and `unique_id` in
 //!   mdbook-html's `utils.rs`): the heading's text (code spans keep their text, links their link
 //!   text), trimmed and lower-cased; alphanumerics, `_` and `-` kept, whitespace turned into
@@ -488,14 +489,12 @@ fn every_link_of_the_readme_and_the_book_holds() {
     in_summary.remove(Path::new("SUMMARY.md"));
     problems.extend(summary_problems(&summary, &in_summary));
 
-    let readme = files.read(Path::new("README.md")).expect("README.md");
-    let mut checked = 1;
-    problems.extend(link_problems(
-        Path::new("README.md"),
-        &readme,
-        Path::new(""),
-        &files,
-    ));
+    let mut checked = 0;
+    for page in ["README.md", "tests/README.md"] {
+        let text = files.read(Path::new(page)).expect(page);
+        problems.extend(link_problems(Path::new(page), &text, Path::new(""), &files));
+        checked += 1;
+    }
     for page in &pages {
         let path = src.join(page);
         let text = files.read(&path).unwrap();

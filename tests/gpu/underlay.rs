@@ -1,6 +1,7 @@
 //! `--underlay`: an FA/MD image under a slice, on the GPU and in the reference. Truth: numpy's
-//! eigenvalues of the test tensors (tests/data/dti/expected.json) give each texel's FA; the glyphs of
-//! the slice stay whole in front of it from either side; GPU and reference agree pixel for pixel.
+//! eigenvalues of the test tensors (tests/data/dti/expected.json) give each texel's FA; the glyphs
+//! of the slice stay whole in front of it from either side; GPU and reference agree pixel for
+//! pixel.
 
 use std::path::PathBuf;
 

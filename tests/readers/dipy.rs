@@ -1,6 +1,7 @@
-//! Real diffusion data end to end: DIPY's tensor fit of its `small_101D` DWI, written by DIPY's
-//! own `dipy_fit_dti` workflow, with its FA map, mean b0 and two masks beside it
-//! (`tests/data/dti/make_dipy_fit.py`; numpy's truth in `tests/data/dti/dipy_small101/expected.json`).
+//! Real diffusion data end to end: DIPY's tensor fit of its `small_101D` DWI, written by DIPY's own
+//! `dipy_fit_dti` workflow, with its FA map, mean b0 and two masks beside it
+//! (`tests/data/dti/make_dipy_fit.py`; numpy's truth in
+//! `tests/data/dti/dipy_small101/expected.json`).
 //!
 //! The tensors read to numpy's eigenvalues; the scalar volumes read to nibabel's values and
 //! line up with the glyphs voxel for voxel; glyph FA is DIPY's FA; `--mask` keeps the voxels

@@ -1,7 +1,6 @@
 //! Named reproducers of the defects the mutation campaign found (issue 13's, then the DTI
-//! readers'), one test each (the files are in
-//! `tests/data/regressions/`, which the mutation campaign in `tests/campaign/main.rs` also reads and
-//! mutates under its memory and time budget).
+//! readers'), one test each (the files are in `tests/data/regressions/`, which the mutation
+//! campaign in `tests/campaign/main.rs` also reads and mutates under its memory and time budget).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

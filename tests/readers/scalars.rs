@@ -1,8 +1,8 @@
 //! Scalar volumes (`read_scalar_volume`) in every format, against writers and readers other than
 //! ours: NIfTI written and read back by nibabel, NRRD written by Teem's `unu` with numpy's RAS
-//! matrix, VTK image data written and read back by VTK 9.1 (`tests/data/scalars/make_*.py`). A volume
-//! written beside a tensor file lines up with the tensors voxel for voxel; bad files fail with
-//! one line naming the file and what is wrong.
+//! matrix, VTK image data written and read back by VTK 9.1 (`tests/data/scalars/make_*.py`). A
+//! volume written beside a tensor file lines up with the tensors voxel for voxel; bad files fail
+//! with one line naming the file and what is wrong.
 
 use std::path::{Path, PathBuf};
 
