@@ -4,7 +4,7 @@
 //! predict what a shader does (its proxies, its fragment counts, its shading). The exception is
 //! `superquadric`, in f32 like its shader: it twins a root finder, whose iterations, caps and
 //! answers depend on the precision. Each kind's twin (`<kind>.rs`, of
-//! shaders/shape/<kind>.wgsl) answers the methods' questions about its shape through
+//! `shaders/shape/<kind>.wgsl`) answers the methods' questions about its shape through
 //! [`ShapeTwin`]; it calls `crate::shape` for the exact geometry, never the reference.
 
 pub mod capsule;
