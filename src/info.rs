@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use serde::Serialize;
 
+use crate::field::bep016::Sidecar;
 use crate::field::frame::{FrameInfo, Layout, Why};
 use crate::field::{TensorArrayInfo, TensorField};
 use crate::glyph::GlyphSet;
@@ -22,6 +23,13 @@ pub struct InfoReport {
     pub layout: Option<Layout>,
     /// The frames positions and tensors were read in.
     pub frame: Option<FrameInfo>,
+    /// A BEP016 map's sidecar: its name and the `ReferenceAxes` that decided the frame (null
+    /// when the default was used: see `notes`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bep016_sidecar: Option<Sidecar>,
+    /// What the reader assumed, one line each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
     pub tensors: usize,
     pub valid: usize,
     pub skipped: Skipped,
@@ -100,6 +108,8 @@ pub fn info_report(
         tensor_array: field.array.clone(),
         layout: field.meta.layout.clone(),
         frame: field.meta.frame.clone(),
+        bep016_sidecar: field.meta.sidecar.clone(),
+        notes: field.meta.notes.clone(),
         tensors: s.tensors,
         valid: s.valid,
         skipped: Skipped {
@@ -202,14 +212,23 @@ pub fn human_summary(r: &InfoReport) -> String {
             Why::Flag => "from --order",
             Why::Default => "the default",
             Why::Names => "from the file names",
+            Why::Sidecar => "from the BEP016 sidecar",
         };
         let _ = writeln!(o, "layout: {} ({why})", l.order);
     }
     if let Some(f) = &r.frame {
         let _ = writeln!(
             o,
-            "frame: tensors in {} axes, world {} from {}",
+            "frame: tensors in {} axes{}, world {} from {}",
             f.tensor_frame.name(),
+            match r
+                .bep016_sidecar
+                .as_ref()
+                .and_then(|s| s.reference_axes.as_ref())
+            {
+                Some(axes) => format!(" (ReferenceAxes {axes}, from the BEP016 sidecar)"),
+                None => String::new(),
+            },
             f.world,
             f.source
         );

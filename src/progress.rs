@@ -10,6 +10,8 @@ pub trait Progress: Sync {
     fn advance(&self, _n: u64) {}
     /// The stage is done.
     fn end(&self) {}
+    /// Something the user should know about the data (what was assumed and why), one line.
+    fn notice(&self, _line: &str) {}
 }
 
 /// Reports nothing.

@@ -369,7 +369,14 @@ pub fn read_from(
     opts: &ReadOptions,
     progress: &dyn Progress,
 ) -> Result<TensorField, LoadError> {
-    run_stage(progress, "reading", None, || source.load_from(inputs, opts))
+    let field = run_stage(progress, "reading", None, || source.load_from(inputs, opts))?;
+    for note in &field.meta.notes {
+        progress.notice(&format!(
+            "{}: {note}",
+            crate::error::escape_path(std::path::Path::new(&source.name()))
+        ));
+    }
+    Ok(field)
 }
 
 /// Eigendecompose every tensor.

@@ -97,4 +97,12 @@ impl Progress for Terminal {
             pb.finish_and_clear();
         }
     }
+
+    /// Printed with or without `--quiet`: it says what was assumed about the data.
+    fn notice(&self, line: &str) {
+        match self.bar().as_ref() {
+            Some(pb) => pb.suspend(|| eprintln!("notice: {line}")),
+            None => eprintln!("notice: {line}"),
+        }
+    }
 }

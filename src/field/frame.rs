@@ -42,6 +42,8 @@ pub enum Why {
     Default,
     /// The files' names (FSL's eigen set `_L1`..`_V3`).
     Names,
+    /// A BEP016 map's JSON sidecar.
+    Sidecar,
 }
 
 /// How the components were laid out.
@@ -91,6 +93,11 @@ pub struct ReadMeta {
     /// Voxels whose confidence (NRRD masked tensors) was below 0.5: stored as zero tensors, so
     /// that the lattice stays whole, and counted here.
     pub masked: usize,
+    /// The BEP016 sidecar that decided the tensor frame (or was looked for), for BEP016 maps.
+    pub sidecar: Option<super::bep016::Sidecar>,
+    /// What the reader assumed that the user should know, one line each (a BEP016 map read
+    /// with the default for want of a usable sidecar).
+    pub notes: Vec<String>,
 }
 
 /// The rotation-or-reflection part of `m` (polar decomposition `m = R S`): `R = U Vᵀ` from the

@@ -9,6 +9,7 @@
 //! makes fields in code, `array` of numbers handed over in memory (as the NIfTI reader would).
 
 pub mod array;
+pub mod bep016;
 pub mod frame;
 pub mod fsl_eigen;
 mod guard;
@@ -52,12 +53,48 @@ pub fn read_field_from(
     if let Some(set) = fsl_eigen::EigenSet::named_by(path, inputs) {
         fsl_eigen::read(inputs, &set, opts)
     } else if nifti::is_nifti_path(path) {
-        guard::guarded(path, || nifti::read(&inputs.open(path)?, opts))
+        guard::guarded(path, || read_nifti(inputs, path, opts))
     } else if nrrd::is_nrrd_path(path) {
         guard::guarded(path, || nrrd::read(inputs, path, opts))
     } else {
         vtk::read_field_from(inputs, path, opts)
     }
+}
+
+/// A NIfTI tensor file; a BEP016 map's frame and order from its sidecar, unless the options
+/// say otherwise.
+fn read_nifti(
+    inputs: &Inputs,
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<TensorField, crate::error::LoadErrorKind> {
+    if !bep016::is_bep016_name(path) {
+        return nifti::read(&inputs.open(path)?, opts);
+    }
+    // The map first, so that a missing map is told as such, not as a missing sidecar.
+    let input = inputs.open(path)?;
+    let d = bep016::decide(inputs, path);
+    let sidecar_decides = d.frame.is_some();
+    let given = ReadOptions {
+        // Dxx Dxy Dxz Dyy Dyz Dzz, with or without a sidecar.
+        order: opts.order.or(Some(ComponentOrder::Fsl)),
+        tensor_frame: opts.tensor_frame.or(d.frame),
+        ..opts.clone()
+    };
+    let mut field = nifti::read(&input, &given)?;
+    if let Some(l) = &mut field.meta.layout
+        && opts.order.is_none()
+        && l.why == frame::Why::Flag
+    {
+        l.why = if sidecar_decides {
+            frame::Why::Sidecar
+        } else {
+            frame::Why::Default
+        };
+    }
+    field.meta.sidecar = Some(d.sidecar);
+    field.meta.notes.extend(d.note);
+    Ok(field)
 }
 
 /// Read a 3-D scalar image (or a 4-D one holding a single volume), the reader picked by the

@@ -8,6 +8,7 @@ mod cli;
 #[path = "../common/data.rs"]
 mod data;
 
+mod bep016;
 mod corrupted;
 mod defects;
 mod dipy;

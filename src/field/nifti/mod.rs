@@ -128,6 +128,7 @@ pub(crate) fn lattice_field(
                 source: source.into(),
             }),
             masked: 0,
+            ..Default::default()
         },
     })
 }

@@ -248,6 +248,7 @@ pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField
                 source: source.into(),
             }),
             masked,
+            ..Default::default()
         },
     })
 }

@@ -114,6 +114,7 @@ pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField
             source: "VTK".into(),
         }),
         masked: 0,
+        ..Default::default()
     };
     Ok(TensorField {
         format: p.format.to_string(),
