@@ -160,7 +160,7 @@ fn read_sidecar(inputs: &Inputs, p: &Path) -> Result<&'static str, String> {
 
 /// A JSON value from the file, escaped and cut as file text is shown.
 fn shown(v: &serde_json::Value) -> String {
-    escape_for_error(&v.to_string())
+    escape_for_error(v.to_string())
 }
 
 #[cfg(test)]

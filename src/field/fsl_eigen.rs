@@ -16,7 +16,6 @@ use nalgebra::Matrix4;
 use super::frame::{Layout, Why};
 use super::inputs::Inputs;
 use super::nifti::{self, Header};
-use super::number::try_vec;
 use super::options::ReadOptions;
 use super::tensor_field::{Location, TensorArrayInfo, TensorField};
 use crate::error::{LoadError, LoadErrorKind, escape_for_error, escape_path};
@@ -158,28 +157,33 @@ fn read_set(inputs: &Inputs, set: &EigenSet, opts: &ReadOptions) -> Result<Tenso
             )));
         }
     }
-    // One eigenpair at a time, each member's values read straight to f64 and added in: the
-    // tensors and one pair are all that is held.
     let n = dims[0] * dims[1] * dims[2];
-    let mut tensors = try_vec(n).map_err(|e| LoadError::new(&files[0], e))?;
-    tensors.resize(n, [0.0f64; 9]);
-    let mut l = try_vec(n).map_err(|e| LoadError::new(&files[0], e))?;
-    let mut e = try_vec(3 * n).map_err(|e| LoadError::new(&files[0], e))?;
-    l.resize(n, 0.0f64);
-    e.resize(3 * n, 0.0f64);
+    // Each member's values are read straight to f64 and added in, one eigenpair at a time; the
+    // vectors grow with the values read, never ahead of them (a header asking for more than its
+    // data holds allocates nothing for it).
+    let mut tensors: Vec<[f64; 9]> = Vec::new();
     for k in 0..3 {
-        let values = |m: usize, out: &mut Vec<f64>| {
-            heads[m]
-                .each_value(&opened[m], |c, v, x| out[c * n + v] = x)
-                .map_err(|err| LoadError::new(&files[m], err))
-        };
-        values(k, &mut l)?;
-        values(3 + k, &mut e)?;
-        for (v, t) in tensors.iter_mut().enumerate() {
-            let ev = [e[v], e[n + v], e[2 * n + v]];
+        let mut l: Vec<f64> = Vec::new();
+        heads[k]
+            .each_value(&opened[k], |_, _, x| l.push(x))
+            .map_err(|err| LoadError::new(&files[k], err))?;
+        let mut e: Vec<[f64; 3]> = Vec::new();
+        heads[3 + k]
+            .each_value(&opened[3 + k], |c, v, x| {
+                if c == 0 {
+                    e.push([x, 0.0, 0.0]);
+                } else {
+                    e[v][c] = x;
+                }
+            })
+            .map_err(|err| LoadError::new(&files[3 + k], err))?;
+        if k == 0 {
+            tensors.resize(n, [0.0; 9]);
+        }
+        for ((t, l), ev) in tensors.iter_mut().zip(&l).zip(&e) {
             for i in 0..3 {
                 for j in i..3 {
-                    t[3 * i + j] += l[v] * ev[i] * ev[j];
+                    t[3 * i + j] += l * ev[i] * ev[j];
                 }
             }
         }

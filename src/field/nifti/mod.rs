@@ -42,7 +42,6 @@ use crate::field::frame::{
     smallest_spacing, tensor_rotation,
 };
 use crate::field::inputs::Input;
-use crate::field::number::try_vec;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
@@ -60,9 +59,18 @@ pub fn read(input: &Input, opts: &ReadOptions) -> Res<TensorField> {
     let components = head.shape.components;
     // Each value goes straight into its voxel's matrix, which is then expanded in place: the
     // tensors are the only copy of the data ever held.
-    let mut tensors = try_vec(head.shape.voxels)?;
-    tensors.resize(head.shape.voxels, [0.0f64; 9]);
-    head.each_value(input, |c, v, x| tensors[v][c] = x)?;
+    // They grow with the values read (voxel after voxel of the first volume), never ahead of
+    // them: a header asking for more than the data holds allocates nothing for it.
+    let mut tensors: Vec<[f64; 9]> = Vec::new();
+    head.each_value(input, |c, v, x| {
+        if c == 0 {
+            let mut t = [0.0; 9];
+            t[0] = x;
+            tensors.push(t);
+        } else {
+            tensors[v][c] = x;
+        }
+    })?;
     for t in &mut tensors {
         let comps = *t;
         *t = expand(&comps[..components]);
@@ -81,9 +89,8 @@ pub fn read(input: &Input, opts: &ReadOptions) -> Res<TensorField> {
 pub fn read_scalar(input: &Input) -> Res<ScalarVolume> {
     let head = read_head(input, Values::Scalar, |_| Ok(()))?;
     let (a, source) = head.affine()?;
-    let mut values = try_vec(head.shape.voxels)?;
-    values.resize(head.shape.voxels, 0.0f32);
-    head.each_value(input, |_, v, x| values[v] = x as f32)?;
+    let mut values = Vec::new();
+    head.each_value(input, |_, _, x| values.push(x as f32))?;
     scalar::checked(head.dims(), values, rows4(&a), source)
 }
 

@@ -36,7 +36,7 @@ use crate::field::frame::{
     smallest_spacing, tensor_rotation,
 };
 use crate::field::inputs::{Input, Inputs};
-use crate::field::number::{Scalar, try_vec};
+use crate::field::number::Scalar;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
@@ -167,9 +167,9 @@ pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField
         Kind::Masked => ("fsl", |c| ComponentOrder::Fsl.expand(&c[1..])),
     };
     let mut masked = 0;
-    let mut tensors = try_vec(voxels)?;
     // Each voxel's values are gathered and expanded as they are decoded: the tensors are the
-    // only copy of the data ever held.
+    // only copy of the data ever held, and grow with the values read, never ahead of them.
+    let mut tensors = Vec::new();
     let per = kind.values();
     let mut c = [0.0f64; 9];
     let mut k = 0;
@@ -316,7 +316,7 @@ pub fn read_scalar(inputs: &Inputs, path: &Path) -> Res<ScalarVolume> {
     let big = big_endian(&h, encoding, ty)?;
     let region = payload(inputs, path, &h, input)?;
     let (region, start) = skip(&h, region, encoding)?;
-    let mut values = try_vec(voxels)?;
+    let mut values = Vec::new();
     decode(&region, encoding, ty, big, voxels, start, |x| {
         values.push(x as f32)
     })?;
