@@ -22,7 +22,7 @@
 //! and ANTs (whose tensors ITK's direction matrix, the rotation of the qform, takes to world)
 //! all store them so.
 //!
-//! Scalar volumes ([`parse_scalar`]: FA maps, masks, anatomy) and FSL's eigen sets share the
+//! Scalar volumes ([`read_scalar`]: FA maps, masks, anatomy) and FSL's eigen sets share the
 //! header, data and affine code (`read_header`, `Header::voxels`), so they land in the
 //! same world as tensors.
 //!

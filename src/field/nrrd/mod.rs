@@ -15,7 +15,7 @@
 //! tensors are turned into RAS+ (LPS: x and y negated). Tensors are taken to be in the
 //! measurement frame (world when there is none) unless `--tensor-frame` says otherwise.
 //!
-//! Scalar volumes ([`parse_scalar`]: `dimension` 3, any integer or float `type`) share the
+//! Scalar volumes ([`read_scalar`]: `dimension` 3, any integer or float `type`) share the
 //! header, data and geometry code, so they land in the same RAS+ world as tensors.
 //!
 //! Layout: `header` (the header's fields and the numbers in them), `data` (the values: type,
