@@ -55,6 +55,7 @@ pub mod tiles;
 pub mod twin;
 
 // What the front ends share.
+pub mod bids;
 pub mod files;
 pub mod image_out;
 pub mod info;

@@ -1,0 +1,221 @@
+//! The BEP016 tensor maps of a BIDS derivatives folder, participant by participant, as a BIDS
+//! App finds its inputs (`bids_dir output_dir participant [--participant-label L …]`).
+//!
+//! A participant is a `sub-<label>` folder; its maps are the files of `dwi/` (and of each
+//! `ses-<label>/dwi/`) named `…_model-DTI[_param-tensor]_dwimap.nii[.gz]`, or `…_param-tensor_…`
+//! of any model ([`crate::field::bep016`] reads them). Nothing is read but folder listings;
+//! the order is the labels' (sorted), so that a run is the same on every machine.
+
+use std::path::{Path, PathBuf};
+
+use crate::error::escape_path;
+use crate::field::bep016::is_bep016_name;
+
+/// One tensor map found.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Map {
+    /// The session label (without `ses-`), if the map is in a session folder.
+    pub session: Option<String>,
+    pub path: PathBuf,
+}
+
+/// A participant and its maps (none: the participant is there but has nothing to report on).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Participant {
+    /// The label, without `sub-`.
+    pub label: String,
+    pub maps: Vec<Map>,
+}
+
+/// Why the folder gives no participants to report on.
+#[derive(Debug, thiserror::Error)]
+pub enum FindError {
+    #[error("{}: not a folder", escape_path(.0))]
+    NotAFolder(PathBuf),
+    #[error("{}: {error}", escape_path(.path))]
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+    #[error("{}: no participant {label} (no folder sub-{label})", escape_path(.root))]
+    NoParticipant { root: PathBuf, label: String },
+    #[error("{}: no participant (no sub-<label> folder)", escape_path(.0))]
+    Empty(PathBuf),
+}
+
+/// The participants of the derivatives folder `root` (those of `labels` when it names some,
+/// with or without their `sub-` prefix, as BIDS Apps take them), each with its tensor maps.
+pub fn participants(root: &Path, labels: &[String]) -> Result<Vec<Participant>, FindError> {
+    if !root.is_dir() {
+        return Err(FindError::NotAFolder(root.to_path_buf()));
+    }
+    let mut found: Vec<String> = entries(root)?
+        .into_iter()
+        .filter(|(_, dir)| *dir)
+        .filter_map(|(name, _)| name.strip_prefix("sub-").map(str::to_string))
+        .filter(|l| !l.is_empty())
+        .collect();
+    found.sort();
+    let chosen: Vec<String> = if labels.is_empty() {
+        if found.is_empty() {
+            return Err(FindError::Empty(root.to_path_buf()));
+        }
+        found
+    } else {
+        let mut chosen = Vec::new();
+        for l in labels {
+            let l = l.strip_prefix("sub-").unwrap_or(l).to_string();
+            if !found.contains(&l) {
+                return Err(FindError::NoParticipant {
+                    root: root.to_path_buf(),
+                    label: crate::error::escape_for_error(&l),
+                });
+            }
+            if !chosen.contains(&l) {
+                chosen.push(l);
+            }
+        }
+        chosen.sort();
+        chosen
+    };
+    chosen
+        .into_iter()
+        .map(|label| {
+            let folder = root.join(format!("sub-{label}"));
+            let mut maps = maps_in(&folder.join("dwi"), None)?;
+            let mut sessions: Vec<String> = entries(&folder)?
+                .into_iter()
+                .filter(|(_, dir)| *dir)
+                .filter_map(|(n, _)| n.strip_prefix("ses-").map(str::to_string))
+                .collect();
+            sessions.sort();
+            for s in sessions {
+                let dwi = folder.join(format!("ses-{s}")).join("dwi");
+                maps.extend(maps_in(&dwi, Some(s))?);
+            }
+            Ok(Participant { label, maps })
+        })
+        .collect()
+}
+
+/// Whether a BEP016 map's name says it holds tensors.
+fn is_tensor_map(name: &str) -> bool {
+    let entities: Vec<&str> = name.split('_').collect();
+    let param = entities.iter().find_map(|e| e.strip_prefix("param-"));
+    let model = entities.iter().find_map(|e| e.strip_prefix("model-"));
+    match param {
+        Some(p) => p == "tensor",
+        None => model == Some("DTI"),
+    }
+}
+
+/// The tensor maps in the folder `dwi` (none if it is not there), sorted by name.
+fn maps_in(dwi: &Path, session: Option<String>) -> Result<Vec<Map>, FindError> {
+    if !dwi.is_dir() {
+        return Ok(Vec::new());
+    }
+    let mut names: Vec<String> = entries(dwi)?
+        .into_iter()
+        .filter(|(n, dir)| !dir && is_bep016_name(Path::new(n)) && is_tensor_map(n))
+        .map(|(n, _)| n)
+        .collect();
+    names.sort();
+    Ok(names
+        .into_iter()
+        .map(|n| Map {
+            session: session.clone(),
+            path: dwi.join(n),
+        })
+        .collect())
+}
+
+/// The names in `dir` (those that are UTF-8: BIDS names are ASCII) and whether each is a folder
+/// (symlinks followed).
+fn entries(dir: &Path) -> Result<Vec<(String, bool)>, FindError> {
+    let io = |error| FindError::Io {
+        path: dir.to_path_buf(),
+        error,
+    };
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).map_err(io)? {
+        let e = e.map_err(io)?;
+        if let Ok(name) = e.file_name().into_string() {
+            out.push((name, e.path().is_dir()));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bids() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bids/derivatives")
+    }
+
+    fn names(p: &Participant) -> Vec<String> {
+        p.maps
+            .iter()
+            .map(|m| m.path.file_name().unwrap().to_string_lossy().into_owned())
+            .collect()
+    }
+
+    #[test]
+    fn every_participant_and_session_of_the_test_folder() {
+        let all = participants(&bids(), &[]).unwrap();
+        let labels: Vec<&str> = all.iter().map(|p| p.label.as_str()).collect();
+        assert_eq!(labels, ["01", "02", "03", "04", "05"]);
+        assert_eq!(
+            names(&all[2]),
+            [
+                "sub-03_ses-1_model-DTI_param-tensor_dwimap.nii.gz",
+                "sub-03_ses-2_model-DTI_param-tensor_dwimap.nii.gz"
+            ]
+        );
+        assert_eq!(all[2].maps[1].session.as_deref(), Some("2"));
+        assert_eq!(all[0].maps.len(), 1);
+        assert_eq!(all[0].maps[0].session, None);
+    }
+
+    #[test]
+    fn labels_with_or_without_their_prefix_and_unknown_ones() {
+        let some = participants(&bids(), &["sub-05".into(), "02".into(), "05".into()]).unwrap();
+        let labels: Vec<&str> = some.iter().map(|p| p.label.as_str()).collect();
+        assert_eq!(labels, ["02", "05"]);
+        let e = participants(&bids(), &["99".into()]).unwrap_err().to_string();
+        assert!(e.ends_with("no participant 99 (no folder sub-99)"), "{e}");
+        let e = participants(&bids().join("dataset_description.json"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.ends_with("not a folder"), "{e}");
+    }
+
+    #[test]
+    fn only_tensor_maps_are_taken() {
+        let dir = tempfile::tempdir().unwrap();
+        let dwi = dir.path().join("sub-a").join("dwi");
+        std::fs::create_dir_all(&dwi).unwrap();
+        for n in [
+            "sub-a_model-DTI_param-tensor_dwimap.nii.gz",
+            "sub-a_model-DTI_dwimap.nii",
+            "sub-a_model-DKI_param-tensor_dwimap.nii.gz",
+            "sub-a_model-DTI_param-fa_dwimap.nii.gz",
+            "sub-a_model-DTI_dwimap.json",
+            "sub-a_dwi.nii.gz",
+        ] {
+            std::fs::write(dwi.join(n), b"").unwrap();
+        }
+        let p = participants(dir.path(), &[]).unwrap();
+        assert_eq!(
+            names(&p[0]),
+            [
+                "sub-a_model-DKI_param-tensor_dwimap.nii.gz",
+                "sub-a_model-DTI_dwimap.nii",
+                "sub-a_model-DTI_param-tensor_dwimap.nii.gz"
+            ]
+        );
+        let e = participants(&dwi, &[]).unwrap_err().to_string();
+        assert!(e.ends_with("no participant (no sub-<label> folder)"), "{e}");
+    }
+}
