@@ -636,3 +636,37 @@ fn no_glyph_to_draw_names_the_file() {
         "tensors.nii.gz: the selection keeps no glyph",
     );
 }
+
+#[test]
+fn an_underlay_of_tiny_voxels_is_resampled_no_finer_than_the_image() {
+    use tensorglyph::progress::Silent;
+    use tensorglyph::scene::underlay::UnderlaySource;
+    use tensorglyph::staging::{Recipe, Source, stage};
+    let dir = tempfile::tempdir().unwrap();
+    // 1 µm voxels over the tensors' slice (10 × 2.5 mm): the volume's voxel size would ask for
+    // 25,000 texels a side.
+    let mut b = b"NRRD0004\ntype: float\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\
+                  endian: little\nspace: right-anterior-superior\n\
+                  space directions: (0.001,0,0) (0,0.001,0) (0,0,0.001)\n\
+                  space origin: (150,170,80)\n\n"
+        .to_vec();
+    for k in 0..8 {
+        b.extend_from_slice(&(k as f32).to_le_bytes());
+    }
+    let fine = dir.path().join("fine.nrrd");
+    std::fs::write(&fine, b).unwrap();
+    let side = |underlay_side| {
+        let recipe = Recipe {
+            underlay: Some(UnderlaySource::File(fine.clone())),
+            underlay_side,
+            ..Recipe::default()
+        };
+        let src = Source::File(dti("dipy_small101/tensors.nii.gz"));
+        let staged = stage(&src, &recipe, &Silent).unwrap();
+        let u = staged.scene.underlay.unwrap();
+        u.planes.iter().flat_map(|p| p.size).max().unwrap()
+    };
+    // A 160×120 image: 160 texels a side at most; left to the volume, the 4096 cap.
+    assert_eq!(side(Some(160)), 160);
+    assert_eq!(side(None), 4096);
+}
