@@ -183,7 +183,9 @@ mod tests {
         let some = participants(&bids(), &["sub-05".into(), "02".into(), "05".into()]).unwrap();
         let labels: Vec<&str> = some.iter().map(|p| p.label.as_str()).collect();
         assert_eq!(labels, ["02", "05"]);
-        let e = participants(&bids(), &["99".into()]).unwrap_err().to_string();
+        let e = participants(&bids(), &["99".into()])
+            .unwrap_err()
+            .to_string();
         assert!(e.ends_with("no participant 99 (no folder sub-99)"), "{e}");
         let e = participants(&bids().join("dataset_description.json"), &[])
             .unwrap_err()
