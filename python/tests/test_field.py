@@ -56,7 +56,7 @@ def test_eigen_of_points_and_of_nan_tensors():
 
 
 def test_info_is_info_json_of_the_same_file(tmp_path):
-    path = REPO / "tests" / "dti" / "dipy_small101" / "tensors.nii.gz"
+    path = REPO / "tests" / "data" / "dti" / "dipy_small101" / "tensors.nii.gz"
     if not path.exists():
         pytest.skip(f"{path} moved")
     assert tg.read(path).info(samples=[0, 5]) == cli_info(path, "--sample", "0", "--sample", "5")
@@ -76,3 +76,13 @@ def test_info_of_a_fit_is_info_json_of_its_saved_tensors(dipy_fits, tmp_path):
     for key in ("format", "tensor_array", "layout", "frame"):
         ours.pop(key), theirs.pop(key)
     assert ours == theirs
+
+
+def test_a_bep016_map_is_read_through_its_sidecar_as_the_cli_reads_it():
+    path = (REPO / "tests" / "data" / "bids" / "derivatives" / "sub-02" / "dwi"
+            / "sub-02_model-DTI_param-tensor_dwimap.nii.gz")
+    info = tg.read(path).info(samples=[0])
+    assert info == cli_info(path, "--sample", "0")
+    assert info["layout"] == {"order": "fsl", "why": "sidecar"}
+    assert info["frame"]["tensor_frame"] == "world"
+    assert info["bep016_sidecar"] == {"name": "sub-02_model-DTI_dwimap.json", "reference_axes": "xyz"}
