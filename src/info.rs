@@ -179,6 +179,17 @@ pub fn canonical_sign(v: [f64; 3]) -> [f64; 3] {
     if v[k] < 0.0 { v.map(|x| -x) } else { v }
 }
 
+/// Where a layout came from, as the summary and the report say it.
+pub fn why_text(why: Why) -> &'static str {
+    match why {
+        Why::File => "from the file",
+        Why::Flag => "from --order",
+        Why::Default => "the default",
+        Why::Names => "from the file names",
+        Why::Sidecar => "from the BEP016 sidecar",
+    }
+}
+
 /// A readable multi-line summary for the terminal.
 pub fn human_summary(r: &InfoReport) -> String {
     let mut o = String::new();
@@ -207,14 +218,7 @@ pub fn human_summary(r: &InfoReport) -> String {
         r.tensor_array.location.as_str()
     );
     if let Some(l) = &r.layout {
-        let why = match l.why {
-            Why::File => "from the file",
-            Why::Flag => "from --order",
-            Why::Default => "the default",
-            Why::Names => "from the file names",
-            Why::Sidecar => "from the BEP016 sidecar",
-        };
-        let _ = writeln!(o, "layout: {} ({why})", l.order);
+        let _ = writeln!(o, "layout: {} ({})", l.order, why_text(l.why));
     }
     if let Some(f) = &r.frame {
         let _ = writeln!(

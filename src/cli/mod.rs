@@ -1,4 +1,4 @@
-//! The `tensorglyph` command line: demo, info, render, view, bench, stability. [`main`] parses
+//! The `tensorglyph` command line: demo, info, render, view, bench, stability, report. [`main`] parses
 //! the arguments and runs the command; the binary (`src/main.rs`) and any other front end that
 //! offers the same command line call it.
 //!
@@ -10,6 +10,7 @@ pub mod bench;
 pub mod info;
 pub mod progress;
 pub mod render;
+pub mod report;
 pub mod stability;
 pub mod stdout;
 pub mod view;
@@ -43,6 +44,9 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Adversarial stability suite: every method and glyph against the reference.
     Stability(stability::StabilityArgs),
+    /// Glyph figures and an HTML page per participant of a BIDS derivatives folder of BEP016
+    /// tensor maps (exit status 1 when some participant failed).
+    Report(report::ReportArgs),
 }
 
 /// Run the command line `args` (the program's name first, as `std::env::args_os` gives it)
@@ -64,6 +68,12 @@ where
         Command::Bench(a) => bench::run(a),
         Command::Stability(a) => stability::run(a),
         Command::View(a) => view::run(a),
+        Command::Report(a) => match report::run(a) {
+            // Each failed participant was named on its own line.
+            Ok(false) => return 1,
+            Ok(true) => Ok(()),
+            Err(e) => Err(e),
+        },
     };
     match result {
         Ok(()) => 0,

@@ -11,6 +11,7 @@ mod xvfb;
 
 mod bench_large;
 mod commands;
+mod report;
 mod scaling;
 mod selection;
 mod teem;
