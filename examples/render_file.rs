@@ -2,7 +2,7 @@
 //! ellipsoids on the GPU (the exact CPU reference where there is no GPU), coloured by shape.
 //!
 //! ```sh
-//! cargo run --example render_file -- tests/data/xml_image_binary_zlib_u32.vti field.png
+//! cargo run --example render_file -- tests/data/vtk/xml_image_appraw_zlib_u32.vti field.png
 //! ```
 
 use tensorglyph::{

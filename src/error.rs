@@ -235,7 +235,7 @@ mod tests {
             escape_for_error("x".repeat(ERROR_TEXT_MAX)),
             "x".repeat(ERROR_TEXT_MAX)
         );
-        // Found by tests/robustness.rs: lengths just above 4 × the limit were cut past the end.
+        // Found by tests/readers/corrupted.rs: lengths just above 4 × the limit were cut past the end.
         for n in 4 * ERROR_TEXT_MAX - 4..4 * ERROR_TEXT_MAX + 16 {
             let e = escape_for_error("y".repeat(n));
             assert_eq!(e.chars().count(), ERROR_TEXT_MAX + 1, "{n}");

@@ -15,12 +15,12 @@ pub(crate) fn cases() -> Vec<Value> {
     all["cases"].as_array().unwrap().clone()
 }
 
-/// The superquadric worked cases (`tests/data/superquadric_vectors.json`, made at 50 digits by
-/// `tests/data/make_superquadric_vectors.py`).
+/// The superquadric worked cases (`tests/data/superquadric/superquadric_vectors.json`, made at 50
+/// digits by `tests/data/superquadric/make_superquadric_vectors.py`).
 pub(crate) fn superquadric_vectors() -> Value {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/superquadric_vectors.json"
+        "/tests/data/superquadric/superquadric_vectors.json"
     ))
     .unwrap();
     serde_json::from_str(&text).unwrap()

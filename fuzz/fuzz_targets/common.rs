@@ -1,4 +1,4 @@
-//! The promises every fuzz target checks, the same as `tests/campaign.rs`: a consistent field
+//! The promises every fuzz target checks, the same as `tests/campaign/main.rs`: a consistent field
 //! that survives glyph derivation and the `info` report, or an error that is one clean line
 //! naming the file. (Time and memory are libFuzzer's `-timeout` and `-rss_limit_mb`.)
 

@@ -3,7 +3,7 @@
     python python/examples/speed.py [--cli PATH] [--runs 3]
 
 1. `import tensorglyph` and the first image of the demo field grid40, in a fresh interpreter,
-   against `tensorglyph render --demo grid40` (wall clock of each process, to the image in
+   against `tensorglyph render --demo grid40 -o g.png -q` (wall clock of each process, to the image in
    memory or on disk);
 2. a second `render` in the same process against the first (the renderer's device and
    pipelines are kept);

@@ -122,7 +122,7 @@ pub fn is_exact(method: &str) -> bool {
 
 /// Rows of Gumhold ellipsoids and superquadrics drawn as `render` draws them by default: splats up to
 /// [`crate::request::DEFAULT_SPLAT`] px from the compute prepass, culled (in file order: the
-/// order changes which pixels are cast, not what is drawn, tests/gpu_culling.rs).
+/// order changes which pixels are cast, not what is drawn, tests/gpu/less_work.rs).
 pub const SPLAT_LABEL: &str = "gumhold+splat";
 
 /// Options of a run.

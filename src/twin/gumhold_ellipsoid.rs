@@ -1,6 +1,6 @@
 //! The CPU twin of shaders/gumhold_ellipsoid.wgsl, in f64, with the notes' names. It exists so
 //! the shader's formulas can be checked against shared/math/test-vectors.json without a GPU
-//! (the GPU path itself is checked against the reference in tests/gpu_vs_reference.rs).
+//! (the GPU path itself is checked against the reference in tests/gpu/ray_casters.rs).
 
 use glam::{DMat3, DMat4, DVec2, DVec3};
 

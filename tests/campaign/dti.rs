@@ -1,5 +1,5 @@
-//! The campaign's structure-aware mutations of the DTI files in `tests/dti` (see
-//! `tests/campaign.rs`): NIfTI-1 header fields by their offsets (inside the gzip stream for
+//! The campaign's structure-aware mutations of the DTI files in `tests/data/dti` (see
+//! `main.rs`): NIfTI-1 header fields by their offsets (inside the gzip stream for
 //! `.nii.gz`), NRRD header fields by name, detached data and FIFO, device and folder targets.
 
 use super::mutate::{Rng, find_from, mutate, shape_of};

@@ -1,4 +1,4 @@
-//! The campaign's seeded, structure-aware mutations (see `tests/campaign.rs`).
+//! The campaign's seeded, structure-aware mutations (see `main.rs`).
 
 // ---------------------------------------------------------------------------------------------
 // Seeded randomness.

@@ -4,7 +4,7 @@
 //! The parsers here are our own, strict and allocation-safe: every count is checked against the
 //! bytes actually present before anything is allocated, and only the picked tensor array (plus
 //! the geometry) is decoded. `vtkio` 0.7.0-rc2 is not used for reading, because on files VTK 9.1
-//! itself writes it (`tests/vtkio_differential.rs` checks each of these, and that vtkio agrees
+//! itself writes it (`tests/readers/vtkio.rs` checks each of these, and that vtkio agrees
 //! with us on every other file):
 //! - rejects legacy `TENSORS6` with `Parse(Tag)` (12 of our 40 legacy files), and legacy FIELD
 //!   data holding a string array;

@@ -180,7 +180,7 @@ fn the_roi_checkbox_turns_the_box_on_at_the_field_bounds() {
 fn without_a_lattice_slicing_falls_back_to_the_whole_volume() {
     // Unstructured points have no lattice to slice.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/legacy42_ascii_ugrid_T9.vtk");
+        .join("tests/data/vtk/legacy42_ascii_ugrid_T9.vtk");
     let data = load_now(
         &Source::File(path),
         &ReadOptions::default(),

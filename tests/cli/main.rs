@@ -1,0 +1,17 @@
+//! The `tensorglyph` binary as a user runs it: outputs, JSON reports, exit status and one-line
+//! errors, the selection flags, scaling on real fields, `bench --large`, the viewer under Xvfb,
+//! and `render --glyph superquadric` against Teem's `tend glyph`. tests/README.md is the map.
+
+#[path = "../common/cli.rs"]
+mod cli;
+#[path = "../common/data.rs"]
+mod data;
+#[path = "../common/xvfb.rs"]
+mod xvfb;
+
+mod bench_large;
+mod commands;
+mod scaling;
+mod selection;
+mod teem;
+mod viewer;

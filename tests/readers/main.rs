@@ -1,0 +1,18 @@
+//! Files into fields and glyphs on the CPU, against writers and readers other than ours: VTK's
+//! own read-back values, vtkio, numpy, nibabel and DIPY, Teem's `unu`, the shared maths test
+//! vectors; and every bad or corrupted file refused in one clean line. tests/README.md is the
+//! map. (The mutation campaign is a binary of its own: tests/campaign/.)
+
+#[path = "../common/cli.rs"]
+mod cli;
+#[path = "../common/data.rs"]
+mod data;
+
+mod corrupted;
+mod dipy;
+mod dti;
+mod regressions;
+mod scalars;
+mod tensor_vectors;
+mod vtk;
+mod vtkio;
