@@ -60,7 +60,8 @@ pub struct SceneArgs {
     /// name, as in "stress (MPa)").
     #[arg(long)]
     pub units: Option<String>,
-    /// Glyph scale: `auto` (largest radius = half the grid spacing) or a factor on |λ|.
+    /// Glyph scale: `auto` (largest radius = half the grid spacing; on unstructured data, each
+    /// glyph also within half its own spacing) or a factor on |λ|.
     #[arg(long, default_value = "auto")]
     pub scale: Scale,
     /// How radii follow |λ|: auto (with --scale auto, log for stress-like fields, whose tensors

@@ -13,7 +13,7 @@
 //!
 //! The values are computed in f64 from the eigenvalues that [`crate::tensor::eigen`] finds; VTK
 //! finds them with its own Jacobi solver, and the two agree to within rounding of the largest
-//! |σ| (tests/stress_fields.rs holds VTK's numbers for every stress field of the tests).
+//! |σ| (tests/cli/stress_fields.rs compares them with VTK's numbers for every stress field of the tests).
 
 /// σ1 ≥ σ2 ≥ σ3: `ev` in descending order (NaN last).
 #[inline]
@@ -32,14 +32,21 @@ pub fn von_mises(ev: [f64; 3]) -> f64 {
         return if big == 0.0 { 0.0 } else { f64::NAN };
     }
     let [a, b, c] = ev.map(|s| s / big);
-    big * (0.5 * ((a - b) * (a - b) + (b - c) * (b - c) + (c - a) * (c - a))).sqrt()
+    saturate(big * (0.5 * ((a - b) * (a - b) + (b - c) * (b - c) + (c - a) * (c - a))).sqrt())
+}
+
+/// A criterion beyond the f64 range (principal stresses of opposite signs near f64::MAX: a
+/// corrupt file's) as the largest f64, so that reports stay numbers.
+#[inline]
+fn saturate(x: f64) -> f64 {
+    if x == f64::INFINITY { f64::MAX } else { x }
 }
 
 /// The Tresca stress σ1 − σ3 (the largest principal stress difference), ≥ 0.
 #[inline]
 pub fn tresca(ev: [f64; 3]) -> f64 {
     let [s1, _, s3] = principal(ev);
-    s1 - s3
+    saturate(s1 - s3)
 }
 
 /// The mean (hydrostatic) stress tr σ / 3, tension positive.
@@ -110,5 +117,9 @@ mod tests {
             }
         }
         assert!(von_mises([f64::NAN, 1.0, 0.0]).is_nan());
+        // Beyond the f64 range: the largest f64.
+        let huge = [1.7e308, 0.0, -1.3e308];
+        assert_eq!((von_mises(huge), tresca(huge)), (f64::MAX, f64::MAX));
+        assert_eq!(tresca([f64::INFINITY, 0.0, 0.0]), f64::MAX);
     }
 }

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """VTK's own principal stresses and yield criteria of every stress field in the tests, the truth
 for `--color von-mises | tresca | sigma1 | sigma2 | sigma3 | mean | triaxiality`, their colour
-ranges and `info`'s stress numbers (tests/stress_fields.rs).
+ranges and `info`'s stress numbers (tests/cli/stress_fields.rs).
 
     /tmp/fem/bin/pip install vtk          # VTK >= 9.3 has vtkYieldCriteria (tested with 9.7.2)
     /tmp/fem/bin/python tests/data/stress/yield_truth.py
@@ -38,12 +38,8 @@ SEED = 2024
 
 
 def locate(name):
-    """Beside this script, or in the older tests/stress folder."""
-    for d in (HERE, os.path.join(HERE, "..", "..", "stress")):
-        p = os.path.join(d, name)
-        if os.path.exists(p):
-            return os.path.normpath(p)
-    raise FileNotFoundError(name)
+    """Beside this script."""
+    return os.path.join(HERE, name)
 
 
 def active_tensors(data):

@@ -3,17 +3,15 @@
 //!
 //! Truth: tests/data/stress/yield_truth.json, written by tests/data/stress/yield_truth.py with
 //! VTK's `vtkYieldCriteria` and `vtkTensorPrincipalInvariants` (VTK 9.7) on VTK's point-load
-//! field (tests/stress/pointload.vti), the scikit-fem beam (tests/stress/beam.vtu) and three
+//! field (tests/data/stress/pointload.vti), the scikit-fem beam (beam.vtu there) and three
 //! scikit-fem solutions of tests/data/stress/make_fem_fields.py: a twisted cantilever on P1
 //! tetrahedra (cell data), a plate with a hole on hexahedra (point data, six components) and a
 //! notched bar on P2 tetrahedra (cell data). Images are counted by the exact CPU reference
 //! (`--method reference`), so no GPU is needed.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::cli::{json, stderr, tg};
+use crate::cli::{json, stderr, tg};
 use serde_json::Value;
 use tensorglyph::glyph::ColorScheme;
 use tensorglyph::legend::Legend;
@@ -24,8 +22,8 @@ use tensorglyph::{GlyphStyle, Recipe, Selection, Silent, Source, stage};
 
 /// Every stress field of the tests, where it is today.
 const FIELDS: [&str; 5] = [
-    "tests/stress/pointload.vti",
-    "tests/stress/beam.vtu",
+    "tests/data/stress/pointload.vti",
+    "tests/data/stress/beam.vtu",
     "tests/data/stress/cantilever_twist.vtu",
     "tests/data/stress/plate_hole.vtu",
     "tests/data/stress/notched_bar.vtu",
