@@ -911,6 +911,13 @@ mod tests {
         }
         .resolve(&s, Spacing::Local(h.clone()));
         assert_eq!(Spacing::Local(h).typical(), 2.0);
+        // A graded mesh: 90 fine cells (spacing 1) fill less of the volume than 10 coarse ones
+        // (spacing 4, each 64 times the room): the scale fits the coarse ones.
+        let graded: Vec<f32> = [vec![1.0; 90], vec![4.0; 10]].concat();
+        assert_eq!(Spacing::Local(Arc::from(graded)).typical(), 4.0);
+        let even: Vec<f32> = [vec![1.0; 99], vec![4.0; 1]].concat();
+        assert_eq!(Spacing::Local(Arc::from(even)).typical(), 1.0);
+        assert_eq!(Spacing::Local(Arc::from(vec![f32::NAN; 3])).typical(), 1.0);
         assert_eq!(style.radii(&s.glyphs[0]), [1.0; 3]);
         assert!(!style.clamps(&s.glyphs[0]));
         assert_eq!(style.radii(&s.glyphs[3]), [0.25; 3]);

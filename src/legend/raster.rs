@@ -46,7 +46,9 @@ impl Caption {
         };
         let mut lines = vec![format!("{scale}, size by {}", style.size_by)];
         if clamped > 0 && style.local.is_some() {
-            lines.push(format!("{clamped} clamped to the 98th percentile or their room"));
+            lines.push(format!(
+                "{clamped} clamped to the 98th percentile or their room"
+            ));
         } else if clamped > 0 {
             lines.push(format!("{clamped} largest shown at the 98th percentile"));
         }
