@@ -2,9 +2,9 @@
 """Three finite-element stress fields solved with scikit-fem, for the stress defaults and the
 yield-criterion colourings (tests/stress_fields.rs, the book's "Stress and strain" chapter).
 
-    python3 -m venv /tmp/fem && /tmp/fem/bin/pip install scikit-fem meshio vtk
-    /tmp/fem/bin/python tests/data/stress/make_fem_fields.py     # about a minute
-    /tmp/fem/bin/python tests/data/stress/yield_truth.py         # VTK's values, see there
+    python3 -m venv fem-env && fem-env/bin/pip install scikit-fem meshio vtk
+    fem-env/bin/python tests/data/stress/make_fem_fields.py     # about a minute
+    fem-env/bin/python tests/data/stress/yield_truth.py         # VTK's values, see there
 
 (tested with scikit-fem 12.0.2, meshio 5.3.5, numpy 2.4.6, scipy 1.17.1). Linear elasticity,
 three meshes, loads and element types, each written as a VTK XML UnstructuredGrid by meshio

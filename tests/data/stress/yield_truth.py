@@ -3,8 +3,8 @@
 for `--color von-mises | tresca | sigma1 | sigma2 | sigma3 | mean | triaxiality`, their colour
 ranges and `info`'s stress numbers (tests/cli/stress_fields.rs).
 
-    /tmp/fem/bin/pip install vtk          # VTK >= 9.3 has vtkYieldCriteria (tested with 9.7.2)
-    /tmp/fem/bin/python tests/data/stress/yield_truth.py
+    fem-env/bin/pip install vtk          # VTK >= 9.3 has vtkYieldCriteria (tested with 9.7.2)
+    fem-env/bin/python tests/data/stress/yield_truth.py
 
 For each field VTK reads the file (vtkXMLGenericDataObjectReader), the tensor array is handed
 to vtkYieldCriteria (which runs vtkTensorPrincipalInvariants first) as VTK's six components
