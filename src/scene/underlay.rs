@@ -407,14 +407,15 @@ pub fn build(
         (_, Some(voxels)) => voxels.iter().copied().filter(|x| x.is_finite()).collect(),
         _ => Vec::new(),
     };
-    let window = percentiles(all, WINDOW_PERCENTILES, f32::total_cmp).ok_or_else(|| match values {
-        Values::Volume(_) => UnderlayError::EmptyVolume {
-            what: label.clone(),
-        },
-        _ => UnderlayError::NoValue {
-            what: label.clone(),
-        },
-    })?;
+    let window =
+        percentiles(all, WINDOW_PERCENTILES, f32::total_cmp).ok_or_else(|| match values {
+            Values::Volume(_) => UnderlayError::EmptyVolume {
+                what: label.clone(),
+            },
+            _ => UnderlayError::NoValue {
+                what: label.clone(),
+            },
+        })?;
     Ok(Underlay {
         planes: out,
         window,
