@@ -8,7 +8,8 @@
 //!   renaming over it would replace the node (as root, `-o /dev/null` would replace /dev/null),
 //!   and writing into it directly would not be whole-or-nothing;
 //! - a target that is the same file as an input (same device and inode: the path itself, a
-//!   symlink or a hard link to it) is refused, so an input is never overwritten.
+//!   symlink or a hard link to it) is refused, so an input is never overwritten; the inputs are
+//!   every file the readers read (the `Inputs` record), not only the one named.
 //!
 //! The replaced file's permission bits are kept.
 
@@ -82,13 +83,20 @@ pub fn check_output(path: &Path, inputs: &[&Path]) -> std::io::Result<PathBuf> {
             format!("the output is {kind}, not a regular file; refusing to replace it"),
         ));
     }
-    for input in inputs {
+    for (k, input) in inputs.iter().enumerate() {
         if let Ok(m) = std::fs::metadata(input)
             && same_file(&m, &meta)
         {
+            // The first input is the one the user named; the others (a mask, a detached data
+            // file, a piece) are named, as the user may not know they were read.
+            let which = if k == 0 {
+                String::new()
+            } else {
+                format!(" {}", crate::error::escape_path(input))
+            };
             return Err(Error::new(
                 ErrorKind::InvalidInput,
-                "the output is the input file; refusing to overwrite it",
+                format!("the output is the input file{which}; refusing to overwrite it"),
             ));
         }
     }

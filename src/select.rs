@@ -21,7 +21,7 @@ use rayon::prelude::*;
 
 use crate::error::{LoadError, LoadErrorKind, escape_path};
 use crate::field::scalar::ScalarVolume;
-use crate::field::{TensorField, read_scalar_volume};
+use crate::field::{Inputs, TensorField, read_scalar_volume_from};
 use crate::glyph::GlyphSet;
 use crate::tensor::shape;
 
@@ -111,6 +111,8 @@ pub struct Mask {
     path: PathBuf,
     volume: Arc<ScalarVolume>,
     to_voxel: DMat4,
+    /// The files the volume was read from (a `.nhdr` and its data file); none when handed over.
+    read: Vec<PathBuf>,
 }
 
 /// The file and the size, not every voxel: selections are printed in debug messages.
@@ -130,11 +132,17 @@ impl PartialEq for Mask {
 }
 
 impl Mask {
-    /// The mask in the scalar volume file `path` (any format [`read_scalar_volume`] reads).
+    /// The mask in the scalar volume file `path` (any format
+    /// [`read_scalar_volume`](crate::field::read_scalar_volume) reads).
     pub fn read(path: &Path) -> Result<Self, LoadError> {
-        let volume = read_scalar_volume(path)?;
-        Self::build(path.to_path_buf(), Arc::new(volume))
-            .map_err(|e| LoadError::new(path, LoadErrorKind::Other(e)))
+        let inputs = Inputs::file_system();
+        let volume = read_scalar_volume_from(&inputs, path)?;
+        let mask = Self::build(path.to_path_buf(), Arc::new(volume))
+            .map_err(|e| LoadError::new(path, LoadErrorKind::Other(e)))?;
+        Ok(Self {
+            read: inputs.paths_read(),
+            ..mask
+        })
     }
 
     /// A mask of `volume`; `path` names it in messages. An error when the volume's voxels
@@ -167,12 +175,19 @@ impl Mask {
             path,
             volume,
             to_voxel,
+            read: Vec::new(),
         })
     }
 
     /// The file the mask was read from, as given.
     pub fn path(&self) -> &Path {
         &self.path
+    }
+
+    /// Every file [`Self::read`] read (the file, and a `.nhdr`'s data file): no output may
+    /// replace one.
+    pub fn files_read(&self) -> &[PathBuf] {
+        &self.read
     }
 
     pub fn volume(&self) -> &Arc<ScalarVolume> {

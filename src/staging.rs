@@ -17,7 +17,7 @@ use serde::Serialize;
 use crate::error::LoadError;
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
-use crate::field::{ReadOptions, read_field};
+use crate::field::{Inputs, ReadOptions, read_field_from};
 use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
 use crate::request::GlyphKind;
@@ -103,8 +103,13 @@ impl Source {
     /// The field, read (the read options apply to files only: an in-memory field was read
     /// or made with its own).
     pub fn load(&self, opts: &ReadOptions) -> Result<TensorField, LoadError> {
+        self.load_from(&Inputs::file_system(), opts)
+    }
+
+    /// [`Self::load`], a file read from `inputs` (which record the files read).
+    pub fn load_from(&self, inputs: &Inputs, opts: &ReadOptions) -> Result<TensorField, LoadError> {
         match self {
-            Source::File(p) => read_field(p, opts),
+            Source::File(p) => read_field_from(inputs, p, opts),
             Source::Demo(d) => Ok(crate::field::synthetic::grid(d.n)),
             Source::Field(f) => Ok((*f.field).clone()),
         }
@@ -179,8 +184,18 @@ impl Recipe {
 /// The scalar volume an underlay file names, or the one handed over (FA and MD come from the
 /// glyphs: `None`).
 pub fn read_underlay(source: &Option<UnderlaySource>) -> Result<Option<ScalarVolume>, LoadError> {
+    read_underlay_from(&Inputs::file_system(), source)
+}
+
+/// [`read_underlay`], a file read from `inputs`.
+pub fn read_underlay_from(
+    inputs: &Inputs,
+    source: &Option<UnderlaySource>,
+) -> Result<Option<ScalarVolume>, LoadError> {
     match source {
-        Some(UnderlaySource::File(path)) => crate::field::read_scalar_volume(path).map(Some),
+        Some(UnderlaySource::File(path)) => {
+            crate::field::read_scalar_volume_from(inputs, path).map(Some)
+        }
         Some(UnderlaySource::Volume(v)) => Ok(Some((*v.volume).clone())),
         _ => Ok(None),
     }
@@ -312,6 +327,9 @@ pub struct Staged {
     /// The style with the field's numbers fixed (for the legend).
     pub style: ResolvedStyle,
     pub timings: Timings,
+    /// Every file read (the field's, with its detached data, pieces or set, and the
+    /// underlay's): no output may replace one.
+    pub read: Vec<PathBuf>,
 }
 
 /// One lattice slice seen face-on: the view's (direction, up) and the bounding box and sphere
@@ -330,7 +348,17 @@ pub fn read(
     opts: &ReadOptions,
     progress: &dyn Progress,
 ) -> Result<TensorField, LoadError> {
-    run_stage(progress, "reading", None, || source.load(opts))
+    read_from(&Inputs::file_system(), source, opts, progress)
+}
+
+/// [`read`], a file read from `inputs` (which record the files read).
+pub fn read_from(
+    inputs: &Inputs,
+    source: &Source,
+    opts: &ReadOptions,
+    progress: &dyn Progress,
+) -> Result<TensorField, LoadError> {
+    run_stage(progress, "reading", None, || source.load_from(inputs, opts))
 }
 
 /// Eigendecompose every tensor.
@@ -353,8 +381,9 @@ pub fn stage(
     recipe.selection.check()?;
     let mut timings = Timings::default();
 
+    let inputs = Inputs::file_system();
     let t = Instant::now();
-    let field = read(source, &recipe.read, progress)?;
+    let field = read_from(&inputs, source, &recipe.read, progress)?;
     timings.load = ms(t);
     timings.peak_rss_after[0] = crate::mem::peak_rss_bytes();
     // Lattice checks before the long part.
@@ -367,7 +396,7 @@ pub fn stage(
     timings.peak_rss_after[1] = crate::mem::peak_rss_bytes();
 
     let t = Instant::now();
-    let volume = read_underlay(&recipe.underlay)?;
+    let volume = read_underlay_from(&inputs, &recipe.underlay)?;
     let built = build(
         &field,
         &set,
@@ -391,6 +420,7 @@ pub fn stage(
         style: built.style,
         scene: built.scene,
         timings,
+        read: inputs.paths_read(),
     })
 }
 

@@ -544,10 +544,19 @@ impl Renderer {
             )
             .map_err(|e| Failure::of(&e))?;
             if let (Some(path), Some(diff)) = (&frame.image.diff, &rendered.diff) {
-                tensorglyph::image_out::write_png(path, &[], rendered.width, rendered.height, diff)
-                    .map_err(|e| {
-                        Failure::Unreadable(format!("{}: cannot write: {e}", path.display()))
-                    })?;
+                // Never over a file the render read (its data, mask, underlay, pieces).
+                let read: Vec<&std::path::Path> =
+                    rendered.read.iter().map(|p| p.as_path()).collect();
+                tensorglyph::image_out::write_png(
+                    path,
+                    &read,
+                    rendered.width,
+                    rendered.height,
+                    diff,
+                )
+                .map_err(|e| {
+                    Failure::Unreadable(format!("{}: cannot write: {e}", path.display()))
+                })?;
             }
             Ok((rendered, fell_back))
         })?;

@@ -206,6 +206,9 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     if let Some(UnderlaySource::File(p)) = &select.underlay {
         inputs.push(p.as_path());
     }
+    if let Some(p) = &select.mask {
+        inputs.push(p.as_path());
+    }
     check_output(output, &inputs)?;
     if let Some(d) = &image.diff {
         check_output(d, &inputs)?;
@@ -227,7 +230,10 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         color,
         diff,
         report,
+        read,
     } = render_frame(src, args, backend, &progress)?;
+    // Every file read, not only those named: a mask, a detached data file, the pieces.
+    inputs.extend(read.iter().map(PathBuf::as_path));
     if let (Some(d), Some(diff)) = (&image.diff, &diff) {
         write_png(d, &inputs, w, h, diff)
             .with_context(|| format!("{}: cannot write", d.display()))?;
@@ -277,6 +283,8 @@ pub struct Rendered {
     pub color: Vec<u8>,
     pub diff: Option<Vec<u8>>,
     pub report: RenderReport,
+    /// Every file read (the field's, the underlay's, the mask's): no output may replace one.
+    pub read: Vec<PathBuf>,
 }
 
 /// What `render` does between its arguments and its PNG: check the options, stage `src`,
@@ -319,6 +327,10 @@ where
         ..scene_args.recipe(select.selection()?, cam.glyph, &defaults)?
     };
     let staged = stage(src, &recipe, progress)?;
+    let mut read = staged.read.clone();
+    if let Some(mask) = &recipe.selection.mask {
+        read.extend_from_slice(mask.files_read());
+    }
     let mut timings: Timings = staged.timings;
     let mut scene = staged.scene;
     // The whole field, not the selection: a slice is drawn where it is in the volume; but one
@@ -453,5 +465,6 @@ where
         color: frame.color,
         diff,
         report,
+        read,
     })
 }

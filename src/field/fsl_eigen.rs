@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use nalgebra::Matrix4;
 
 use super::frame::{Layout, Why};
-use super::input::read_regular_file;
+use super::inputs::Inputs;
 use super::nifti::{self, Header};
 use super::options::ReadOptions;
 use super::tensor_field::{Location, TensorArrayInfo, TensorField};
@@ -36,10 +36,10 @@ pub struct EigenSet {
 }
 
 impl EigenSet {
-    /// The set `path` names: one of its files, or its prefix when nothing has that name and
-    /// `PREFIX_V1.nii.gz` or `PREFIX_V1.nii` exists. `None` for any other path (and for names
-    /// that are not UTF-8).
-    pub fn named_by(path: &Path) -> Option<Self> {
+    /// The set `path` names among `inputs`: one of its files, or its prefix when nothing has
+    /// that name and `PREFIX_V1.nii.gz` or `PREFIX_V1.nii` exists. `None` for any other path
+    /// (and for names that are not UTF-8).
+    pub fn named_by(path: &Path, inputs: &Inputs) -> Option<Self> {
         let name = path.file_name()?.to_str()?;
         for ext in EXTENSIONS {
             for member in EIGENVALUES.iter().chain(&EIGENVECTORS) {
@@ -50,13 +50,13 @@ impl EigenSet {
                 }
             }
         }
-        if std::fs::symlink_metadata(path).is_ok() {
+        if inputs.is_named(path) {
             return None;
         }
         EXTENSIONS
             .into_iter()
             .map(|ext| Self::new(path, path.to_path_buf(), name, ext))
-            .find(|set| set.file("V1").is_file())
+            .find(|set| inputs.is_file(&set.file("V1")))
     }
 
     fn new(given: &Path, prefix: PathBuf, stem: &str, ext: &'static str) -> Self {
@@ -95,17 +95,17 @@ impl EigenSet {
 
 /// Read the set as one tensor field. Errors name the file at fault (the one missing, unreadable
 /// or differing from the first), not necessarily the one given.
-pub fn read(set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-    super::guard::catch_panics(&set.given, || read_set(set, opts))
+pub fn read(inputs: &Inputs, set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError> {
+    super::guard::catch_panics(&set.given, || read_set(inputs, set, opts))
 }
 
-fn read_set(set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError> {
+fn read_set(inputs: &Inputs, set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError> {
     let files = set.files();
     // The file named is looked at first: if it is missing, that is all there is to say.
-    if files.contains(&set.given) && !set.given.exists() {
+    if files.contains(&set.given) && !inputs.exists(&set.given) {
         return Err(LoadError::new(&set.given, LoadErrorKind::Missing));
     }
-    if let Some(missing) = files.iter().find(|p| !p.exists()) {
+    if let Some(missing) = files.iter().find(|p| !inputs.exists(p)) {
         return Err(LoadError::new(
             missing,
             LoadErrorKind::SetMemberMissing { set: set.pattern() },
@@ -113,7 +113,7 @@ fn read_set(set: &EigenSet, opts: &ReadOptions) -> Result<TensorField, LoadError
     }
     let mut bytes = Vec::with_capacity(files.len());
     for p in &files {
-        bytes.push(read_regular_file(p).map_err(|k| LoadError::new(p, k))?);
+        bytes.push(inputs.read(p).map_err(|k| LoadError::new(p, k))?);
     }
     let mut heads: Vec<Header> = Vec::with_capacity(files.len());
     for (k, (p, b)) in files.iter().zip(&bytes).enumerate() {
@@ -244,11 +244,13 @@ mod tests {
 
     #[test]
     fn a_member_or_a_prefix_names_the_set() {
+        let fs = Inputs::file_system();
+        let named_by = |p: &Path| EigenSet::named_by(p, &fs);
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();
-        let set = EigenSet::named_by(&d.join("dti_V2.nii.gz")).unwrap();
+        let set = named_by(&d.join("dti_V2.nii.gz")).unwrap();
         assert_eq!(set.file("L1"), d.join("dti_L1.nii.gz"));
-        let set = EigenSet::named_by(&d.join("a_b_L3.nii")).unwrap();
+        let set = named_by(&d.join("a_b_L3.nii")).unwrap();
         assert_eq!(set.file("V1"), d.join("a_b_V1.nii"));
         assert_eq!(set.pattern(), "a_b_{L1,L2,L3,V1,V2,V3}.nii");
         // Other names are not sets; a prefix only when its _V1 exists and it does not.
@@ -259,17 +261,17 @@ mod tests {
             "dti_L1.nrrd",
             "dti",
         ] {
-            assert_eq!(EigenSet::named_by(&d.join(other)), None, "{other}");
+            assert_eq!(named_by(&d.join(other)), None, "{other}");
         }
         std::fs::write(d.join("dti_V1.nii"), b"").unwrap();
-        let set = EigenSet::named_by(&d.join("dti")).unwrap();
+        let set = named_by(&d.join("dti")).unwrap();
         assert_eq!(set.file("L2"), d.join("dti_L2.nii"));
         std::fs::write(d.join("dti_V1.nii.gz"), b"").unwrap();
         assert_eq!(
-            EigenSet::named_by(&d.join("dti")).unwrap().file("V3"),
+            named_by(&d.join("dti")).unwrap().file("V3"),
             d.join("dti_V3.nii.gz")
         );
         std::fs::write(d.join("dti"), b"").unwrap();
-        assert_eq!(EigenSet::named_by(&d.join("dti")), None);
+        assert_eq!(named_by(&d.join("dti")), None);
     }
 }

@@ -4,14 +4,15 @@
 //! Imports go one way. This module is the top: [`read_field`] and [`read_scalar_volume`] pick
 //! the reader by the file's name. The readers (`vtk`, `nifti`, `nrrd`, `fsl_eigen`) are below
 //! it, and below them what they share: the [`TensorField`] they make, the [`ScalarVolume`]
-//! (`scalar`), [`ReadOptions`], `frame`, `order`, `number`, `input` and `guard`. `synthetic`
+//! (`scalar`), [`ReadOptions`], `frame`, `order`, `number`, [`Inputs`] (where every reader
+//! gets its bytes, and the record of what it read) and `guard`. `synthetic`
 //! makes fields in code, `array` of numbers handed over in memory (as the NIfTI reader would).
 
 pub mod array;
 pub mod frame;
 pub mod fsl_eigen;
 mod guard;
-pub mod input;
+pub mod inputs;
 pub mod nifti;
 pub mod nrrd;
 pub(crate) mod number;
@@ -23,6 +24,7 @@ mod tensor_field;
 pub mod vtk;
 
 pub use frame::{ReadMeta, TensorFrame};
+pub use inputs::Inputs;
 pub use options::ReadOptions;
 pub use order::ComponentOrder;
 pub use scalar::ScalarVolume;
@@ -36,20 +38,30 @@ use crate::error::LoadError;
 /// (`PREFIX_L1.nii.gz` .. `PREFIX_V3.nii.gz`, or `PREFIX`), `.nii` and `.nii.gz` NIfTI-1, `.nrrd`
 /// and `.nhdr` NRRD, anything else VTK (whose format is then told by the content).
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-    if let Some(set) = fsl_eigen::EigenSet::named_by(path) {
-        fsl_eigen::read(&set, opts)
+    read_field_from(&Inputs::file_system(), path, opts)
+}
+
+/// [`read_field`] of the file `path` among `inputs` (the file system or named buffers), which
+/// record every file the reader opens: the file, its detached data, its pieces, its set.
+pub fn read_field_from(
+    inputs: &Inputs,
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<TensorField, LoadError> {
+    if let Some(set) = fsl_eigen::EigenSet::named_by(path, inputs) {
+        fsl_eigen::read(inputs, &set, opts)
     } else if nifti::is_nifti_path(path) {
         guard::guarded(path, || {
-            let bytes = input::read_regular_file(path)?;
+            let bytes = inputs.read(path)?;
             nifti::parse(&bytes, opts)
         })
     } else if nrrd::is_nrrd_path(path) {
         guard::guarded(path, || {
-            let bytes = input::read_regular_file(path)?;
-            nrrd::parse(path, &bytes, opts)
+            let bytes = inputs.read(path)?;
+            nrrd::parse(inputs, path, &bytes, opts)
         })
     } else {
-        vtk::read_field(path, opts)
+        vtk::read_field_from(inputs, path, opts)
     }
 }
 
@@ -65,12 +77,17 @@ pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadEr
 /// cannot be inverted. Memory is bounded as for tensors (nothing is allocated for data the bytes
 /// cannot hold), and a panic inside a reader becomes an error.
 pub fn read_scalar_volume(path: &Path) -> Result<ScalarVolume, LoadError> {
+    read_scalar_volume_from(&Inputs::file_system(), path)
+}
+
+/// [`read_scalar_volume`] of the file `path` among `inputs`, which record what it read.
+pub fn read_scalar_volume_from(inputs: &Inputs, path: &Path) -> Result<ScalarVolume, LoadError> {
     guard::guarded(path, || {
-        let bytes = input::read_regular_file(path)?;
+        let bytes = inputs.read(path)?;
         if nifti::is_nifti_path(path) {
             nifti::parse_scalar(&bytes)
         } else if nrrd::is_nrrd_path(path) {
-            nrrd::parse_scalar(path, &bytes)
+            nrrd::parse_scalar(inputs, path, &bytes)
         } else {
             vtk::parse_scalar_bytes(&bytes)
         }

@@ -90,7 +90,7 @@ impl Header {
 }
 
 pub(super) fn gunzip(bytes: &[u8], want: u64, what: &str) -> Res<Vec<u8>> {
-    crate::field::input::gunzip_prefix(bytes, want, what)
+    crate::field::inputs::gunzip_prefix(bytes, want, what)
 }
 
 fn header(bytes: &[u8]) -> Res<NiftiHeader> {

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::header::{Header, Res, field, number};
 use crate::error::{escape_for_error, escape_path};
-use crate::field::input::{gunzip_prefix, read_regular_file};
+use crate::field::inputs::{Inputs, gunzip_prefix};
 use crate::field::number::Scalar;
 
 #[derive(Clone, Copy, PartialEq)]
@@ -51,7 +51,12 @@ pub(super) fn big_endian(h: &Header, encoding: Encoding, ty: Scalar) -> Res<bool
 
 /// The bytes holding the data: after the header, or the detached `data file` (a regular file
 /// named relative to the header's folder).
-pub(super) fn payload<'a>(path: &Path, h: &Header, bytes: &'a [u8]) -> Res<Cow<'a, [u8]>> {
+pub(super) fn payload<'a>(
+    inputs: &'a Inputs,
+    path: &Path,
+    h: &Header,
+    bytes: &'a [u8],
+) -> Res<Cow<'a, [u8]>> {
     match h.get("data file") {
         Some(name) => {
             if name.starts_with("LIST") || name.contains(' ') {
@@ -60,10 +65,9 @@ pub(super) fn payload<'a>(path: &Path, h: &Header, bytes: &'a [u8]) -> Res<Cow<'
                     "only a single data file is read (no LIST or file patterns)",
                 ));
             }
-            let dir = path.parent().unwrap_or(Path::new("."));
-            let p = dir.join(name);
-            read_regular_file(&p)
-                .map(Cow::Owned)
+            let p = Inputs::next_to(path, name);
+            inputs
+                .read(&p)
                 .map_err(|e| field("data file", format!("{}: {}", escape_path(&p), e)))
         }
         None => Ok(Cow::Borrowed(&bytes[h.data_start..])),
@@ -261,7 +265,7 @@ mod tests {
     }
 
     fn read(path: &Path, bytes: &[u8]) -> Res<TensorField> {
-        parse(path, bytes, &ReadOptions::default())
+        parse(&Inputs::file_system(), path, bytes, &ReadOptions::default())
     }
 
     /// The field holds the two voxels written, `xx xy xz yy yz zz` each.

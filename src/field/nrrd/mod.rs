@@ -35,6 +35,7 @@ use crate::field::frame::{
     FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
     smallest_spacing, tensor_rotation,
 };
+use crate::field::inputs::Inputs;
 use crate::field::number::Scalar;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
@@ -73,7 +74,8 @@ impl Kind {
 }
 
 /// Read a NRRD tensor volume from the bytes of `path` (the header, with or without data).
-pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+/// A detached data file is read from `inputs`, next to `path`.
+pub fn parse(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     let h = parse_header(bytes)?;
     let ty = match h.need("type")? {
         "float" | "float32" => Scalar::F32,
@@ -136,7 +138,7 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
         .ok_or_else(|| field("sizes", "the sizes overflow"))?;
     let encoding = encoding(&h)?;
     let big = big_endian(&h, encoding, ty)?;
-    let data = payload(path, &h, bytes)?;
+    let data = payload(inputs, path, &h, bytes)?;
     let (data, start) = skip(&h, &data, encoding)?;
     let values = decode(data, encoding, ty, big, count, start)?;
 
@@ -223,7 +225,7 @@ pub fn parse(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> 
 
 /// Read a NRRD scalar volume (`dimension: 3`, any integer or float `type`) from the bytes of
 /// `path`, placed in RAS+ exactly as tensor volumes are.
-pub fn parse_scalar(path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
+pub fn parse_scalar(inputs: &Inputs, path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
     let h = parse_header(bytes)?;
     let dimension: usize = number("dimension", h.need("dimension")?)?;
     if dimension != 3 {
@@ -282,7 +284,7 @@ pub fn parse_scalar(path: &Path, bytes: &[u8]) -> Res<ScalarVolume> {
         .ok_or_else(|| field("sizes", "the sizes overflow"))?;
     let encoding = encoding(&h)?;
     let big = big_endian(&h, encoding, ty)?;
-    let data = payload(path, &h, bytes)?;
+    let data = payload(inputs, path, &h, bytes)?;
     let (data, start) = skip(&h, &data, encoding)?;
     let values = decode(data, encoding, ty, big, voxels, start)?;
     let p = placement(&h, 0)?;

@@ -41,7 +41,7 @@ mod xml;
 use std::path::Path;
 
 use super::guard::guarded;
-use super::input::read_regular_file;
+use super::inputs::Inputs;
 pub use super::options::ReadOptions;
 use super::tensor_field::TensorField;
 use crate::error::LoadError;
@@ -59,9 +59,18 @@ pub(crate) use scalars::parse_scalar_bytes;
 ///
 /// [`LoadErrorKind::Other`]: crate::error::LoadErrorKind::Other
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
+    read_field_from(&Inputs::file_system(), path, opts)
+}
+
+/// [`read_field`] of the file `path` among `inputs` (its `.pvti` pieces too).
+pub fn read_field_from(
+    inputs: &Inputs,
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<TensorField, LoadError> {
     guarded(path, || {
-        let bytes = read_regular_file(path)?;
-        parse_bytes(path, &bytes, opts)
+        let bytes = inputs.read(path)?;
+        parse_bytes(inputs, path, &bytes, opts)
     })
 }
 
@@ -73,15 +82,17 @@ pub fn read_field_bytes(
     bytes: &[u8],
     opts: &ReadOptions,
 ) -> Result<TensorField, LoadError> {
-    guarded(path, || parse_bytes(path, bytes, opts))
+    guarded(path, || {
+        parse_bytes(&Inputs::file_system(), path, bytes, opts)
+    })
 }
 
-fn parse_bytes(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+fn parse_bytes(inputs: &Inputs, path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
     match family(bytes)? {
         Family::Legacy => {
             let parsed = legacy::parse(bytes, opts.array.as_deref())?;
             assemble(parsed, opts)
         }
-        Family::Xml => xml::read(path, bytes, opts),
+        Family::Xml => xml::read(inputs, path, bytes, opts),
     }
 }

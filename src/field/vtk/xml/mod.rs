@@ -26,16 +26,22 @@ use super::assemble::assemble;
 use super::dataset::Parsed;
 use super::malformed::Res;
 use crate::error::{LoadErrorKind, escape_for_error as esc};
+use crate::field::inputs::Inputs;
 use crate::field::options::ReadOptions;
 use crate::field::tensor_field::TensorField;
 use decode::header_ctx;
 
 /// Read an XML file.
-pub(crate) fn read(path: &Path, bytes: &[u8], opts: &ReadOptions) -> Res<TensorField> {
+pub(crate) fn read(
+    inputs: &Inputs,
+    path: &Path,
+    bytes: &[u8],
+    opts: &ReadOptions,
+) -> Res<TensorField> {
     let doc = tokenize::tokenize(bytes)?;
     let (ctx, ty) = header_ctx(bytes, &doc)?;
     if ty == "PImageData" {
-        return pvti::read_pvti(path, &doc, opts);
+        return pvti::read_pvti(inputs, path, &doc, opts);
     }
     let parsed = serial::parse_serial(&ctx, &doc, &ty)?;
     assemble(parsed, opts)

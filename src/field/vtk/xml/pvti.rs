@@ -7,7 +7,7 @@ use super::decode::header_ctx;
 use super::serial::parse_serial;
 use super::tokenize::{Doc, tokenize};
 use crate::error::{LoadErrorKind, escape_for_error as esc};
-use crate::field::input::{file_identity, read_regular_file};
+use crate::field::inputs::Inputs;
 use crate::field::options::ReadOptions;
 use crate::field::tensor_field::{DatasetKind, Location, TensorField};
 use crate::field::vtk::assemble::assemble;
@@ -16,7 +16,12 @@ use crate::field::vtk::dataset::{ArrayDesc, Geometry, Parsed, pick, point_dims};
 use crate::field::vtk::malformed::{Res, malformed};
 
 /// Read a `.pvti` and merge its pieces into one field in whole-extent order.
-pub(super) fn read_pvti(path: &Path, doc: &Doc, opts: &ReadOptions) -> Res<TensorField> {
+pub(super) fn read_pvti(
+    inputs: &Inputs,
+    path: &Path,
+    doc: &Doc,
+    opts: &ReadOptions,
+) -> Res<TensorField> {
     let ds = doc
         .tags
         .iter()
@@ -72,7 +77,6 @@ pub(super) fn read_pvti(path: &Path, doc: &Doc, opts: &ReadOptions) -> Res<Tenso
     };
     let wl = lattice(&whole);
     let wd = point_dims(&wl)?;
-    let dir_path = path.parent().unwrap_or(Path::new("."));
     let mut pieces: Vec<([i64; 6], Vec<f64>)> = Vec::new();
     let mut total = 0usize;
     // Each piece file once: a listing that repeats one would make us read and hold it again and
@@ -82,15 +86,15 @@ pub(super) fn read_pvti(path: &Path, doc: &Doc, opts: &ReadOptions) -> Res<Tenso
         let src = t
             .get("Source")
             .ok_or_else(|| malformed("<Piece> without Source"))?;
-        let ppath = dir_path.join(src);
+        let ppath = Inputs::next_to(path, src);
         let piece_err = |k: LoadErrorKind| malformed(format!("piece '{}': {k}", esc(src)));
-        if let Some(id) = file_identity(&ppath) {
+        if let Some(id) = inputs.identity(&ppath) {
             if seen.contains(&id) {
                 return Err(piece_err(malformed("the same file is listed twice")));
             }
             seen.push(id);
         }
-        let bytes = read_regular_file(&ppath).map_err(piece_err)?;
+        let bytes = inputs.read(&ppath).map_err(piece_err)?;
         let pdoc = tokenize(&bytes).map_err(piece_err)?;
         let (pctx, pty) = header_ctx(&bytes, &pdoc).map_err(piece_err)?;
         if pty != "ImageData" {
