@@ -98,6 +98,8 @@ pub fn run(args: ViewArgs) -> Result<()> {
         size: args.size,
         screenshot: args.screenshot,
         frames: args.frames,
+        remote: Default::default(),
+        adopt_defaults: false,
     })?;
     Ok(())
 }

@@ -1,10 +1,15 @@
-//! Loading off the UI thread: read the file (or make the demo field), then eigendecompose, on a
-//! worker thread, with progress the panel can show. A failure (including a panic in a reader)
-//! comes back as an error message; the data on screen stays.
+//! Loading: read the file (or make the demo field), then eigendecompose, with progress the
+//! panel can show. On the desktop a worker thread does it off the UI thread. The browser has
+//! one thread (threads need a cross-origin isolated page, which a plain static server does not
+//! give), so there the load runs inside a frame, once a frame saying "loading" was shown; rayon
+//! then runs on that one thread too. A failure comes back as an error message; the data on
+//! screen stays.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::sync::{Arc, Mutex};
+#[cfg(not(target_arch = "wasm32"))]
 use std::thread::JoinHandle;
 
 use crate::field::ReadOptions;
@@ -90,13 +95,25 @@ impl Progress for SharedProgress {
 pub struct Loading {
     pub source: Source,
     progress: Arc<SharedProgress>,
+    job: Job,
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+struct Job {
     rx: Receiver<Result<Loaded, String>>,
     handle: Option<JoinHandle<()>>,
 }
 
+/// The load, run at the second poll (the first frame shows that it is loading).
+#[cfg(target_arch = "wasm32")]
+struct Job {
+    work: Option<Box<dyn FnOnce() -> Result<Loaded, String>>>,
+    shown: bool,
+}
+
 impl Loading {
-    /// Start loading on a worker thread (the tensors, and the underlay's file if it names one);
-    /// `wake` is called when it is done (to repaint).
+    /// Start loading (the tensors, and the underlay's file if it names one); `wake` is called
+    /// when it is done (to repaint).
     pub fn start(
         source: Source,
         opts: ReadOptions,
@@ -105,32 +122,14 @@ impl Loading {
     ) -> Self {
         let progress = Arc::new(SharedProgress::default());
         progress.begin("reading", None);
-        let (tx, rx) = channel();
         let pb = progress.clone();
         let src = source.clone();
-        let handle = std::thread::Builder::new()
-            .name("tensorglyph-load".into())
-            .spawn(move || {
-                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    load_now(&src, &opts, &underlay, pb.as_ref())
-                }))
-                .unwrap_or_else(|panic| {
-                    let msg = panic
-                        .downcast_ref::<&str>()
-                        .map(|s| s.to_string())
-                        .or_else(|| panic.downcast_ref::<String>().cloned())
-                        .unwrap_or_else(|| "unknown error".into());
-                    Err(format!("{}: reading failed: {msg}", src.name()))
-                });
-                let _ = tx.send(result);
-                wake();
-            })
-            .expect("spawning the loader thread");
+        let load = move || load_now(&src, &opts, &underlay, pb.as_ref());
+        let name = source.name();
         Self {
             source,
             progress,
-            rx,
-            handle: Some(handle),
+            job: Job::start(load, name, wake),
         }
     }
 
@@ -145,6 +144,42 @@ impl Loading {
 
     /// The result, once there is one.
     pub fn poll(&mut self) -> Option<Result<Loaded, String>> {
+        self.job.poll(&self.source)
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl Job {
+    /// On a worker thread; a panic in a reader becomes an error naming the source.
+    fn start(
+        load: impl FnOnce() -> Result<Loaded, String> + Send + 'static,
+        name: String,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let (tx, rx) = channel();
+        let handle = std::thread::Builder::new()
+            .name("tensorglyph-load".into())
+            .spawn(move || {
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(load))
+                    .unwrap_or_else(|panic| {
+                        let msg = panic
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| panic.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "unknown error".into());
+                        Err(format!("{name}: reading failed: {msg}"))
+                    });
+                let _ = tx.send(result);
+                wake();
+            })
+            .expect("spawning the loader thread");
+        Self {
+            rx,
+            handle: Some(handle),
+        }
+    }
+
+    fn poll(&mut self, source: &Source) -> Option<Result<Loaded, String>> {
         match self.rx.try_recv() {
             Ok(r) => {
                 if let Some(h) = self.handle.take() {
@@ -154,9 +189,31 @@ impl Loading {
             }
             Err(TryRecvError::Empty) => None,
             Err(TryRecvError::Disconnected) => {
-                Some(Err(format!("{}: the loader stopped", self.source.name())))
+                Some(Err(format!("{}: the loader stopped", source.name())))
             }
         }
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+impl Job {
+    fn start(
+        load: impl FnOnce() -> Result<Loaded, String> + 'static,
+        _name: String,
+        wake: impl Fn() + 'static,
+    ) -> Self {
+        wake();
+        Self {
+            work: Some(Box::new(load)),
+            shown: false,
+        }
+    }
+
+    fn poll(&mut self, _source: &Source) -> Option<Result<Loaded, String>> {
+        if !std::mem::replace(&mut self.shown, true) {
+            return None;
+        }
+        self.work.take().map(|work| work())
     }
 }
 

@@ -9,6 +9,7 @@ mod cli;
 mod data;
 
 mod corrupted;
+mod defects;
 mod dipy;
 mod dti;
 mod regressions;

@@ -3,22 +3,16 @@
 //! named for what it guards. Inputs are copied into a temporary folder: nothing under `tests/`
 //! is ever written.
 
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::cli::{stderr, tg};
+use crate::cli::{stderr, tg};
 
 fn dti(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/dti")
-        .join(name)
+    crate::data::path("dti").join(name)
 }
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
+    crate::data::path("vtk").join(name)
 }
 
 fn copy(from: &Path, dir: &Path) -> PathBuf {
@@ -49,7 +43,7 @@ fn refused(args: &[&str], protected: &Path) {
 #[test]
 fn outputs_never_replace_the_mask_file() {
     let dir = tempfile::tempdir().unwrap();
-    let d = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/dti/dipy_small101");
+    let d = crate::data::path("dti/dipy_small101");
     let tensors = copy(&d.join("tensors.nii.gz"), dir.path());
     let mask = copy(&d.join("mask.nii.gz"), dir.path());
     let (t, m) = (tensors.to_str().unwrap(), mask.to_str().unwrap());
