@@ -100,6 +100,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         frames: args.frames,
         remote: Default::default(),
         adopt_defaults: false,
+        adapter_label: None,
     })?;
     Ok(())
 }

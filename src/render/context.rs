@@ -3,9 +3,9 @@
 //!
 //! Waiting differs per platform. On the desktop the GPU is waited for by polling the device, and
 //! an async step runs to its end at once inside `pollster::block_on`. In the browser nothing may
-//! block: the queue says when submitted work is done and a read-back is mapped through the page's
-//! event loop, so the core is async ([`GpuContext::done`], [`GpuContext::scope_error`]) and the
-//! desktop's blocking calls wrap it.
+//! block: a read-back is mapped when the work that writes it is done, through the page's event
+//! loop, so the core is async (read-backs, [`GpuContext::scope_error`]) and the desktop's
+//! blocking calls wrap it.
 
 use std::sync::{Arc, Mutex};
 
@@ -119,6 +119,9 @@ impl GpuContext {
         camera: &crate::camera::Camera,
     ) -> crate::request::FrameRequest {
         let mut req = *req;
+        if !self.prepass_fits() {
+            req.method.drop_prepass();
+        }
         let key_bytes = if self.int64_atomics { 8 } else { 4 };
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         if req.splat_pixels() > 0
@@ -127,6 +130,13 @@ impl GpuContext {
             req.method.drop_splats();
         }
         req
+    }
+
+    /// Whether the device binds as many storage buffers per shader stage as Gumhold's compute
+    /// prepass needs (Vulkan devices do; some WebGPU adapters do not).
+    pub fn prepass_fits(&self) -> bool {
+        self.limits.max_storage_buffers_per_shader_stage
+            >= crate::render::gumhold::prepass::COMPUTE_STORAGE_BUFFERS
     }
 
     /// Wait for all submitted work. lavapipe can take many seconds on large frames.
@@ -139,24 +149,6 @@ impl GpuContext {
             })
             .map(|_| ())
             .map_err(|e| RenderError::Gpu(format!("waiting for the GPU: {e}")))
-    }
-
-    /// All work submitted so far is done: [`Self::wait`] on the desktop; in the browser, when
-    /// the queue says so (nothing blocks there).
-    pub async fn done(&self) -> Result<(), RenderError> {
-        #[cfg(not(target_arch = "wasm32"))]
-        {
-            self.wait()
-        }
-        #[cfg(target_arch = "wasm32")]
-        {
-            let (tx, rx) = futures_channel::oneshot::channel();
-            self.queue.on_submitted_work_done(move || {
-                let _ = tx.send(());
-            });
-            rx.await
-                .map_err(|_| RenderError::Gpu("the queue was dropped".into()))
-        }
     }
 
     /// The error an error scope caught, for a step that goes on without it where it cannot wait

@@ -322,7 +322,10 @@ impl GpuRenderer {
                 (recorded, start)
             });
             effects = recorded?;
-            ctx.done().await?;
+            // The browser's frames are timed by the read-back that follows (Chromium's
+            // onSubmittedWorkDone promises can fail where mapping does not).
+            #[cfg(not(target_arch = "wasm32"))]
+            ctx.wait()?;
             frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
             if let Some(e) = errors.await {
                 return Err(RenderError::Gpu(e));

@@ -181,8 +181,12 @@ pub(crate) async fn map_read(
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);
     });
-    // The desktop polls the device here, which runs the callback; the browser runs it itself.
-    ctx.done().await?;
+    // The desktop polls the device here, which runs the callback; in the browser the mapping
+    // itself waits for the work that writes the buffer.
+    #[cfg(not(target_arch = "wasm32"))]
+    ctx.wait()?;
+    #[cfg(target_arch = "wasm32")]
+    let _ = ctx;
     rx.await
         .map_err(|_| RenderError::Gpu(format!("{what} was dropped")))?
         .map_err(|e| RenderError::Gpu(format!("{what} failed: {e}")))

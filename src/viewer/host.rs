@@ -38,6 +38,10 @@ pub struct Report {
 pub enum Command {
     /// Open this data (replacing what is shown once it has read).
     Open(Source),
+    /// Open files handed over as bytes (the page's file input, a drop, `?url=`), by name: the
+    /// one that names the others is read ([`crate::viewer::loader::main_file`]), and the others
+    /// are what it names (a `.nhdr`'s data file, an eigen set's members, a sidecar).
+    OpenFiles(Vec<(String, Vec<u8>)>),
     /// Render a figure of this many pixels as `render` frames one by default, and keep it
     /// (through [`Host::save_figure`]) as `name`.
     Figure { size: (u32, u32), name: String },

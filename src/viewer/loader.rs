@@ -12,13 +12,13 @@ use std::sync::{Arc, Mutex};
 #[cfg(not(target_arch = "wasm32"))]
 use std::thread::JoinHandle;
 
-use crate::field::ReadOptions;
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
+use crate::field::{Inputs, ReadOptions};
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
 use crate::scene::UnderlaySource;
-use crate::staging::{Source, decompose, field_spacing, read, read_underlay};
+use crate::staging::{Source, decompose, field_spacing, read_from, read_underlay};
 
 /// A loaded field and its glyphs.
 pub struct Loaded {
@@ -46,7 +46,18 @@ pub fn load_now(
     underlay: &Option<UnderlaySource>,
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
-    let field = read(source, opts, progress).map_err(|e| e.to_string())?;
+    load_now_from(&Inputs::file_system(), source, opts, underlay, progress)
+}
+
+/// [`load_now`], the tensors read from `inputs` (the page's files, by name).
+pub fn load_now_from(
+    inputs: &Inputs,
+    source: &Source,
+    opts: &ReadOptions,
+    underlay: &Option<UnderlaySource>,
+    progress: &dyn Progress,
+) -> Result<Loaded, String> {
+    let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;
     let underlay = read_underlay(underlay).map_err(|e| e.to_string())?;
     if field.is_empty() {
         return Err(format!("{}: no tensors", source.name()));
@@ -69,6 +80,27 @@ pub fn load_now(
         bounds,
         underlay: underlay.map(Arc::new),
     })
+}
+
+/// Of files opened together (the page's file input or a drop), the one to read: the one that
+/// names the others. A `.nhdr` names its data file and a `.pvti` its pieces; any member of an
+/// FSL eigen set names the set; a NIfTI file comes with its BEP016 sidecar (`.json`). So a
+/// `.nhdr` or `.pvti` first, else the first that is not a data file, piece or sidecar.
+pub fn main_file(names: &[String]) -> Option<&str> {
+    let lower = |n: &str| n.to_ascii_lowercase();
+    let names_others = |n: &&String| [".nhdr", ".pvti"].iter().any(|e| lower(n).ends_with(e));
+    let companion = |n: &&String| {
+        let n = lower(n);
+        [".raw", ".raw.gz", ".json", ".bval", ".bvec", ".vti"]
+            .iter()
+            .any(|e| n.ends_with(e))
+    };
+    names
+        .iter()
+        .find(names_others)
+        .or_else(|| names.iter().find(|n| !companion(n)))
+        .or(names.first())
+        .map(String::as_str)
 }
 
 /// Progress the worker reports and the panel reads.
@@ -116,6 +148,7 @@ impl Loading {
     /// when it is done (to repaint).
     pub fn start(
         source: Source,
+        inputs: Inputs,
         opts: ReadOptions,
         underlay: Option<UnderlaySource>,
         wake: impl Fn() + Send + 'static,
@@ -124,7 +157,7 @@ impl Loading {
         progress.begin("reading", None);
         let pb = progress.clone();
         let src = source.clone();
-        let load = move || load_now(&src, &opts, &underlay, pb.as_ref());
+        let load = move || load_now_from(&inputs, &src, &opts, &underlay, pb.as_ref());
         let name = source.name();
         Self {
             source,
@@ -226,6 +259,7 @@ mod tests {
     fn loads_the_demo_off_thread_and_reports_bad_files() {
         let mut l = Loading::start(
             Source::Demo(Demo { n: 5 }),
+            Inputs::file_system(),
             ReadOptions::default(),
             None,
             || {},
@@ -242,7 +276,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let bad = dir.path().join("bad.vtk");
         std::fs::write(&bad, b"not a vtk file").unwrap();
-        let mut l = Loading::start(Source::File(bad), ReadOptions::default(), None, || {});
+        let mut l = Loading::start(
+            Source::File(bad),
+            Inputs::file_system(),
+            ReadOptions::default(),
+            None,
+            || {},
+        );
         let err = loop {
             if let Some(r) = l.poll() {
                 break r.err().expect("a bad file is an error");
@@ -250,5 +290,54 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(5));
         };
         assert!(err.contains("bad.vtk"), "{err}");
+    }
+
+    #[test]
+    fn files_opened_together_are_read_through_the_one_that_names_the_others() {
+        let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let pick = |n: &[&str]| main_file(&names(n)).map(str::to_string);
+        assert_eq!(pick(&["d.raw", "d.nhdr"]).as_deref(), Some("d.nhdr"));
+        assert_eq!(
+            pick(&["p_0.vti", "p.pvti", "p_1.vti"]).as_deref(),
+            Some("p.pvti")
+        );
+        assert_eq!(
+            pick(&["dwi.json", "dwi.nii.gz"]).as_deref(),
+            Some("dwi.nii.gz")
+        );
+        assert_eq!(
+            pick(&["f_L1.nii.gz", "f_V1.nii.gz"]).as_deref(),
+            Some("f_L1.nii.gz")
+        );
+        assert_eq!(pick(&["one.vti"]).as_deref(), Some("one.vti"));
+        assert_eq!(pick(&[]), None);
+
+        // A detached NRRD handed over as two buffers reads as the files do, in either order.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dti");
+        let want =
+            crate::field::read_field(&dir.join("nrrd_detached.nhdr"), &ReadOptions::default())
+                .unwrap();
+        let files: Vec<(String, Vec<u8>)> = ["nrrd_detached.raw", "nrrd_detached.nhdr"]
+            .iter()
+            .map(|n| (n.to_string(), std::fs::read(dir.join(n)).unwrap()))
+            .collect();
+        let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+        let main = main_file(&names).unwrap().to_string();
+        let mut l = Loading::start(
+            Source::File(main.into()),
+            Inputs::named(files),
+            ReadOptions::default(),
+            None,
+            || {},
+        );
+        let loaded = loop {
+            if let Some(r) = l.poll() {
+                break r.unwrap();
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        };
+        assert_eq!(loaded.field.len(), want.len());
+        assert_eq!(loaded.field.tensors, want.tensors);
+        assert_eq!(loaded.field.positions, want.positions);
     }
 }

@@ -61,6 +61,9 @@ pub struct Options {
     /// Each opened source brings its kind of data's defaults (colours, background, the
     /// middle slice face-on for DTI): the page, which has no command line.
     pub adopt_defaults: bool,
+    /// What to call the adapter when the back end gives no name (WebGPU hides it; the page
+    /// has its vendor and architecture).
+    pub adapter_label: Option<String>,
 }
 
 /// How a run ended (scripted mode reports its error here).

@@ -12,6 +12,7 @@
 
 mod page;
 
+use std::cell::RefCell;
 use std::sync::{Arc, Mutex};
 
 use tensorglyph::staging::{Demo, Source};
@@ -23,6 +24,8 @@ use wasm_bindgen::prelude::*;
 pub struct WebHandle {
     runner: eframe::WebRunner,
     remote: Remote,
+    /// Files handed over by [`Self::add_file`], opened together by [`Self::open_files`].
+    files: RefCell<Vec<(String, Vec<u8>)>>,
 }
 
 #[wasm_bindgen]
@@ -31,15 +34,23 @@ impl WebHandle {
     #[wasm_bindgen(constructor)]
     #[allow(clippy::new_without_default)]
     pub fn new() -> Self {
+        let _ = eframe::WebLogger::init(log::LevelFilter::Warn);
         Self {
             runner: eframe::WebRunner::new(),
             remote: Remote::default(),
+            files: RefCell::default(),
         }
     }
 
     /// Start the viewer on `canvas`. An error (no WebGPU adapter, a device that cannot be
     /// opened) is the page's to show.
-    pub async fn start(&self, canvas: web_sys::HtmlCanvasElement) -> Result<(), JsValue> {
+    /// `adapter` names the adapter (WebGPU gives wgpu no name: the page has its vendor and
+    /// architecture).
+    pub async fn start(
+        &self,
+        canvas: web_sys::HtmlCanvasElement,
+        adapter: String,
+    ) -> Result<(), JsValue> {
         let options = eframe::WebOptions {
             wgpu_options: viewer::wgpu_configuration(),
             ..Default::default()
@@ -53,6 +64,7 @@ impl WebHandle {
                     let opts = viewer::Options {
                         remote,
                         adopt_defaults: true,
+                        adapter_label: Some(adapter),
                         ..Default::default()
                     };
                     let outcome = Arc::new(Mutex::new(viewer::Outcome::default()));
@@ -68,6 +80,24 @@ impl WebHandle {
     pub fn open_demo(&self, name: &str) -> Result<(), JsValue> {
         let demo: Demo = name.parse().map_err(|e: String| JsValue::from_str(&e))?;
         self.remote.push(Command::Open(Source::Demo(demo)));
+        Ok(())
+    }
+
+    /// Hand over a file the visitor opened (the file input, a drop, `?url=`): its name and its
+    /// bytes, which never leave the page.
+    pub fn add_file(&self, name: String, bytes: Vec<u8>) {
+        self.files.borrow_mut().push((name, bytes));
+    }
+
+    /// Open the files handed over since the last call, together: a `.nhdr` with its data file,
+    /// the six files of an FSL eigen set, a NIfTI file with its BEP016 sidecar. A file that
+    /// does not read gets its error line in `#error`; what is shown stays.
+    pub fn open_files(&self) -> Result<(), JsValue> {
+        let files = std::mem::take(&mut *self.files.borrow_mut());
+        if files.is_empty() {
+            return Err(JsValue::from_str("no file to open"));
+        }
+        self.remote.push(Command::OpenFiles(files));
         Ok(())
     }
 

@@ -96,12 +96,16 @@ impl ViewerApp {
             return;
         };
         let job = self.figure_job.take().expect("checked above");
-        self.status = Some(match result {
-            Ok(image) => self
-                .host
-                .save_figure(&image, &job.name)
-                .unwrap_or_else(|e| e),
-            Err(e) => format!("screenshot failed: {e:#}"),
-        });
+        let saved = result
+            .map_err(|e| format!("screenshot failed: {e:#}"))
+            .and_then(|image| self.host.save_figure(&image, &job.name));
+        match saved {
+            Ok(done) => self.status = Some(done),
+            // The panel's status shows it, and the error line the page mirrors.
+            Err(e) => {
+                self.status = Some(e.clone());
+                self.error = Some(e);
+            }
+        }
     }
 }

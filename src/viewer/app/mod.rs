@@ -15,6 +15,7 @@ mod report;
 
 use crate::camera::{Framing, ViewPreset};
 use crate::defaults::DataKind;
+use crate::field::Inputs;
 use crate::field::vtk::ReadOptions;
 use crate::glyph::style::ResolvedStyle;
 use crate::progress::Silent;
@@ -23,7 +24,7 @@ use crate::scene::Scene;
 use crate::scene::UnderlaySource;
 use crate::select::Slicing;
 use crate::staging::{self, Recipe, Source};
-use crate::viewer::loader::{Loaded, Loading};
+use crate::viewer::loader::{Loaded, Loading, main_file};
 use crate::viewer::navigation::{Navigation, axis_view};
 use crate::viewer::panel::{self, Action, PanelInfo, PanelState};
 use crate::viewer::picking::PickInfo;
@@ -87,6 +88,8 @@ pub struct ViewerApp {
     /// Each opened source brings its kind's defaults (the page; the desktop keeps its command
     /// line's).
     adopt_defaults: bool,
+    /// The adapter's name where the back end gives none.
+    adapter_label: Option<String>,
     /// A frame of the current scene was drawn (the status waits for it).
     drawn_generation: Option<u64>,
     host: Box<dyn Host>,
@@ -153,6 +156,7 @@ impl ViewerApp {
             figure_job: None,
             figure_asked: None,
             adopt_defaults: opts.adopt_defaults,
+            adapter_label: opts.adapter_label.clone(),
             drawn_generation: None,
             host,
             remote: opts.remote.clone(),
@@ -173,6 +177,20 @@ impl ViewerApp {
     }
 
     fn open(&mut self, ctx: &egui::Context, source: Source) {
+        self.open_from(ctx, source, Inputs::file_system());
+    }
+
+    /// Files handed over as bytes, read through the one that names the others.
+    fn open_files(&mut self, ctx: &egui::Context, files: Vec<(String, Vec<u8>)>) {
+        let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+        let Some(main) = main_file(&names) else {
+            return;
+        };
+        let source = Source::File(PathBuf::from(main));
+        self.open_from(ctx, source, Inputs::named(files));
+    }
+
+    fn open_from(&mut self, ctx: &egui::Context, source: Source, inputs: Inputs) {
         if let Source::File(p) = &source {
             self.panel.path = p.display().to_string();
         }
@@ -186,6 +204,7 @@ impl ViewerApp {
         let repaint = ctx.clone();
         self.loading = Some(Loading::start(
             source,
+            inputs,
             self.read.clone(),
             self.underlay_file.clone(),
             move || repaint.request_repaint(),
@@ -384,6 +403,14 @@ impl ViewerApp {
         }
     }
 
+    /// The adapter as people read it.
+    fn adapter_name(&self) -> &str {
+        match (self.gpu.adapter_name(), &self.adapter_label) {
+            ("", Some(label)) => label,
+            (name, _) => name,
+        }
+    }
+
     /// Whether the loaded field's world is anatomical (RAS): axes labelled R/A/S.
     fn anatomical(&self) -> bool {
         self.data.as_ref().is_some_and(|d| {
@@ -521,10 +548,12 @@ impl eframe::App for ViewerApp {
         for command in self.remote.take() {
             match command {
                 Command::Open(source) => self.open(&ctx, source),
+                Command::OpenFiles(files) => self.open_files(&ctx, files),
                 Command::Figure { size, name } => self.figure_asked = Some((size.0, size.1, name)),
             }
         }
-        if let Some(e) = self.gpu.ctx.take_late_errors().pop() {
+        // The first is the cause; later ones tend to follow from it.
+        if let Some(e) = self.gpu.ctx.take_late_errors().into_iter().next() {
             self.error = Some(e);
         }
         self.poll_loading(&ctx);
@@ -549,7 +578,7 @@ impl eframe::App for ViewerApp {
             let (stage, frac) = l.progress();
             (l.source.name(), stage, frac)
         });
-        let adapter = self.gpu.adapter_name().to_string();
+        let adapter = self.adapter_name().to_string();
         egui::Panel::left("panel")
             .default_size(330.0)
             .resizable(true)

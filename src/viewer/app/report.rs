@@ -25,7 +25,7 @@ impl ViewerApp {
                         "{glyphs} · {:.1} ms/frame · {}: {}",
                         f.ms,
                         backend_name(&self.gpu.ctx.backend),
-                        self.gpu.adapter_name()
+                        self.adapter_name()
                     )
                 })
             }
