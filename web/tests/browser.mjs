@@ -10,7 +10,7 @@
 //   - ?url= a DIPY fit (tests/data/dti/dipy_small101) opens with DIPY's voxel count;
 //   - the file input: a truncated file gets the one-line error naming it, and a good file then
 //     still opens.
-// A screenshot of the page and the figure are kept in the output folder (TENSORGLYPH_WEB_OUT,
+// A screenshot of the page and the figures are kept in the output folder (TENSORGLYPH_WEB_OUT,
 // default target/web-tests). Without Chromium or web/dist the test skips, unless CI is set.
 //
 // Run: (cd web/tests && npm ci && node browser.mjs), after bash web/build.sh and cargo build.
@@ -103,7 +103,13 @@ function nativeFigure(demo) {
   return png;
 }
 
-const browser = await chromium.launch({ executablePath: chromiumPath, args: FLAGS });
+// With a display (xvfb-run in CI) the window is composited, so the page's screenshot shows the
+// viewer; headless Chromium leaves the WebGPU canvas blank in screenshots.
+const browser = await chromium.launch({
+  headless: !process.env.DISPLAY,
+  executablePath: chromiumPath,
+  args: FLAGS,
+});
 const text = (page, id) => page.evaluate((id) => document.getElementById(id).textContent, id);
 async function open(query) {
   const page = await browser.newPage({ viewport: { width: 1200, height: 800 } });
