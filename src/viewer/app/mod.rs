@@ -1,7 +1,7 @@
 //! The eframe app, the same on the desktop and in the browser: owns the data, the scene, the
 //! navigation and the 3D view, and ties panel, input, loading, picking and figures together.
 //! What the platform does differently it does through a [`Host`], a [`Remote`], the loader and
-//! [`Pending`] work.
+//! [`Pending`](crate::viewer::pending::Pending) work.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
