@@ -9,7 +9,8 @@
 //     tensor it shows (a Jacobi eigensolver here);
 //   - ?url= a DIPY fit (tests/data/dti/dipy_small101) opens with DIPY's voxel count;
 //   - the file input: a truncated file gets the one-line error naming it, and a good file then
-//     still opens.
+//     still opens;
+//   - without a WebGPU adapter the page names browsers that have one.
 // A screenshot of the page and the figures are kept in the output folder (TENSORGLYPH_WEB_OUT,
 // default target/web-tests). Without Chromium or web/dist the test skips, unless CI is set.
 //
@@ -249,6 +250,19 @@ try {
     await statusMatching(page, new RegExp(`(^| of )${voxels} glyphs · `));
     check((await text(page, 'error')) === '', `then a good file opens: "${await text(page, 'status')}"`);
     await page.close();
+  }
+
+  // A browser without WebGPU (Chromium without the flags above has no adapter): a message naming
+  // browsers that have it, not a blank page.
+  {
+    const plain = await chromium.launch({ executablePath: chromiumPath, args: ['--no-sandbox'] });
+    const page = await plain.newPage();
+    await page.goto(base + '?demo=grid40');
+    await page.waitForFunction(() => document.getElementById('error').textContent !== '', null, { timeout: LONG });
+    const message = await text(page, 'error');
+    check(/WebGPU/.test(message) && /Chrome/.test(message) && /Safari/.test(message) && /Firefox/.test(message),
+      `without WebGPU the page says so: "${message}"`);
+    await plain.close();
   }
 } catch (e) {
   check(false, `the page did what was asked (${e.message.split('\n')[0]})`);
