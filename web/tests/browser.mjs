@@ -8,8 +8,9 @@
 //   - picking: the eigenvalues the page shows for the glyph under the pointer are those of the
 //     tensor it shows (a Jacobi eigensolver here);
 //   - ?url= a DIPY fit (tests/data/dti/dipy_small101) opens with DIPY's voxel count;
-//   - the file input: a truncated file gets the one-line error naming it, and a good file then
-//     still opens;
+//   - the file input: a truncated file gets the one-line error naming it, and good files then
+//     still open: a detached NRRD and an FSL eigen set from their files given together, and
+//     DIPY's fit;
 //   - without a WebGPU adapter the page names browsers that have one.
 // A screenshot of the page and the figures are kept in the output folder (TENSORGLYPH_WEB_OUT,
 // default target/web-tests). Without Chromium or web/dist the test skips, unless CI is set.
@@ -246,9 +247,23 @@ try {
     await page.waitForFunction(() => document.getElementById('error').textContent !== '', null, { timeout: LONG });
     const error = await text(page, 'error');
     check(error.startsWith('cut.nii.gz') && !error.includes('\n'), `a truncated file: one line naming it ("${error}")`);
-    await page.setInputFiles('#file', { name: 'tensors.nii.gz', mimeType: 'application/gzip', buffer: good });
-    await statusMatching(page, new RegExp(`(^| of )${voxels} glyphs · `));
-    check((await text(page, 'error')) === '', `then a good file opens: "${await text(page, 'status')}"`);
+    // Then good files, each changing the count so that the status is not the last one's: a
+    // .nhdr after its data file (given together), DIPY's fit, the six files of an FSL eigen set
+    // (numpy's counts: tests/data/dti/expected.json).
+    const dti = path.join(repo, 'tests/data/dti');
+    const truth = JSON.parse(fs.readFileSync(path.join(dti, 'expected.json'))).files;
+    const steps = [
+      [['nrrd_detached.raw', 'nrrd_detached.nhdr'].map((n) => path.join(dti, n)), truth['nrrd_detached.nhdr'].eigenvalues.length],
+      [[{ name: 'tensors.nii.gz', mimeType: 'application/gzip', buffer: good }], voxels],
+      [['L1', 'L2', 'L3', 'V1', 'V2', 'V3'].map((m) => path.join(dti, `fsl_eigen_oblique_${m}.nii.gz`)),
+        truth.fsl_eigen_oblique.eigenvalues.length],
+    ];
+    for (const [files, n] of steps) {
+      await page.setInputFiles('#file', files);
+      await statusMatching(page, new RegExp(`(^| of )${n} glyphs · `));
+      const names = files.map((f) => f.name || path.basename(f)).join(' + ');
+      check((await text(page, 'error')) === '', `${names} open: "${await text(page, 'status')}"`);
+    }
     await page.close();
   }
 
