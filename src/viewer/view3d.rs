@@ -30,8 +30,11 @@ pub struct View3d {
     buffers: Option<SceneBuffers>,
     timer: Option<GpuTimer>,
     last_frame: Option<FrameTime>,
-    /// The time of a frame the browser's queue finished (set from its callback).
-    done: Arc<Mutex<Option<f64>>>,
+    /// The time of a frame the browser's queue finished (set from its callback), with the
+    /// scene it drew (`scenes` then).
+    done: Arc<Mutex<Option<(u64, f64)>>>,
+    /// Scenes set so far: a frame time is shown for the scene it drew, never the last one's.
+    scenes: u64,
     /// The targets' aux target and the texture's filter, as last made.
     made: (bool, bool),
 }
@@ -39,6 +42,8 @@ pub struct View3d {
 impl View3d {
     pub fn set_scene(&mut self, gpu: &GpuRenderer, scene: &Scene) -> Result<(), RenderError> {
         self.buffers = None;
+        self.scenes += 1;
+        self.last_frame = None;
         self.buffers = Some(gpu.upload(scene)?);
         Ok(())
     }
@@ -114,10 +119,10 @@ impl View3d {
         ctx.queue.submit([encoder.finish()]);
         #[cfg(target_arch = "wasm32")]
         {
-            let done = self.done.clone();
+            let (done, scene) = (self.done.clone(), self.scenes);
             ctx.queue.on_submitted_work_done(move || {
                 let ms = start.elapsed().as_secs_f64() * 1e3;
-                *done.lock().unwrap_or_else(|e| e.into_inner()) = Some(ms);
+                *done.lock().unwrap_or_else(|e| e.into_inner()) = Some((scene, ms));
             });
             if let Some(e) = ctx.scope_error(scope, "drawing the view") {
                 return Err(RenderError::Gpu(e));
@@ -153,7 +158,8 @@ impl View3d {
     /// How long the last finished frame took (wall clock from submission to completion, or GPU
     /// timestamps where the desktop has them).
     pub fn frame_time(&mut self) -> Option<FrameTime> {
-        if let Some(ms) = self.done.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        let done = self.done.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let Some((_, ms)) = done.filter(|(scene, _)| *scene == self.scenes) {
             self.last_frame = Some(FrameTime {
                 ms,
                 gpu_timestamps: false,
