@@ -1,7 +1,8 @@
 //! The defaults a researcher expects of each kind of data: a DTI volume opens as mrview,
 //! FSLeyes or Slicer show it (direction-encoded colour on black, glyph shapes readable, the
-//! middle axial slice seen face-on); a stress field or the demo as ParaView shows it (shape
-//! classes on white, the whole field from an oblique view).
+//! middle axial slice seen face-on); a stress field or the demo as ParaView shows it (the
+//! whole field on white from an oblique view, in shape classes, or for a stress field, whose
+//! tensors are mostly indefinite, in von Mises stress: [`ColorScheme::Auto`]).
 //! (The table of them for users: docs/book/src/user-guide/dti.md, "Defaults for DTI files".)
 //!
 //! The kind is told by the file format, not guessed from the tensors: NIfTI and NRRD are the
@@ -61,7 +62,7 @@ impl DataKind {
                 middle_slice: true,
             },
             DataKind::General => Defaults {
-                color: ColorScheme::Shape,
+                color: ColorScheme::Auto,
                 background: [1.0, 1.0, 1.0, 1.0],
                 size_by: SizeBy::Auto,
                 face_on: false,

@@ -9,6 +9,7 @@ use crate::field::frame::{FrameInfo, Layout, Why};
 use crate::field::{TensorArrayInfo, TensorField};
 use crate::glyph::GlyphSet;
 use crate::tensor::eigen::{symmetric_eigen, symmetrise};
+use crate::tensor::stress;
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct InfoReport {
@@ -29,8 +30,28 @@ pub struct InfoReport {
     pub indefinite: usize,
     pub eigenvalues: EigenRange,
     pub fa: FaStats,
+    /// Ranges of the stress measures over valid tensors (the principal stresses' are
+    /// `eigenvalues`).
+    pub stress: StressRanges,
     pub classes: Classes,
     pub samples: Vec<Sample>,
+}
+
+/// A measure's range over valid tensors.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Range {
+    pub min: f64,
+    pub max: f64,
+}
+
+/// The stress measures' ranges ([`crate::tensor::stress`]; definitions as VTK's
+/// `vtkYieldCriteria`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StressRanges {
+    pub von_mises: Range,
+    pub tresca: Range,
+    /// tr σ / 3 (the MD of diffusion tensors).
+    pub mean: Range,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -77,6 +98,14 @@ pub struct Sample {
     pub eigenvalues: [f64; 3],
     /// Rows e1, e2, e3 (world space), each unit with its largest-magnitude component positive.
     pub eigenvectors: [[f64; 3]; 3],
+    /// σ1 ≥ σ2 ≥ σ3 (the eigenvalues, as VTK's `vtkTensorPrincipalInvariants` orders them).
+    pub principal_stresses: [f64; 3],
+    /// √(½((σ1 − σ2)² + (σ2 − σ3)² + (σ3 − σ1)²)).
+    pub von_mises: f64,
+    /// σ1 − σ3.
+    pub tresca: f64,
+    /// tr σ / 3.
+    pub mean: f64,
 }
 
 /// Build the report. `samples` are tensor indices in file order; an index out of range is an
@@ -120,6 +149,20 @@ pub fn info_report(
             mean: s.fa_mean,
             max: s.fa_max,
         },
+        stress: StressRanges {
+            von_mises: Range {
+                min: s.von_mises_min,
+                max: s.von_mises_max,
+            },
+            tresca: Range {
+                min: s.tresca_min,
+                max: s.tresca_max,
+            },
+            mean: Range {
+                min: s.md_min,
+                max: s.md_max,
+            },
+        },
         classes: Classes {
             linear: s.classes[0],
             planar: s.classes[1],
@@ -155,6 +198,10 @@ fn sample(field: &TensorField, index: usize) -> Result<Sample, String> {
         tensor: field.tensors[index],
         eigenvalues: values,
         eigenvectors: vectors,
+        principal_stresses: stress::principal(values),
+        von_mises: stress::von_mises(values),
+        tresca: stress::tresca(values),
+        mean: stress::mean(values),
     })
 }
 
@@ -256,6 +303,20 @@ pub fn human_summary(r: &InfoReport) -> String {
         "FA: min {:.4}  mean {:.4}  max {:.4}",
         r.fa.min, r.fa.mean, r.fa.max
     );
+    // Stress measures mean something for stress fields (mostly indefinite tensors) only.
+    if 2 * r.indefinite > r.valid {
+        let st = &r.stress;
+        let _ = writeln!(
+            o,
+            "stress: von Mises [{}, {}]  Tresca [{}, {}]  mean [{}, {}]",
+            g(st.von_mises.min),
+            g(st.von_mises.max),
+            g(st.tresca.min),
+            g(st.tresca.max),
+            g(st.mean.min),
+            g(st.mean.max),
+        );
+    }
     let c = &r.classes;
     let _ = writeln!(
         o,
@@ -293,6 +354,15 @@ pub fn human_summary(r: &InfoReport) -> String {
                 e[0],
                 e[1],
                 e[2]
+            );
+        }
+        if 2 * r.indefinite > r.valid {
+            let _ = writeln!(
+                o,
+                "  von Mises {}   Tresca {}   mean {}",
+                g(s.von_mises),
+                g(s.tresca),
+                g(s.mean)
             );
         }
     }
@@ -347,12 +417,13 @@ mod tests {
             "indefinite",
             "eigenvalues",
             "fa",
+            "stress",
             "classes",
             "samples",
         ] {
             assert!(keys.contains(&k), "missing {k}");
         }
-        assert_eq!(keys.len(), 17);
+        assert_eq!(keys.len(), 18);
         assert_eq!(v["dataset"], "ImageData");
         assert_eq!(v["format"], "synthetic");
         assert_eq!(v["dims"], serde_json::json!([6, 6, 6]));
@@ -368,6 +439,11 @@ mod tests {
         assert_eq!(s["position"], serde_json::json!([1.0, 1.0, 0.0]));
         assert_eq!(s["tensor"].as_array().unwrap().len(), 9);
         assert_eq!(s["eigenvectors"].as_array().unwrap().len(), 3);
+        assert_eq!(s["principal_stresses"], s["eigenvalues"]);
+        for k in ["von_mises", "tresca", "mean"] {
+            assert!(s[k].is_number(), "{k}");
+        }
+        assert!(v["stress"]["von_mises"]["max"].as_f64().unwrap() >= 0.0);
         // eigenvectors canonical and consistent with the tensor
         let smp = &r.samples[1];
         for k in 0..3 {

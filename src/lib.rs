@@ -33,6 +33,7 @@ pub mod effects;
 pub mod error;
 pub mod frame;
 mod names;
+pub mod percentile;
 pub mod progress;
 pub mod request;
 pub mod shape;

@@ -18,6 +18,7 @@ use crate::error::LoadError;
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::field::{Inputs, ReadOptions, read_field_from};
+use crate::glyph::style::{Spacing, local_spacing, units_in_name};
 use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
 use crate::request::GlyphKind;
@@ -125,13 +126,15 @@ impl Source {
     }
 }
 
-/// The neighbour distance `--scale auto` fits the largest glyph to: the grid spacing, else the
-/// median nearest-neighbour distance of the positions.
-pub fn field_spacing(field: &TensorField) -> f64 {
-    field
-        .spacing
-        .filter(|s| s.is_finite() && *s > 0.0)
-        .unwrap_or_else(|| crate::glyph::style::median_nn_distance(&field.positions))
+/// The room `--scale auto` fits glyphs to: a lattice's grid spacing, else each position's own
+/// spacing ([`local_spacing`]: the centres of unstructured data, a tetrahedral mesh's cells
+/// above all, are too irregular for one distance to fit them all).
+pub fn field_spacing(field: &TensorField) -> Spacing {
+    match field.spacing.filter(|s| s.is_finite() && *s > 0.0) {
+        Some(s) => Spacing::Uniform(s),
+        None => local_spacing(&field.positions)
+            .map_or(Spacing::Uniform(1.0), |h| Spacing::Local(h.into())),
+    }
 }
 
 /// Why staging stopped.
@@ -181,7 +184,7 @@ impl Recipe {
     }
 }
 
-/// The scalar volume an underlay file names, or the one handed over (FA and MD come from the
+/// The scalar volume an underlay file names, or the one handed over (a measure comes from the
 /// glyphs: `None`).
 pub fn read_underlay(source: &Option<UnderlaySource>) -> Result<Option<ScalarVolume>, LoadError> {
     read_underlay_from(&Inputs::file_system(), source)
@@ -214,8 +217,7 @@ fn add_underlay(
         return Ok(());
     };
     let values = match (source, volume) {
-        (UnderlaySource::Fa, _) => Values::Fa,
-        (UnderlaySource::Md, _) => Values::Md,
+        (UnderlaySource::Measure(m), _) => Values::Measure(*m),
         (UnderlaySource::File(_) | UnderlaySource::Volume(_), Some(v)) => Values::Volume(v),
         (UnderlaySource::File(_) | UnderlaySource::Volume(_), None) => {
             unreachable!("the volume is read first")
@@ -483,12 +485,15 @@ impl Built {
 pub fn build(
     field: &TensorField,
     set: &GlyphSet,
-    spacing: f64,
+    spacing: impl Into<Spacing>,
     recipe: &Recipe,
     volume: Option<&ScalarVolume>,
     progress: &dyn Progress,
 ) -> Result<Built, StageError> {
-    let resolved = recipe.style.resolve(set, spacing);
+    let mut resolved = recipe.style.resolve(set, spacing);
+    if resolved.units.is_none() {
+        resolved.units = units_in_name(&field.array.name);
+    }
     let selection = recipe.selection_for(field);
     let mut built = match select(field, set, &selection)? {
         None => Built::whole(

@@ -56,9 +56,7 @@ def test_eigen_of_points_and_of_nan_tensors():
 
 
 def test_info_is_info_json_of_the_same_file(tmp_path):
-    path = REPO / "tests" / "dti" / "dipy_small101" / "tensors.nii.gz"
-    if not path.exists():
-        pytest.skip(f"{path} moved")
+    path = REPO / "tests" / "data" / "dti" / "dipy_small101" / "tensors.nii.gz"
     assert tg.read(path).info(samples=[0, 5]) == cli_info(path, "--sample", "0", "--sample", "5")
     assert tg.read(path, layout="mrtrix").info() == cli_info(path, "--order", "mrtrix")
 

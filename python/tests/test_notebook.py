@@ -7,7 +7,7 @@ import sys
 
 import pytest
 
-from conftest import REPO
+from conftest import REPO, require
 
 NOTEBOOK = REPO / "examples" / "dipy_glyphs.ipynb"
 required = os.environ.get("TENSORGLYPH_NOTEBOOK_TESTS") == "1"
@@ -30,7 +30,7 @@ def test_the_example_notebook_runs(tmp_path):
 
 
 def test_the_books_dipy_example_makes_its_image(tmp_path):
-    pytest.importorskip("dipy")
+    require("dipy")
     out = tmp_path / "dipy.png"
     script = REPO / "python" / "examples" / "dipy_figure.py"
     subprocess.run([sys.executable, str(script), str(out)], check=True, timeout=600)

@@ -44,10 +44,24 @@ pub struct SceneArgs {
     /// or world.
     #[arg(long, value_parser = one_of::<TensorFrame>(TensorFrame::NAMES))]
     pub tensor_frame: Option<TensorFrame>,
-    /// Colour scheme (default: shape; dec for DTI files, NIfTI and NRRD).
+    /// Colour scheme: shape classes, dec (direction), a scalar through a colour bar (fa, md;
+    /// the stress measures von-mises, tresca, sigma1, sigma2, sigma3, mean, triaxiality), sign
+    /// (tension red, compression blue) or solid. Default: auto (von-mises for stress fields,
+    /// whose tensors are mostly indefinite, else shape); sign for --glyph principal; dec for
+    /// DTI files, NIfTI and NRRD.
     #[arg(long, value_parser = one_of::<ColorScheme>(ColorScheme::NAMES))]
     pub color: Option<ColorScheme>,
-    /// Glyph scale: `auto` (largest radius = half the grid spacing) or a factor on |λ|.
+    /// The range a scalar colouring maps: LO and below take the colour bar's start, HI and
+    /// above its end (a signed measure's map stays centred on zero). Default: the field's 2nd
+    /// and 98th percentiles; 0,1 for fa.
+    #[arg(long, value_name = "LO,HI", value_parser = parse_range, allow_hyphen_values = true)]
+    pub color_range: Option<[f64; 2]>,
+    /// The tensors' units, shown in a stress colouring's legend (default: from the array's
+    /// name, as in "stress (MPa)").
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Glyph scale: `auto` (largest radius = half the grid spacing; on unstructured data, each
+    /// glyph also within half its own spacing) or a factor on |λ|.
     #[arg(long, default_value = "auto")]
     pub scale: Scale,
     /// How radii follow |λ|: auto (with --scale auto, log for stress-like fields, whose tensors
@@ -112,8 +126,18 @@ impl SceneArgs {
             );
             sharpness.gamma = g;
         }
+        if let (Some(c), Some(_)) = (self.color, self.color_range)
+            && c.measure().is_none()
+        {
+            bail!(
+                "--color-range applies to the scalar colourings ({}), not --color {c}",
+                scalar_schemes()
+            );
+        }
         Ok(GlyphStyle {
             color: self.color.unwrap_or(defaults.color),
+            color_range: self.color_range,
+            units: self.units.clone(),
             scale: self.scale,
             normalize: self.normalize,
             size_by: self.size_by.unwrap_or(defaults.size_by),
@@ -185,9 +209,10 @@ pub struct SelectArgs {
     #[arg(long, value_name = "X0,Y0,Z0,X1,Y1,Z1", value_parser = parse_roi, allow_hyphen_values = true)]
     pub roi: Option<[f64; 6]>,
     /// A greyscale image under the glyphs of every --slice plane (the middle z plane when no
-    /// --slice is given): fa or md of the tensors, or a scalar volume's file (NIfTI, NRRD),
-    /// sampled through its own voxel-to-world matrix.
-    #[arg(long, value_name = "fa|md|FILE")]
+    /// --slice is given): a measure of the tensors (fa, md, von-mises, tresca, sigma1, sigma2,
+    /// sigma3, mean, triaxiality), or a scalar volume's file (NIfTI, NRRD), sampled through
+    /// its own voxel-to-world matrix.
+    #[arg(long, value_name = "MEASURE|FILE")]
     pub underlay: Option<UnderlaySource>,
     /// The underlay's window: LO and below black, HI and above white (default: the 2nd and
     /// 98th percentiles of its values).
@@ -205,15 +230,34 @@ pub struct SelectArgs {
 }
 
 /// `LO,HI` with LO < HI, both finite.
-fn parse_window(s: &str) -> Result<[f32; 2], String> {
+fn parse_range(s: &str) -> Result<[f64; 2], String> {
     let bad = || format!("'{s}' is not LO,HI (two numbers, LO below HI)");
     let (lo, hi) = s.split_once(',').ok_or_else(bad)?;
-    let lo: f32 = lo.trim().parse().map_err(|_| bad())?;
-    let hi: f32 = hi.trim().parse().map_err(|_| bad())?;
+    let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
+    let hi: f64 = hi.trim().parse().map_err(|_| bad())?;
     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
         return Err(bad());
     }
     Ok([lo, hi])
+}
+
+/// [`parse_range`] in f32 (an underlay's window).
+fn parse_window(s: &str) -> Result<[f32; 2], String> {
+    let [lo, hi] = parse_range(s)?.map(|x| x as f32);
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+        return Err(format!("'{s}' is not LO,HI (two numbers, LO below HI)"));
+    }
+    Ok([lo, hi])
+}
+
+/// The names of the scalar colourings.
+fn scalar_schemes() -> String {
+    let names: Vec<&str> = ColorScheme::VALUES
+        .iter()
+        .filter(|c| c.measure().is_some())
+        .map(|c| c.name())
+        .collect();
+    names.join(", ")
 }
 
 /// One `--slice`: a lattice plane, or `all` of the lattice.

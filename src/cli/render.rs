@@ -126,8 +126,14 @@ pub struct RenderReport {
     glyphs_total: usize,
     /// Valid glyphs the selection kept (= glyphs_total without a selection).
     glyphs_selected: usize,
-    /// Selected glyphs `--scale auto` scaled down to the robust largest size.
+    /// Selected glyphs `--scale auto` scaled down to the robust largest size (or, on
+    /// unstructured data, to their own room).
     glyphs_clamped: usize,
+    /// The colour scheme in effect (`--color`, or the data's default resolved).
+    color: &'static str,
+    /// A scalar colouring's range, and the units its legend shows.
+    color_range: Option<[f64; 2]>,
+    units: Option<String>,
     glyphs_drawn: usize,
     glyphs_eye_inside: usize,
     glyphs_behind_camera: usize,
@@ -441,6 +447,13 @@ where
         glyphs_total: staged.glyphs_valid,
         glyphs_selected: staged.glyphs_selected,
         glyphs_clamped: staged.glyphs_clamped,
+        color: staged.style.color.name(),
+        color_range: staged
+            .style
+            .color
+            .measure()
+            .map(|_| staged.style.color_range),
+        units: staged.style.units.clone(),
         glyphs_drawn: scene.instances.len() - eye_inside - behind_camera - degenerate - culled,
         glyphs_culled: culled,
         glyphs_visible: frame.visible_glyphs(),

@@ -1,5 +1,5 @@
-//! Colour maps: a compact viridis LUT (perceptually uniform, colour-blind safe) and a simple
-//! diverging map.
+//! Colour maps: a compact viridis LUT (perceptually uniform, colour-blind safe), a simple
+//! diverging map, and a scalar's colour on either over a range ([`scale_color`]).
 
 /// Matplotlib's viridis (CC0, van der Walt and Smith) sampled at table indices
 /// 0, 16, 32, …, 240 and 255 of its 256 entries; linear interpolation between nodes is within
@@ -45,6 +45,20 @@ pub fn diverging(s: f64) -> [f64; 3] {
     end.map(|c| 1.0 + f * (c - 1.0))
 }
 
+/// The colour of `v` on a scale over `[lo, hi]`: sequential (viridis, `lo` dark, `hi` yellow)
+/// or `diverging` (centred on zero: white at 0, full red or blue at ±max(|lo|, |hi|), so that
+/// the sign reads whatever the range). Values beyond the range take its ends; NaN takes the
+/// scale's start (sequential) or white (diverging).
+pub fn scale_color(v: f64, [lo, hi]: [f64; 2], diverging_about_zero: bool) -> [f64; 3] {
+    if diverging_about_zero {
+        let v = if lo <= hi { v.clamp(lo, hi) } else { v };
+        let m = lo.abs().max(hi.abs());
+        diverging(if m > 0.0 { v / m } else { 0.0 })
+    } else {
+        viridis(if hi > lo { (v - lo) / (hi - lo) } else { 0.5 })
+    }
+}
+
 /// RGB in [0, 1] to RGBA8 (rounded, clamped, opaque).
 #[inline]
 pub fn to_rgba8(c: [f64; 3]) -> [u8; 4] {
@@ -74,6 +88,24 @@ mod tests {
         }
         assert_eq!(viridis(f64::NAN), viridis(0.0));
         assert_eq!(viridis(2.0), viridis(1.0));
+    }
+
+    #[test]
+    fn scales() {
+        // Sequential: the range's ends are viridis's; FA's 0–1 is the identity.
+        assert_eq!(scale_color(10.0, [10.0, 30.0], false), viridis(0.0));
+        assert_eq!(scale_color(99.0, [10.0, 30.0], false), viridis(1.0));
+        assert_eq!(scale_color(0.3, [0.0, 1.0], false), viridis(0.3));
+        // Diverging: zero is white wherever it sits in the range, and the larger end is full.
+        assert_eq!(scale_color(0.0, [-10.0, 40.0], true), [1.0; 3]);
+        assert_eq!(scale_color(40.0, [-10.0, 40.0], true), diverging(1.0));
+        assert_eq!(scale_color(-99.0, [-10.0, 40.0], true), diverging(-0.25));
+        assert_eq!(
+            scale_color(f64::INFINITY, [-1.0, 2.0], true),
+            diverging(1.0)
+        );
+        assert_eq!(scale_color(f64::NAN, [-1.0, 2.0], true), [1.0; 3]);
+        assert_eq!(scale_color(5.0, [0.0, 0.0], true), [1.0; 3]);
     }
 
     #[test]

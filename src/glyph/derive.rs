@@ -13,6 +13,7 @@ use crate::field::TensorField;
 use crate::progress::Progress;
 use crate::tensor::eigen::{frame_to_quat, symmetric_eigen, symmetrise};
 use crate::tensor::shape::{self, DEFAULT_CLASS_THRESHOLD};
+use crate::tensor::stress;
 
 /// Tensors per parallel work item (also the progress-bar granularity).
 const CHUNK: usize = 8192;
@@ -88,6 +89,10 @@ impl Partial {
                 fa_max: f64::NEG_INFINITY,
                 md_min: f64::INFINITY,
                 md_max: f64::NEG_INFINITY,
+                von_mises_min: f64::INFINITY,
+                von_mises_max: f64::NEG_INFINITY,
+                tresca_min: f64::INFINITY,
+                tresca_max: f64::NEG_INFINITY,
                 ..FieldStats::default()
             },
             fa_sum: 0.0,
@@ -122,6 +127,12 @@ impl Partial {
                 let md = shape::md(values);
                 s.md_min = s.md_min.min(md);
                 s.md_max = s.md_max.max(md);
+                let vm = stress::von_mises(values);
+                s.von_mises_min = s.von_mises_min.min(vm);
+                s.von_mises_max = s.von_mises_max.max(vm);
+                let tresca = stress::tresca(values);
+                s.tresca_min = s.tresca_min.min(tresca);
+                s.tresca_max = s.tresca_max.max(tresca);
                 s.max_abs_eigenvalue = s
                     .max_abs_eigenvalue
                     .max(values[0].abs())
@@ -151,6 +162,10 @@ impl Partial {
         a.fa_max = a.fa_max.max(b.fa_max);
         a.md_min = a.md_min.min(b.md_min);
         a.md_max = a.md_max.max(b.md_max);
+        a.von_mises_min = a.von_mises_min.min(b.von_mises_min);
+        a.von_mises_max = a.von_mises_max.max(b.von_mises_max);
+        a.tresca_min = a.tresca_min.min(b.tresca_min);
+        a.tresca_max = a.tresca_max.max(b.tresca_max);
         a.max_abs_eigenvalue = a.max_abs_eigenvalue.max(b.max_abs_eigenvalue);
         for k in 0..4 {
             a.classes[k] += b.classes[k];
@@ -168,6 +183,10 @@ impl Partial {
             s.fa_max = 0.0;
             s.md_min = 0.0;
             s.md_max = 0.0;
+            s.von_mises_min = 0.0;
+            s.von_mises_max = 0.0;
+            s.tresca_min = 0.0;
+            s.tresca_max = 0.0;
             s.fa_mean = 0.0;
         } else {
             s.fa_mean = self.fa_sum / s.valid as f64;
@@ -309,6 +328,10 @@ mod tests {
         assert_eq!(s.eigenvalues_min[2], -2.0);
         assert_eq!(s.fa_min, 0.0);
         assert!((s.md_min - (-0.5 / 3.0)).abs() < 1e-15);
+        // von Mises: 0 for the identity; Tresca: the cigar's 2 … the indefinite tensor's 3.
+        assert_eq!(s.von_mises_min, 0.0);
+        assert_eq!((s.tresca_min, s.tresca_max), (0.0, 3.0));
+        assert_eq!(s.von_mises_max, stress::von_mises([1.0, 0.5, -2.0]));
         assert!(s.fa_mean > 0.0 && s.fa_mean < s.fa_max);
     }
 

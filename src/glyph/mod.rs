@@ -8,7 +8,7 @@ pub mod style;
 pub mod superquadric;
 
 pub use derive::derive_glyphs;
-pub use style::{ColorScheme, GlyphStyle, Normalize, ResolvedStyle, Scale, SizeBy};
+pub use style::{ColorScheme, GlyphStyle, Normalize, ResolvedStyle, Scale, SizeBy, Spacing};
 
 use serde::Serialize;
 
@@ -50,6 +50,11 @@ pub struct FieldStats {
     pub max_abs_eigenvalue: f64,
     pub md_min: f64,
     pub md_max: f64,
+    /// Ranges of the von Mises and Tresca stresses ([`crate::tensor::stress`]).
+    pub von_mises_min: f64,
+    pub von_mises_max: f64,
+    pub tresca_min: f64,
+    pub tresca_max: f64,
     /// linear, planar, spherical, unclassified (default threshold).
     pub classes: [usize; 4],
 }

@@ -1,23 +1,33 @@
 //! Radii and colour of glyphs from user options (tensor-shape.md, sections 4-6).
 //!
 //! [`GlyphStyle`] holds the options; [`GlyphStyle::resolve`] fixes the field-dependent numbers
-//! (global scale `k`, normalisation, MD range) once, and the returned [`ResolvedStyle`] gives each
-//! glyph's radii and RGBA8 colour.
+//! (global scale `k`, normalisation, each glyph's room, the colour scheme and range of a scalar
+//! colouring) once, and the returned [`ResolvedStyle`] gives each glyph's radii and RGBA8 colour.
 
 use std::fmt;
 use std::str::FromStr;
+use std::sync::Arc;
 
-use super::colormap::{diverging, to_rgba8, viridis};
+use super::colormap::{diverging, scale_color, to_rgba8};
 use super::superquadric::{Sharpness, SuperquadricShape, superquadric_shape};
 use super::{Glyph, GlyphSet};
+use crate::percentile::{DEFAULT_RANGE, MAX_SAMPLES, percentiles};
 use crate::tensor::eigen::quat_to_frame;
+use crate::tensor::measure::Measure;
 use crate::tensor::shape::{self, DEFAULT_CLASS_THRESHOLD};
 
-pub use super::spacing::median_nn_distance;
+pub use super::spacing::{local_spacing, median_nn_distance};
 
 /// How glyphs are coloured.
+///
+/// The scalar colourings ([`ColorScheme::measure`]) map a [`Measure`] over a range (`--color-range`,
+/// else the field's 2nd–98th percentiles; FA: 0–1): the signed ones through a diverging map
+/// centred on zero, the others through viridis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum ColorScheme {
+    /// Resolved per field: [`ColorScheme::VonMises`] for stress-like fields (more than half of
+    /// the tensors indefinite), else [`ColorScheme::Shape`].
+    Auto,
     /// Gumhold's shape classes: cigar red, pancake green, ball blue, unclassified magenta.
     #[default]
     Shape,
@@ -25,8 +35,22 @@ pub enum ColorScheme {
     Dec,
     /// Fractional anisotropy through viridis (0 → dark, 1 → yellow).
     Fa,
-    /// Mean diffusivity through viridis, normalised over the field's MD range.
+    /// Mean diffusivity through viridis.
     Md,
+    /// The von Mises stress through viridis.
+    VonMises,
+    /// The Tresca stress σ1 − σ3 through viridis.
+    Tresca,
+    /// The largest principal stress, diverging about zero.
+    Sigma1,
+    /// The middle principal stress, diverging about zero.
+    Sigma2,
+    /// The smallest principal stress, diverging about zero.
+    Sigma3,
+    /// The mean stress tr σ / 3, diverging about zero.
+    Mean,
+    /// The stress triaxiality mean / von Mises, diverging about zero.
+    Triaxiality,
     /// Sign of the eigenvalue of largest magnitude: tension red, compression blue, zero white.
     Sign,
     /// One colour for all glyphs.
@@ -34,13 +58,91 @@ pub enum ColorScheme {
 }
 
 crate::names::named_values!(ColorScheme {
+    Auto => "auto",
     Shape => "shape",
     Dec => "dec",
     Fa => "fa",
     Md => "md",
+    VonMises => "von-mises",
+    Tresca => "tresca",
+    Sigma1 => "sigma1",
+    Sigma2 => "sigma2",
+    Sigma3 => "sigma3",
+    Mean => "mean",
+    Triaxiality => "triaxiality",
     Sign => "sign",
     Solid => "solid",
 });
+
+impl ColorScheme {
+    /// The measure a scalar colouring shows.
+    pub fn measure(self) -> Option<Measure> {
+        Some(match self {
+            ColorScheme::Fa => Measure::Fa,
+            ColorScheme::Md => Measure::Md,
+            ColorScheme::VonMises => Measure::VonMises,
+            ColorScheme::Tresca => Measure::Tresca,
+            ColorScheme::Sigma1 => Measure::Sigma1,
+            ColorScheme::Sigma2 => Measure::Sigma2,
+            ColorScheme::Sigma3 => Measure::Sigma3,
+            ColorScheme::Mean => Measure::Mean,
+            ColorScheme::Triaxiality => Measure::Triaxiality,
+            _ => return None,
+        })
+    }
+}
+
+/// The room glyphs have, which `--scale auto` fits them to.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Spacing {
+    /// A lattice's step (or one distance for the whole field): every glyph the same room.
+    Uniform(f64),
+    /// Each tensor's own spacing ([`local_spacing`]), in file order: unstructured data.
+    Local(Arc<[f32]>),
+}
+
+impl From<f64> for Spacing {
+    fn from(s: f64) -> Self {
+        Spacing::Uniform(s)
+    }
+}
+
+impl Spacing {
+    /// The spacing the global scale is fitted to: the lattice step, or the local spacing of the
+    /// glyphs that fill half of the volume (the median of the local spacings weighted by the
+    /// room each glyph stands for, ∝ h³; non-positive or non-finite: 1). On a graded mesh the
+    /// plain median is the fine cells' spacing, which the many small cells near a hole or a
+    /// notch set and which leaves the glyphs of the coarse cells, most of the image, specks;
+    /// weighted, it is the coarse cells', and the fine cells' glyphs keep to their own room
+    /// ([`LOCAL_ROOM`]).
+    pub fn typical(&self) -> f64 {
+        let s = match self {
+            Spacing::Uniform(s) => *s,
+            Spacing::Local(h) => {
+                let step = h.len().div_ceil(MAX_SAMPLES).max(1);
+                let mut v: Vec<f64> = h
+                    .iter()
+                    .step_by(step)
+                    .map(|&x| f64::from(x))
+                    .filter(|x| x.is_finite() && *x > 0.0)
+                    .collect();
+                v.sort_by(f64::total_cmp);
+                // Relative to the largest, so that the cubes stay finite.
+                let top = v.last().copied().unwrap_or(1.0);
+                let total: f64 = v.iter().map(|x| (x / top).powi(3)).sum();
+                let mut acc = 0.0;
+                v.iter()
+                    .copied()
+                    .find(|x| {
+                        acc += (x / top).powi(3);
+                        acc >= 0.5 * total
+                    })
+                    .unwrap_or(1.0)
+            }
+        };
+        if s.is_finite() && s > 0.0 { s } else { 1.0 }
+    }
+}
 
 /// Global scale of the radii.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
@@ -134,9 +236,6 @@ crate::names::named_values!(SizeBy {
 /// glyph to a speck; the glyphs above it are clamped to its size and counted.
 pub const AUTO_PERCENTILE: f64 = 0.98;
 
-/// At most this many glyphs (evenly spread in file order) estimate the percentile.
-const PERCENTILE_SAMPLES: usize = 1 << 20;
-
 /// `--size-by log`: λ_ref is this percentile of the glyphs' largest |λ|.
 pub const LOG_REF_PERCENTILE: f64 = 0.1;
 
@@ -154,10 +253,20 @@ pub const BAR_WIDTH: f64 = 0.07;
 /// neutral colour.
 pub const NEUTRAL_FRACTION: f64 = 0.05;
 
+/// A glyph's largest radius under `--scale auto` is at most this fraction of its own spacing
+/// ([`Spacing::Local`]): half the way to its neighbours.
+pub const LOCAL_ROOM: f64 = 0.5;
+
 /// User options for glyph geometry and colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GlyphStyle {
     pub color: ColorScheme,
+    /// The range a scalar colouring maps (`--color-range`); `None`: the measure's own (FA's
+    /// 0–1) or the field's 2nd–98th percentiles.
+    pub color_range: Option<[f64; 2]>,
+    /// The tensors' units, for the legend (`--units`); `None`: from the array's name, e.g.
+    /// `stress (MPa)` ([`units_in_name`]).
+    pub units: Option<String>,
     pub scale: Scale,
     pub normalize: Normalize,
     pub size_by: SizeBy,
@@ -182,6 +291,8 @@ impl Default for GlyphStyle {
     fn default() -> Self {
         GlyphStyle {
             color: ColorScheme::Shape,
+            color_range: None,
+            units: None,
             scale: Scale::Auto,
             normalize: Normalize::None,
             size_by: SizeBy::Auto,
@@ -195,24 +306,54 @@ impl Default for GlyphStyle {
     }
 }
 
+/// Units longer than this in an array's name are taken for something else.
+const MAX_UNITS: usize = 24;
+
+/// The units in a tensor array's name: the text of a final `(…)` or `[…]`, as in
+/// `stress (MPa)` or `sigma [Pa]` (at most 24 printable characters).
+pub fn units_in_name(name: &str) -> Option<String> {
+    let name = name.trim_end();
+    let (open, close) = match name.chars().last()? {
+        ')' => ('(', ')'),
+        ']' => ('[', ']'),
+        _ => return None,
+    };
+    let inner = &name[..name.len() - close.len_utf8()];
+    let at = inner.rfind(open)?;
+    let units = inner[at + open.len_utf8()..].trim();
+    let fits = !units.is_empty()
+        && units.chars().count() <= MAX_UNITS
+        && !units.contains([open, close])
+        && !units.chars().any(char::is_control);
+    fits.then(|| units.to_string())
+}
+
 impl GlyphStyle {
-    /// Fix the field-dependent parameters. `spacing` is the grid spacing (or median
-    /// nearest-neighbour distance) used by [`Scale::Auto`]; a non-positive or non-finite spacing
-    /// is treated as 1.
-    pub fn resolve(&self, set: &GlyphSet, spacing: f64) -> ResolvedStyle {
+    /// Fix the field-dependent parameters. `spacing` is the room glyphs have ([`Spacing`]: the
+    /// grid spacing, or each glyph's own), used by [`Scale::Auto`]; a non-positive or
+    /// non-finite spacing is treated as 1.
+    pub fn resolve(&self, set: &GlyphSet, spacing: impl Into<Spacing>) -> ResolvedStyle {
+        let spacing = spacing.into();
         let stats = &set.stats;
         let field_max = stats.max_abs_eigenvalue;
         let norm_div = match self.normalize {
             Normalize::Max if field_max > 0.0 => field_max,
             _ => 1.0,
         };
-        let md_range = if stats.valid > 0 {
-            (stats.md_min, stats.md_max)
-        } else {
-            (0.0, 0.0)
+        let stress_like = 2 * stats.indefinite > stats.valid;
+        let color = match self.color {
+            ColorScheme::Auto if stress_like => ColorScheme::VonMises,
+            ColorScheme::Auto => ColorScheme::Shape,
+            c => c,
+        };
+        let color_range = match color.measure() {
+            Some(m) => self
+                .color_range
+                .or(m.natural_range())
+                .unwrap_or_else(|| measure_range(set, m)),
+            None => [0.0, 0.0],
         };
         // `--scale F` stays exact (r = F·|λ|) unless a map is asked for by name.
-        let stress_like = 2 * stats.indefinite > stats.valid;
         let size_by = match (self.size_by, self.scale) {
             (SizeBy::Auto, Scale::Auto) if stress_like => SizeBy::Log,
             (SizeBy::Auto, _) => SizeBy::Linear,
@@ -231,10 +372,12 @@ impl GlyphStyle {
                 None if self.size_by == SizeBy::Auto && size_by == SizeBy::Log => STRESS_MIN_RADIUS,
                 None => DEFAULT_MIN_RADIUS,
             },
-            color: self.color,
+            local: None,
+            color,
+            color_range,
+            units: self.units.clone(),
             class_threshold: self.class_threshold,
             solid_color: self.solid_color,
-            md_range,
             sharpness: self.sharpness,
             arrows: self.arrows,
             min_stress: self.min_stress,
@@ -253,17 +396,16 @@ impl GlyphStyle {
         match self.scale {
             Scale::Factor(f) => style.k = f,
             Scale::Auto => {
-                let spacing = if spacing.is_finite() && spacing > 0.0 {
-                    spacing
-                } else {
-                    1.0
-                };
+                let typical = spacing.typical();
                 // The robust largest radius at k = 1 becomes half the spacing; larger glyphs
-                // are clamped to that size.
+                // are clamped to that size, and each glyph to its own room.
                 let largest = percentile_largest(set, &style, AUTO_PERCENTILE);
                 if largest > 0.0 {
-                    style.k = 0.5 * spacing / largest;
-                    style.cap = 0.5 * spacing;
+                    style.k = 0.5 * typical / largest;
+                    style.cap = 0.5 * typical;
+                }
+                if let Spacing::Local(h) = spacing {
+                    style.local = Some(h);
                 }
             }
         }
@@ -282,13 +424,27 @@ impl GlyphStyle {
     }
 }
 
+/// The default range of a colouring by `m`: the field's 2nd and 98th percentiles of it (of at
+/// most [`MAX_SAMPLES`] glyphs, evenly spread); `[0, 0]` without a finite value.
+fn measure_range(set: &GlyphSet, m: Measure) -> [f64; 2] {
+    let step = set.glyphs.len().div_ceil(MAX_SAMPLES).max(1);
+    let values: Vec<f64> = set
+        .glyphs
+        .iter()
+        .step_by(step)
+        .map(|g| m.of(g.eigenvalues.map(f64::from)))
+        .filter(|v| v.is_finite())
+        .collect();
+    percentiles(values, DEFAULT_RANGE, f64::total_cmp).unwrap_or([0.0, 0.0])
+}
+
 /// The `p`-quantile (nearest rank) of the glyphs' largest radius under `style` (at its `k`).
 fn percentile_largest(set: &GlyphSet, style: &ResolvedStyle, p: f64) -> f64 {
     let n = set.glyphs.len();
     if n == 0 {
         return 0.0;
     }
-    let step = n.div_ceil(PERCENTILE_SAMPLES);
+    let step = n.div_ceil(MAX_SAMPLES);
     let mut sizes: Vec<f64> = set
         .glyphs
         .iter()
@@ -318,12 +474,18 @@ pub struct ResolvedStyle {
     /// The largest radius a glyph may have (`--scale auto`; infinite with a factor): larger
     /// glyphs are scaled down to it, shape kept.
     pub cap: f64,
+    /// With `--scale auto` on unstructured data, each tensor's own spacing (file order): a
+    /// glyph's largest radius is at most [`LOCAL_ROOM`] of it as well.
+    pub local: Option<Arc<[f32]>>,
     pub min_radius: f64,
+    /// The scheme in effect (never [`ColorScheme::Auto`]).
     pub color: ColorScheme,
+    /// The range a scalar colouring maps (lo, hi); `[0, 0]` for the others.
+    pub color_range: [f64; 2],
+    /// The tensors' units, for the legend.
+    pub units: Option<String>,
     pub class_threshold: f64,
     pub solid_color: [u8; 3],
-    /// (MD min, MD max) of the field, for [`ColorScheme::Md`].
-    pub md_range: (f64, f64),
     pub sharpness: Sharpness,
     /// Principal-stress glyphs: cone heads (`--arrows`).
     pub arrows: bool,
@@ -341,8 +503,9 @@ impl ResolvedStyle {
     pub fn radii(&self, g: &Glyph) -> [f32; 3] {
         let mut r = self.unclamped(g);
         let largest = r[0].max(r[1]).max(r[2]);
-        if largest > self.cap {
-            r = r.map(|x| x * (self.cap / largest));
+        let cap = self.cap_of(g);
+        if largest > cap {
+            r = r.map(|x| x * (cap / largest));
         }
         let floor = self.min_radius * r[0].max(r[1]).max(r[2]);
         r.map(|x| x.max(floor) as f32)
@@ -353,8 +516,9 @@ impl ResolvedStyle {
     pub fn lengths(&self, g: &Glyph) -> [f32; 3] {
         let mut r = self.unclamped(g);
         let largest = r[0].max(r[1]).max(r[2]);
-        if largest > self.cap {
-            r = r.map(|x| x * (self.cap / largest));
+        let cap = self.cap_of(g);
+        if largest > cap {
+            r = r.map(|x| x * (cap / largest));
         }
         r.map(|x| x as f32)
     }
@@ -376,9 +540,21 @@ impl ResolvedStyle {
         superquadric_shape(g.eigenvalues.map(f64::from), self.sharpness)
     }
 
-    /// Whether [`Self::radii`] scales this glyph down to the cap.
+    /// Whether [`Self::radii`] scales this glyph down to the cap (the field's, or its own room).
     pub fn clamps(&self, g: &Glyph) -> bool {
-        self.unclamped(g).into_iter().fold(0.0, f64::max) > self.cap
+        self.unclamped(g).into_iter().fold(0.0, f64::max) > self.cap_of(g)
+    }
+
+    /// The largest radius glyph `g` may have: the field's cap, and with local spacings
+    /// [`LOCAL_ROOM`] of its own spacing.
+    fn cap_of(&self, g: &Glyph) -> f64 {
+        let own = self
+            .local
+            .as_ref()
+            .and_then(|h| h.get(g.index as usize))
+            .map(|&h| LOCAL_ROOM * f64::from(h))
+            .filter(|c| c.is_finite() && *c > 0.0);
+        own.map_or(self.cap, |c| self.cap.min(c))
     }
 
     /// `k · s(|λ_i|) / n`, before the cap and the minimum radius.
@@ -417,21 +593,17 @@ impl ResolvedStyle {
     /// RGBA8 colour of a glyph by the chosen scheme (alpha 255).
     pub fn color(&self, g: &Glyph) -> [u8; 4] {
         let ev = g.eigenvalues.map(f64::from);
+        if let Some(m) = self.color.measure() {
+            return to_rgba8(scale_color(m.of(ev), self.color_range, m.signed()));
+        }
         match self.color {
-            ColorScheme::Shape => to_rgba8(shape::classify(ev, self.class_threshold).color()),
+            // Resolved by `GlyphStyle::resolve`; a style made by hand reads it as shape.
+            ColorScheme::Auto | ColorScheme::Shape => {
+                to_rgba8(shape::classify(ev, self.class_threshold).color())
+            }
             ColorScheme::Dec => {
                 let frame = quat_to_frame(g.rotation);
                 to_rgba8(shape::dec_color(ev, frame[shape::major_index(ev)]))
-            }
-            ColorScheme::Fa => to_rgba8(viridis(shape::fa(ev))),
-            ColorScheme::Md => {
-                let (lo, hi) = self.md_range;
-                let t = if hi > lo {
-                    (shape::md(ev) - lo) / (hi - lo)
-                } else {
-                    0.5
-                };
-                to_rgba8(viridis(t))
             }
             ColorScheme::Sign => {
                 let l = ev[shape::major_index(ev)];
@@ -448,6 +620,7 @@ impl ResolvedStyle {
                 let [r, g, b] = self.solid_color;
                 [r, g, b, 255]
             }
+            _ => unreachable!("scalar colourings are mapped above"),
         }
     }
 }
@@ -456,6 +629,7 @@ impl ResolvedStyle {
 mod tests {
     use super::*;
     use crate::glyph::FieldStats;
+    use crate::glyph::colormap::viridis;
 
     fn glyph(ev: [f32; 3]) -> Glyph {
         Glyph {
@@ -570,8 +744,29 @@ mod tests {
     fn value_names() {
         assert_eq!(
             ColorScheme::NAMES,
-            ["shape", "dec", "fa", "md", "sign", "solid"]
+            [
+                "auto",
+                "shape",
+                "dec",
+                "fa",
+                "md",
+                "von-mises",
+                "tresca",
+                "sigma1",
+                "sigma2",
+                "sigma3",
+                "mean",
+                "triaxiality",
+                "sign",
+                "solid"
+            ]
         );
+        // Each scalar colouring's measure has the colouring's name.
+        for &c in ColorScheme::VALUES {
+            if let Some(m) = c.measure() {
+                assert_eq!(m.name(), c.name());
+            }
+        }
         assert_eq!(Normalize::NAMES, ["none", "max", "per-glyph"]);
         for (v, n) in Normalize::VALUES.iter().zip(Normalize::NAMES) {
             assert_eq!(n.parse::<Normalize>(), Ok(*v));
@@ -649,5 +844,105 @@ mod tests {
             with(ColorScheme::Fa).color(&glyph([1.0, 1.0, 1.0])),
             to_rgba8(viridis(0.0))
         );
+    }
+
+    #[test]
+    fn auto_colour_is_von_mises_for_stress_and_shape_otherwise() {
+        let auto = GlyphStyle {
+            color: ColorScheme::Auto,
+            ..GlyphStyle::default()
+        };
+        let mut s = set(vec![glyph([2.0, 1.0, -1.0]), glyph([8.0, -1.0, -3.0])]);
+        assert_eq!(auto.resolve(&s, 1.0).color, ColorScheme::Shape);
+        s.stats.indefinite = 2;
+        assert_eq!(auto.resolve(&s, 1.0).color, ColorScheme::VonMises);
+    }
+
+    /// A scalar colouring maps its measure over the 2nd–98th percentiles of the field, or the
+    /// range asked for; signed measures diverge about zero.
+    #[test]
+    fn stress_colourings_and_their_ranges() {
+        // 101 uniaxial tensions 0, 1, …, 100: von Mises = σ1 = the tension.
+        let glyphs: Vec<Glyph> = (0..=100).map(|t| glyph([t as f32, 0.0, 0.0])).collect();
+        let s = set(glyphs);
+        let with = |color, color_range| {
+            GlyphStyle {
+                color,
+                color_range,
+                ..GlyphStyle::default()
+            }
+            .resolve(&s, 1.0)
+        };
+        let vm = with(ColorScheme::VonMises, None);
+        assert_eq!(vm.color_range, [2.0, 98.0]);
+        assert_eq!(vm.color(&s.glyphs[2]), to_rgba8(viridis(0.0)));
+        assert_eq!(vm.color(&s.glyphs[100]), to_rgba8(viridis(1.0)));
+        assert_eq!(vm.color(&s.glyphs[50]), to_rgba8(viridis(0.5)));
+        let fixed = with(ColorScheme::Tresca, Some([0.0, 200.0]));
+        assert_eq!(fixed.color_range, [0.0, 200.0]);
+        assert_eq!(fixed.color(&s.glyphs[100]), to_rgba8(viridis(0.5)));
+        // σ3 of a tension is 0: white on the diverging map; mean = t / 3 is red.
+        let s3 = with(ColorScheme::Sigma3, Some([-10.0, 10.0]));
+        assert_eq!(s3.color(&s.glyphs[40]), [255, 255, 255, 255]);
+        let mean = with(ColorScheme::Mean, None);
+        assert_eq!(mean.color(&s.glyphs[100]), to_rgba8(diverging(1.0)));
+        // FA keeps its own 0–1; a hydrostatic glyph's triaxiality (−∞) takes the range's end.
+        assert_eq!(with(ColorScheme::Fa, None).color_range, [0.0, 1.0]);
+        let tri = with(ColorScheme::Triaxiality, Some([-0.5, 0.5]));
+        assert_eq!(
+            tri.color(&glyph([-3.0, -3.0, -3.0])),
+            to_rgba8(diverging(-1.0))
+        );
+    }
+
+    /// With local spacings, a glyph's largest radius is at most half its own spacing; the
+    /// global scale comes from their median.
+    #[test]
+    fn local_spacing_caps_each_glyph() {
+        let mut glyphs: Vec<Glyph> = (0..5).map(|_| glyph([1.0, 1.0, 1.0])).collect();
+        for (i, g) in glyphs.iter_mut().enumerate() {
+            g.index = i as u32;
+        }
+        let s = set(glyphs);
+        let h: Arc<[f32]> = Arc::from(vec![2.0f32, 2.0, 2.0, 0.5, f32::NAN]);
+        let style = GlyphStyle {
+            size_by: SizeBy::Linear,
+            ..GlyphStyle::default()
+        }
+        .resolve(&s, Spacing::Local(h.clone()));
+        assert_eq!(Spacing::Local(h).typical(), 2.0);
+        // A graded mesh: 90 fine cells (spacing 1) fill less of the volume than 10 coarse ones
+        // (spacing 4, each 64 times the room): the scale fits the coarse ones.
+        let graded: Vec<f32> = [vec![1.0; 90], vec![4.0; 10]].concat();
+        assert_eq!(Spacing::Local(Arc::from(graded)).typical(), 4.0);
+        let even: Vec<f32> = [vec![1.0; 99], vec![4.0; 1]].concat();
+        assert_eq!(Spacing::Local(Arc::from(even)).typical(), 1.0);
+        assert_eq!(Spacing::Local(Arc::from(vec![f32::NAN; 3])).typical(), 1.0);
+        assert_eq!(style.radii(&s.glyphs[0]), [1.0; 3]);
+        assert!(!style.clamps(&s.glyphs[0]));
+        assert_eq!(style.radii(&s.glyphs[3]), [0.25; 3]);
+        assert!(style.clamps(&s.glyphs[3]));
+        // No spacing of its own: the field's cap.
+        assert_eq!(style.radii(&s.glyphs[4]), [1.0; 3]);
+        // A factor is exact.
+        let exact = GlyphStyle {
+            scale: Scale::Factor(3.0),
+            ..GlyphStyle::default()
+        }
+        .resolve(&s, Spacing::Local(Arc::from(vec![0.1f32; 5])));
+        assert_eq!(exact.radii(&s.glyphs[3]), [3.0; 3]);
+    }
+
+    #[test]
+    fn units_from_array_names() {
+        assert_eq!(units_in_name("stress (MPa)"), Some("MPa".into()));
+        assert_eq!(units_in_name("sigma [Pa] "), Some("Pa".into()));
+        assert_eq!(units_in_name("stress"), None);
+        assert_eq!(units_in_name("s ()"), None);
+        assert_eq!(units_in_name("(x)"), Some("x".into()));
+        assert_eq!(units_in_name("a (b (c))"), None);
+        assert_eq!(units_in_name(")"), None);
+        assert_eq!(units_in_name("s (a\u{1b}[31m)"), None);
+        assert_eq!(units_in_name(&format!("s ({})", "x".repeat(25))), None);
     }
 }

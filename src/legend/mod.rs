@@ -6,18 +6,21 @@ pub mod raster;
 
 use glam::DVec3;
 
-use crate::glyph::ColorScheme;
+use crate::glyph::colormap::scale_color;
+use crate::glyph::{ColorScheme, ResolvedStyle};
 
 /// Which legend a colour scheme has.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Legend {
     /// Class colours and the barycentric (cl, cp, cs) triangle.
     Shape,
-    /// A colour bar from `lo` to `hi`.
+    /// A scalar colouring's bar from `lo` to `hi`, under its title (the measure and its units),
+    /// sequential or diverging about zero.
     Bar {
         lo: f64,
         hi: f64,
-        label: &'static str,
+        title: String,
+        diverging: bool,
     },
     /// Tension / compression.
     Sign,
@@ -26,23 +29,66 @@ pub enum Legend {
     Solid,
 }
 
-/// The legend of `scheme` for a field whose MD runs over `md_range`.
-pub fn legend(scheme: ColorScheme, md_range: (f64, f64)) -> Legend {
+impl Legend {
+    /// The legend of a style whose field's numbers are fixed.
+    pub fn of(style: &ResolvedStyle) -> Self {
+        legend(style.color, style.color_range, style.units.as_deref())
+    }
+
+    /// A bar's colour at `t` in [0, 1] along it (`None` for legends without a bar).
+    pub fn bar_color(&self, t: f64) -> Option<[f64; 3]> {
+        match self {
+            Legend::Bar {
+                lo, hi, diverging, ..
+            } => Some(scale_color(lo + t * (hi - lo), [*lo, *hi], *diverging)),
+            Legend::Sign => Some(scale_color(-1.0 + t * 2.0, [-1.0, 1.0], true)),
+            _ => None,
+        }
+    }
+}
+
+/// The legend of `scheme` coloured over `range` (a scalar colouring's), in `units`.
+pub fn legend(scheme: ColorScheme, range: [f64; 2], units: Option<&str>) -> Legend {
+    if let Some(m) = scheme.measure() {
+        return Legend::Bar {
+            lo: range[0],
+            hi: range[1],
+            title: m.title(units),
+            diverging: m.signed(),
+        };
+    }
     match scheme {
-        ColorScheme::Shape => Legend::Shape,
-        ColorScheme::Fa => Legend::Bar {
-            lo: 0.0,
-            hi: 1.0,
-            label: "FA",
-        },
-        ColorScheme::Md => Legend::Bar {
-            lo: md_range.0,
-            hi: md_range.1,
-            label: "MD",
-        },
         ColorScheme::Sign => Legend::Sign,
         ColorScheme::Dec => Legend::Dec,
         ColorScheme::Solid => Legend::Solid,
+        _ => Legend::Shape,
+    }
+}
+
+/// A number as a colour bar's end shows it: up to four significant digits, in exponent form
+/// beyond 1e-3 … 1e5 (stress in pascals).
+pub fn short_number(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    if (1e-3..1e5).contains(&a) {
+        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        let s = format!("{x:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        let s = format!("{x:.3e}");
+        // 5.200e7 → 5.2e7
+        match s.split_once('e') {
+            Some((m, e)) if m.contains('.') => {
+                format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+            }
+            _ => s,
+        }
     }
 }
 
@@ -76,24 +122,50 @@ mod tests {
 
     #[test]
     fn every_scheme_has_its_legend() {
-        assert_eq!(legend(ColorScheme::Shape, (0.0, 1.0)), Legend::Shape);
+        assert_eq!(legend(ColorScheme::Shape, [0.0, 1.0], None), Legend::Shape);
         assert_eq!(
-            legend(ColorScheme::Md, (0.5, 2.0)),
+            legend(ColorScheme::Md, [0.5, 2.0], Some("mm²/s")),
             Legend::Bar {
                 lo: 0.5,
                 hi: 2.0,
-                label: "MD"
+                title: "MD (mm²/s)".into(),
+                diverging: false,
             }
         );
-        assert!(matches!(
-            legend(ColorScheme::Fa, (0.0, 0.0)),
+        assert_eq!(
+            legend(ColorScheme::Sigma1, [-3.0, 9.0], Some("MPa")),
             Legend::Bar {
-                lo: 0.0,
-                hi: 1.0,
-                ..
+                lo: -3.0,
+                hi: 9.0,
+                title: "σ1 (MPa)".into(),
+                diverging: true,
             }
-        ));
-        assert_eq!(legend(ColorScheme::Sign, (0.0, 1.0)), Legend::Sign);
+        );
+        assert_eq!(legend(ColorScheme::Sign, [0.0, 1.0], None), Legend::Sign);
+        // Every scalar colouring has a bar, and its bar shows its colours.
+        for &c in ColorScheme::VALUES {
+            let l = legend(c, [-2.0, 6.0], None);
+            assert_eq!(
+                matches!(l, Legend::Bar { .. }),
+                c.measure().is_some(),
+                "{c}"
+            );
+            if let Legend::Bar { diverging, .. } = l {
+                let end = l.bar_color(1.0).unwrap();
+                assert_eq!(end, scale_color(6.0, [-2.0, 6.0], diverging));
+            }
+        }
+    }
+
+    #[test]
+    fn short_numbers() {
+        assert_eq!(short_number(52069056.99), "5.207e7");
+        assert_eq!(short_number(-4.2e7), "-4.2e7");
+        assert_eq!(short_number(237.8709), "237.9");
+        assert_eq!(short_number(0.0), "0");
+        assert_eq!(short_number(1.0), "1");
+        assert_eq!(short_number(0.00071234), "7.123e-4");
+        assert_eq!(short_number(0.0123456), "0.01235");
     }
 
     #[test]

@@ -10,8 +10,7 @@ use glam::DVec3;
 
 use crate::camera::Camera;
 use crate::glyph::ResolvedStyle;
-use crate::glyph::colormap::{diverging, viridis};
-use crate::legend::{Legend, axis_labels, legend, screen_axes};
+use crate::legend::{Legend, axis_labels, screen_axes, short_number};
 use crate::request::FrameRequest;
 use crate::scene::Scene;
 use crate::tensor::shape::{ShapeClass, classify};
@@ -46,7 +45,11 @@ impl Caption {
             format!("radius = {} × size", style.k)
         };
         let mut lines = vec![format!("{scale}, size by {}", style.size_by)];
-        if clamped > 0 {
+        if clamped > 0 && style.local.is_some() {
+            lines.push(format!(
+                "{clamped} clamped to the 98th percentile or their room"
+            ));
+        } else if clamped > 0 {
             lines.push(format!("{clamped} largest shown at the 98th percentile"));
         }
         if let (Some(u), true) = (&scene.underlay, req.underlay.shown) {
@@ -54,7 +57,7 @@ impl Caption {
             lines.push(format!("under: {} {lo:.3} – {hi:.3}", u.label));
         }
         Caption {
-            legend: legend(style.color, style.md_range),
+            legend: Legend::of(style),
             lines,
             axes: Some((camera.forward(), camera.up, anatomical)),
             class_threshold: style.class_threshold,
@@ -173,7 +176,8 @@ impl Pen<'_> {
 enum Row {
     Text(String),
     Swatch([f64; 3], String),
-    Bar(fn(f64) -> [f64; 3]),
+    /// The legend's colour bar.
+    Bar,
     /// Two labels at the ends of the row before it.
     Ends(String, String),
     Triangle,
@@ -194,13 +198,13 @@ fn rows(caption: &Caption) -> Vec<Row> {
             }
             rows.push(Row::Triangle);
         }
-        Legend::Bar { lo, hi, label } => {
-            rows.push(Row::Text(label.to_string()));
-            rows.push(Row::Bar(viridis));
-            rows.push(Row::Ends(format!("{lo:.3}"), format!("{hi:.3}")));
+        Legend::Bar { lo, hi, title, .. } => {
+            rows.push(Row::Text(title.clone()));
+            rows.push(Row::Bar);
+            rows.push(Row::Ends(short_number(*lo), short_number(*hi)));
         }
         Legend::Sign => {
-            rows.push(Row::Bar(|t| diverging(2.0 * t - 1.0)));
+            rows.push(Row::Bar);
             rows.push(Row::Ends("compression".into(), "tension".into()));
         }
         Legend::Dec => {
@@ -256,7 +260,7 @@ pub fn burn(
         match r {
             Row::Text(t) => (pen.width(t), lh),
             Row::Swatch(_, t) => (swatch + size * 0.5 + pen.width(t), lh),
-            Row::Bar(_) => (bar_w, size),
+            Row::Bar => (bar_w, size),
             Row::Ends(a, b) => (pen.width(a) + pen.width(b) + size, lh),
             Row::Triangle => (tri * 1.15, tri + lh),
             Row::Triad => (tri, tri),
@@ -325,10 +329,11 @@ pub fn burn(
                 canvas.rect(x as i64, top as i64, s, s, *c);
                 pen.draw(&mut canvas, x + swatch + size * 0.5, y, t, ink);
             }
-            Row::Bar(map) => {
+            Row::Bar => {
                 for k in 0..bar_w as i64 {
-                    let c = map(k as f64 / (bar_w - 1.0));
-                    canvas.rect(x as i64 + k, y as i64, 1, size as i64, c);
+                    if let Some(c) = caption.legend.bar_color(k as f64 / (bar_w - 1.0)) {
+                        canvas.rect(x as i64 + k, y as i64, 1, size as i64, c);
+                    }
                 }
             }
             Row::Ends(a, b) => {

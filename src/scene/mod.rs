@@ -33,7 +33,6 @@ pub struct GlyphSpec {
     pub rotation: DQuat,
     pub radii: DVec3,
     pub color: [u8; 4],
-    pub glyph: u32,
 }
 
 impl Scene {
@@ -53,7 +52,8 @@ impl Scene {
         };
         let instances = specs
             .iter()
-            .map(|s| {
+            .zip(0u32..)
+            .map(|(s, glyph)| {
                 let c = s.centre - origin;
                 let q = s.rotation.normalize();
                 GlyphInstance {
@@ -61,7 +61,7 @@ impl Scene {
                     color: GlyphInstance::pack_color(s.color),
                     rotation: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
                     radii: [s.radii.x as f32, s.radii.y as f32, s.radii.z as f32],
-                    glyph: s.glyph,
+                    glyph,
                     shape: [0; 2],
                 }
             })

@@ -1,5 +1,6 @@
-//! A greyscale scalar image under the glyphs: FA or MD of the tensors, or any scalar volume,
-//! on each lattice plane the selection shows (`--underlay`).
+//! A greyscale scalar image under the glyphs: a measure of the tensors (FA, MD, a stress
+//! measure: [`Measure`]), or any scalar volume, on each lattice plane the selection shows
+//! (`--underlay`).
 //!
 //! The image lies on its plane but is drawn [`PlaneGeometry::behind`] further from the camera:
 //! the largest extent of that plane's glyphs along its normal. The glyphs of the plane then stay
@@ -19,22 +20,21 @@ use crate::camera::{Camera, ViewPreset};
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::glyph::GlyphSet;
+use crate::percentile::{DEFAULT_RANGE, percentiles};
 use crate::scene::{GlyphGeometry, Scene};
 use crate::select::Plane;
-use crate::tensor::shape;
+use crate::tensor::measure::Measure;
 
 /// The largest side of an image resampled from a scalar volume, in texels.
 pub const MAX_TEXELS: usize = 4096;
 /// The default window: these percentiles of the underlay's finite values.
-pub const WINDOW_PERCENTILES: [f64; 2] = [0.02, 0.98];
+pub const WINDOW_PERCENTILES: [f64; 2] = DEFAULT_RANGE;
 
 /// What the underlay shows.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum UnderlaySource {
-    /// Fractional anisotropy of each tensor.
-    Fa,
-    /// Mean diffusivity (mean eigenvalue) of each tensor.
-    Md,
+    /// A measure of each tensor: FA, MD, von Mises …
+    Measure(Measure),
     /// A scalar volume (NIfTI, NRRD or VTK image), sampled through its own voxel-to-world matrix.
     File(PathBuf),
     /// A scalar volume handed over in memory (the Python package's arrays), sampled the same way.
@@ -59,22 +59,26 @@ impl Eq for NamedVolume {}
 
 impl FromStr for UnderlaySource {
     type Err = String;
-    /// `fa`, `md` (any case), else a file's path (write `./fa` for a file named `fa`).
+    /// A measure's name (`fa`, `md`, `von-mises` …, any case), else a file's path (write `./fa`
+    /// for a file named `fa`).
     fn from_str(s: &str) -> Result<Self, String> {
-        match s.to_ascii_lowercase().as_str() {
-            "fa" => Ok(Self::Fa),
-            "md" => Ok(Self::Md),
-            "" => Err("--underlay takes fa, md or a scalar volume's file".into()),
-            _ => Ok(Self::File(PathBuf::from(s))),
+        if s.is_empty() {
+            return Err(format!(
+                "--underlay takes {} or a scalar volume's file",
+                Measure::NAMES.join(", ")
+            ));
         }
+        Ok(match s.to_ascii_lowercase().parse::<Measure>() {
+            Ok(m) => Self::Measure(m),
+            Err(_) => Self::File(PathBuf::from(s)),
+        })
     }
 }
 
 impl std::fmt::Display for UnderlaySource {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Self::Fa => write!(f, "FA"),
-            Self::Md => write!(f, "MD"),
+            Self::Measure(m) => write!(f, "{}", m.label()),
             Self::File(p) => write!(f, "{}", p.display()),
             Self::Volume(v) => write!(f, "{}", v.name),
         }
@@ -196,8 +200,7 @@ pub fn grey(value: f32, [lo, hi]: [f32; 2]) -> Option<f32> {
 
 /// What the values come from, once read.
 pub enum Values<'a> {
-    Fa,
-    Md,
+    Measure(Measure),
     Volume(&'a ScalarVolume),
 }
 
@@ -362,7 +365,7 @@ pub fn build(
 ) -> Result<Underlay, UnderlayError> {
     let lattice = Lattice::of(field)?;
     let per_voxel = match values {
-        Values::Fa | Values::Md => Some(voxel_values(field, set, values)),
+        Values::Measure(m) => Some(voxel_values(field, set, *m)),
         Values::Volume(_) => None,
     };
     let mut out = Vec::with_capacity(planes.len());
@@ -387,7 +390,7 @@ pub fn build(
                     .collect();
                 ([dims[a] as u32, dims[b] as u32], texels)
             }
-            _ => unreachable!("per-voxel values are made for FA and MD"),
+            _ => unreachable!("per-voxel values are made for the measures"),
         };
         out.push(UnderlayPlane {
             plane,
@@ -401,8 +404,10 @@ pub fn build(
         (_, Some(voxels)) => voxels.iter().copied().filter(|x| x.is_finite()).collect(),
         _ => Vec::new(),
     };
-    let window = percentiles(all, WINDOW_PERCENTILES).ok_or_else(|| UnderlayError::NoValue {
-        what: label.clone(),
+    let window = percentiles(all, WINDOW_PERCENTILES, f32::total_cmp).ok_or_else(|| {
+        UnderlayError::NoValue {
+            what: label.clone(),
+        }
     })?;
     Ok(Underlay {
         planes: out,
@@ -411,15 +416,13 @@ pub fn build(
     })
 }
 
-/// FA or MD per tensor in file order, NaN where there is no glyph.
-fn voxel_values(field: &TensorField, set: &GlyphSet, values: &Values<'_>) -> Vec<f32> {
+/// The measure per tensor in file order, NaN where there is no glyph (or no finite value: a
+/// hydrostatic state's triaxiality).
+fn voxel_values(field: &TensorField, set: &GlyphSet, measure: Measure) -> Vec<f32> {
     let mut out = vec![f32::NAN; field.len()];
     for g in &set.glyphs {
-        let ev = g.eigenvalues.map(f64::from);
-        let v = match values {
-            Values::Md => shape::md(ev),
-            _ => shape::fa(ev),
-        };
+        let v = measure.of(g.eigenvalues.map(f64::from));
+        let v = if v.is_finite() { v } else { f64::NAN };
         if let Some(slot) = out.get_mut(g.index as usize) {
             *slot = v as f32;
         }
@@ -481,17 +484,6 @@ fn resample(
     ([w as u32, h as u32], values)
 }
 
-/// The `q` quantiles of `values` (nearest rank); None when there are none.
-fn percentiles(mut values: Vec<f32>, q: [f64; 2]) -> Option<[f32; 2]> {
-    if values.is_empty() {
-        return None;
-    }
-    let n = values.len();
-    let rank = |q: f64| ((q * (n - 1) as f64).round() as usize).min(n - 1);
-    let mut pick = |q: f64| *values.select_nth_unstable_by(rank(q), f32::total_cmp).1;
-    Some([pick(q[0]), pick(q[1])])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -503,13 +495,6 @@ mod tests {
         assert_eq!(grey(9.0, [0.0, 1.0]), Some(1.0));
         assert_eq!(grey(1.0, [1.0, 1.0]), Some(1.0));
         assert_eq!(grey(f32::NAN, [0.0, 1.0]), None);
-    }
-
-    #[test]
-    fn percentiles_by_nearest_rank() {
-        let v: Vec<f32> = (0..=100).map(|x| x as f32).collect();
-        assert_eq!(percentiles(v, [0.02, 0.98]), Some([2.0, 98.0]));
-        assert_eq!(percentiles(Vec::new(), [0.02, 0.98]), None);
     }
 
     #[test]

@@ -1,4 +1,7 @@
-//! Per-tensor mathematics: eigendecomposition and shape measures.
+//! Per-tensor mathematics: eigendecomposition, shape measures, stress measures, and the scalar
+//! measures a colouring or an underlay shows.
 
 pub mod eigen;
+pub mod measure;
 pub mod shape;
+pub mod stress;

@@ -26,7 +26,7 @@ pub struct Loaded {
     pub field: Arc<TensorField>,
     pub set: Arc<GlyphSet>,
     /// What `--scale auto` fits glyphs to.
-    pub spacing: f64,
+    pub spacing: crate::glyph::style::Spacing,
     /// The box around the glyph centres `[x0, y0, z0, x1, y1, z1]` (the ROI control's default).
     pub bounds: [f64; 6],
     /// The underlay file's volume, when one was given.
@@ -271,7 +271,7 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(5));
         };
         assert_eq!(loaded.set.glyphs.len(), 125);
-        assert!(loaded.spacing > 0.0);
+        assert!(loaded.spacing.typical() > 0.0);
 
         let dir = tempfile::tempdir().unwrap();
         let bad = dir.path().join("bad.vtk");

@@ -1,5 +1,5 @@
 //! The `tensorglyph` binary as a user runs it: outputs, JSON reports, exit status and one-line
-//! errors, the selection flags, scaling on real fields, `bench --large`, the viewer under Xvfb,
+//! errors, the selection flags, scaling on real fields, stress fields against VTK's yield criteria, `bench --large`, the viewer under Xvfb,
 //! and `render --glyph superquadric` against Teem's `tend glyph`. tests/README.md is the map.
 
 #[path = "../common/cli.rs"]
@@ -13,5 +13,6 @@ mod bench_large;
 mod commands;
 mod scaling;
 mod selection;
+mod stress_fields;
 mod teem;
 mod viewer;

@@ -223,8 +223,10 @@ fn shots() -> &'static [Shot] {
                 );
                 let reference = ReferenceScene::new(&staged.scene, &camera)
                     .render(&request(Method::Reference, Preset::Baseline));
+                // 4 % of the image: principal-stress bars, the thinnest kind, cover ~3,800
+                // pixels of the whole view; the others cover several times more.
                 assert!(
-                    reference.covered_pixels() > 5_000,
+                    reference.covered_pixels() > 2_000,
                     "{kind} {view}: the reference shows too little"
                 );
                 shots.push(Shot {

@@ -20,7 +20,6 @@ pub fn spec(
         rotation: DQuat::from_axis_angle(DVec3::from(axis).normalize(), angle),
         radii: DVec3::from(radii),
         color,
-        glyph: 0,
     }
 }
 

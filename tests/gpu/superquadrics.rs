@@ -108,7 +108,7 @@ fn sharpness_zero_is_the_ellipsoid_and_meshes_trail() {
             },
             ..GlyphStyle::default()
         }
-        .resolve(&set, spacing)
+        .resolve(&set, spacing.clone())
     };
     let ellipsoids = Scene::build(&set, &style(3.0), GlyphKind::Ellipsoid);
     let camera = Camera::frame(

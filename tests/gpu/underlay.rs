@@ -16,6 +16,7 @@ use tensorglyph::request::{FrameRequest, Method, Preset, UnderlayView};
 use tensorglyph::scene::UnderlaySource;
 use tensorglyph::select::{Plane, Selection, Slicing};
 use tensorglyph::staging::{Recipe, Source, Staged, stage};
+use tensorglyph::tensor::measure::Measure;
 
 use crate::cli::{stderr, tg};
 use crate::data;
@@ -52,7 +53,7 @@ fn fa_texels_are_numpys_fa_of_each_voxel() {
     let evs = exp["files"][FILE]["eigenvalues"].as_array().unwrap();
     let dims = [5, 4, 3];
     for plane in [Plane { axis: 2, index: 1 }, Plane { axis: 0, index: 3 }] {
-        let s = staged(Some(UnderlaySource::Fa), plane);
+        let s = staged(Some(UnderlaySource::Measure(Measure::Fa)), plane);
         let u = s.scene.underlay.as_ref().expect("an underlay");
         assert_eq!(u.planes.len(), 1);
         let p = &u.planes[0];
@@ -91,7 +92,7 @@ fn fa_texels_are_numpys_fa_of_each_voxel() {
 #[test]
 fn the_image_lies_on_the_slice_lattice_half_a_voxel_beyond_its_centres() {
     let plane = Plane { axis: 2, index: 1 };
-    let s = staged(Some(UnderlaySource::Md), plane);
+    let s = staged(Some(UnderlaySource::Measure(Measure::Md)), plane);
     let field = read_field(&dti(FILE), &ReadOptions::default()).unwrap();
     let g = s.scene.underlay.as_ref().unwrap().planes[0].geometry;
     // Voxel centres of the plane's corners, from the reader's positions.
@@ -145,7 +146,7 @@ fn cameras(s: &Staged) -> Vec<Camera> {
 #[test]
 fn gpu_and_reference_draw_the_same_underlay_and_it_hides_no_glyph_of_its_slice() {
     let plane = Plane { axis: 2, index: 1 };
-    let with = staged(Some(UnderlaySource::Fa), plane);
+    let with = staged(Some(UnderlaySource::Measure(Measure::Fa)), plane);
     let without = staged(None, plane);
     let req = FrameRequest {
         aux: true,
@@ -195,7 +196,10 @@ fn gpu_and_reference_draw_the_same_underlay_and_it_hides_no_glyph_of_its_slice()
 
 #[test]
 fn the_window_maps_values_to_grey_and_the_underlay_can_be_hidden() {
-    let s = staged(Some(UnderlaySource::Fa), Plane { axis: 2, index: 1 });
+    let s = staged(
+        Some(UnderlaySource::Measure(Measure::Fa)),
+        Plane { axis: 2, index: 1 },
+    );
     let camera = cameras(&s)[1];
     // Every FA is above 1e-9: a window ending there draws the whole image white.
     let white = FrameRequest {
@@ -305,7 +309,7 @@ fn the_underlay_on_the_command_line() {
 fn glyph_style_is_unchanged_by_the_underlay() {
     // The underlay is an image only: the same instances with and without it.
     let plane = Plane { axis: 1, index: 2 };
-    let a = staged(Some(UnderlaySource::Md), plane);
+    let a = staged(Some(UnderlaySource::Measure(Measure::Md)), plane);
     let b = staged(None, plane);
     assert_eq!(a.scene.instances, b.scene.instances);
 }

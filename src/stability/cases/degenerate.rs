@@ -28,7 +28,6 @@ pub fn glyph_from_tensor(t: &[f64; 9], centre: DVec3, color: [u8; 4]) -> Option<
         rotation: DQuat::from_mat3(&frame).normalize(),
         radii: DVec3::from(e.values.map(|v| v.abs() / scale)),
         color,
-        glyph: 0,
     })
 }
 

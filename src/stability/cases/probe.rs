@@ -50,7 +50,6 @@ pub(super) fn spec(centre: DVec3, rotation: DQuat, radii: DVec3, color: [u8; 4])
         rotation,
         radii,
         color,
-        glyph: 0,
     }
 }
 

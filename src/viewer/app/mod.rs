@@ -275,7 +275,7 @@ impl ViewerApp {
         let built = match staging::build(
             &data.field,
             &data.set,
-            data.spacing,
+            data.spacing.clone(),
             &recipe,
             volume,
             &Silent,
@@ -293,7 +293,7 @@ impl ViewerApp {
                     frame_half: DVec3::splat(1.0 / 3f64.sqrt()),
                     glyphs_valid: data.set.glyphs.len(),
                     face: None,
-                    style: recipe.style.resolve(&data.set, data.spacing),
+                    style: recipe.style.resolve(&data.set, data.spacing.clone()),
                 }
             }
         };
@@ -600,6 +600,10 @@ impl eframe::App for ViewerApp {
                         .as_ref()
                         .and_then(|b| b.scene.underlay.as_ref())
                         .map(|u| u.window),
+                    legend: self
+                        .built
+                        .as_ref()
+                        .map(|b| (b.key.style.color, crate::legend::Legend::of(&b.style))),
                 };
                 actions.extend(panel::show(
                     ui,

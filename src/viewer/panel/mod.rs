@@ -86,6 +86,9 @@ pub struct PanelInfo<'a> {
     pub underlay_file: Option<&'a crate::scene::UnderlaySource>,
     /// The scene's underlay window (its 2nd and 98th percentiles).
     pub underlay_window: Option<[f32; 2]>,
+    /// The colour scheme the scene was built with (as asked for) and its legend, with the
+    /// field's range and units.
+    pub legend: Option<(crate::glyph::ColorScheme, crate::legend::Legend)>,
 }
 
 pub fn show(

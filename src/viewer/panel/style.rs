@@ -3,10 +3,9 @@
 
 use egui::{Color32, Ui};
 
-use crate::glyph::colormap::{diverging, viridis};
 use crate::glyph::style::DEFAULT_MIN_RADIUS;
 use crate::glyph::{ColorScheme, Normalize, Scale, SizeBy};
-use crate::legend::{Legend, legend};
+use crate::legend::{Legend, legend, short_number};
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::panel::{PanelInfo, PanelState};
 use crate::viewer::state::Settings;
@@ -26,10 +25,16 @@ pub(super) fn style_section(
                 ui.selectable_value(&mut style.color, c, c.name());
             }
         });
-    let md = info
-        .data
-        .map_or((0.0, 0.0), |d| (d.set.stats.md_min, d.set.stats.md_max));
-    draw_legend(ui, legend(style.color, md));
+    // The built scene's legend (its range and units) once it is built with the scheme chosen.
+    let shown = info
+        .legend
+        .as_ref()
+        .filter(|(asked, _)| *asked == style.color)
+        .map(|(_, l)| l.clone());
+    draw_legend(
+        ui,
+        shown.unwrap_or_else(|| legend(style.color, [0.0, 1.0], None)),
+    );
     ui.horizontal(|ui| {
         ui.label("scale");
         let r = ui.add(egui::TextEdit::singleline(&mut state.scale_text).desired_width(60.0));
@@ -87,7 +92,7 @@ fn color32(c: [f64; 3]) -> Color32 {
 }
 
 fn draw_legend(ui: &mut Ui, l: Legend) {
-    match l {
+    match &l {
         Legend::Shape => {
             ui.horizontal_wrapped(|ui| {
                 for (class, name) in [
@@ -102,17 +107,18 @@ fn draw_legend(ui: &mut Ui, l: Legend) {
             });
             westin_triangle(ui);
         }
-        Legend::Bar { lo, hi, label } => {
-            colour_bar(ui, viridis);
+        Legend::Bar { lo, hi, title, .. } => {
+            ui.label(title.as_str());
+            colour_bar(ui, |t| l.bar_color(t).unwrap_or([1.0; 3]));
             ui.horizontal(|ui| {
-                ui.label(format!("{label} {lo:.3}"));
+                ui.label(short_number(*lo));
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                    ui.label(format!("{hi:.3}"));
+                    ui.label(short_number(*hi));
                 });
             });
         }
         Legend::Sign => {
-            colour_bar(ui, |t| diverging(2.0 * t - 1.0));
+            colour_bar(ui, |t| l.bar_color(t).unwrap_or([1.0; 3]));
             ui.horizontal(|ui| {
                 ui.label("compression (λ < 0)");
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {

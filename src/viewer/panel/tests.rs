@@ -51,6 +51,7 @@ fn info(data: Option<&Loaded>) -> PanelInfo<'_> {
         min_radius: Some(0.01),
         underlay_file: None,
         underlay_window: Some([0.1, 0.9]),
+        legend: None,
     }
 }
 
@@ -84,7 +85,9 @@ fn panel_draws_every_scheme_and_slicing_mode() {
             settings.selection.slicing = slicing;
             settings.selection.roi = roi;
             if scheme == ColorScheme::Dec {
-                settings.underlay = Some(crate::scene::UnderlaySource::Md);
+                settings.underlay = Some(crate::scene::UnderlaySource::Measure(
+                    crate::tensor::measure::Measure::Md,
+                ));
                 settings.underlay_view.window = Some([0.2, 0.4]);
             }
             let before = settings.clone();
@@ -279,12 +282,29 @@ fn typing_a_path_and_enter_opens_it() {
 #[test]
 fn an_underlay_chosen_over_the_whole_field_shows_the_middle_axial_slice() {
     let mut s = Settings::default();
-    choose_underlay(&mut s, Some(crate::scene::UnderlaySource::Fa), [4, 6, 9]);
+    choose_underlay(
+        &mut s,
+        Some(crate::scene::UnderlaySource::Measure(
+            crate::tensor::measure::Measure::Fa,
+        )),
+        [4, 6, 9],
+    );
     assert_eq!(s.selection.slicing, Slicing::Slice { axis: 2, index: 4 });
-    assert_eq!(s.underlay, Some(crate::scene::UnderlaySource::Fa));
+    assert_eq!(
+        s.underlay,
+        Some(crate::scene::UnderlaySource::Measure(
+            crate::tensor::measure::Measure::Fa
+        ))
+    );
     // A slice already chosen stays; turning the underlay off keeps the slice.
     s.selection.slicing = Slicing::Slice { axis: 0, index: 1 };
-    choose_underlay(&mut s, Some(crate::scene::UnderlaySource::Md), [4, 6, 9]);
+    choose_underlay(
+        &mut s,
+        Some(crate::scene::UnderlaySource::Measure(
+            crate::tensor::measure::Measure::Md,
+        )),
+        [4, 6, 9],
+    );
     assert_eq!(s.selection.slicing, Slicing::Slice { axis: 0, index: 1 });
     choose_underlay(&mut s, None, [4, 6, 9]);
     assert_eq!(s.underlay, None);

@@ -1,11 +1,12 @@
-//! The underlay section: which scalar image lies under the slices (none, FA, MD or the
-//! `--underlay` file), whether it shows, and its window. Turning one on with the whole field
+//! The underlay section: which scalar image lies under the slices (none, a measure of the
+//! tensors or the `--underlay` file), whether it shows, and its window. Turning one on with the whole field
 //! selected shows the middle axial slice, as `render --underlay` does.
 
 use egui::Ui;
 
 use crate::scene::UnderlaySource;
 use crate::select::Slicing;
+use crate::tensor::measure::Measure;
 use crate::viewer::panel::PanelInfo;
 use crate::viewer::state::Settings;
 
@@ -19,7 +20,13 @@ pub(super) fn underlay_section(ui: &mut Ui, settings: &mut Settings, info: &Pane
         return;
     };
     let file = data.underlay.as_ref().and(info.underlay_file);
-    let mut choices = vec![None, Some(UnderlaySource::Fa), Some(UnderlaySource::Md)];
+    let mut choices: Vec<Option<UnderlaySource>> = std::iter::once(None)
+        .chain(
+            Measure::VALUES
+                .iter()
+                .map(|m| Some(UnderlaySource::Measure(*m))),
+        )
+        .collect();
     if let Some(f) = file {
         choices.push(Some(f.clone()));
     }
