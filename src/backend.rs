@@ -2,7 +2,7 @@
 //! for, or the fallback when no GPU adapter exists). One choice for `render`, `demo`, the bench
 //! and the examples.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use crate::camera::Camera;
 use crate::error::RenderError;

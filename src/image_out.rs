@@ -147,6 +147,8 @@ where
             file.set_permissions(p)?;
         }
         file.sync_all()?;
+        // Closed before the rename (the web build has no files: there closing is nothing).
+        #[cfg_attr(target_arch = "wasm32", allow(clippy::drop_non_drop))]
         drop(file);
         std::fs::rename(&tmp, &target)
     })();

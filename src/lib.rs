@@ -47,11 +47,14 @@ pub mod select;
 pub mod staging;
 pub mod tensor;
 
-// Back ends and what judges them.
+// Back ends and what judges them. `backend` and `tiles` wait on the GPU, which only the
+// desktop can: the web build draws through `render`'s async core.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod backend;
 pub mod metrics;
 pub mod reference;
 pub mod render;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod tiles;
 pub mod twin;
 
@@ -64,15 +67,20 @@ pub mod legend;
 pub mod mem;
 
 // Front ends in the library; `cli` is the command line (arguments, dispatch and output
-// formatting), which the binary and the Python package's console script run.
+// formatting), which the binary and the Python package's console script run. The viewer is
+// the one front end of the web build (web/); the others are the desktop's.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod bench;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod stability;
 pub mod viewer;
 
 #[cfg(test)]
 pub(crate) mod test_vectors;
 
+#[cfg(not(target_arch = "wasm32"))]
 pub use backend::Backend;
 pub use camera::{Camera, Framing, ViewPreset};
 pub use error::{LoadError, RenderError};

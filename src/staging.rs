@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 use std::str::FromStr;
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::DVec3;
 use serde::Serialize;

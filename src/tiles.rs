@@ -9,7 +9,7 @@
 //! other tiles and crops it away: a screen-space pass that reads a pixel's neighbours (up to
 //! the margin away) sees the same neighbours at a seam as anywhere else.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use crate::backend::{Backend, StageFailed, upload_timed};
 use crate::camera::Camera;

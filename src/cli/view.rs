@@ -98,6 +98,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
         size: args.size,
         screenshot: args.screenshot,
         frames: args.frames,
+        remote: Default::default(),
+        adopt_defaults: false,
+        adapter_label: None,
     })?;
     Ok(())
 }

@@ -193,7 +193,7 @@ impl<'a> ReferenceScene<'a> {
             .filter(|_| req.underlay.shown)
             .map(|u| req.underlay.window.unwrap_or(u.window));
         let deferred = req.effects.deferred();
-        let start = std::time::Instant::now();
+        let start = web_time::Instant::now();
         let rows: Vec<Row> = (0..h)
             .into_par_iter()
             .map(|j| {

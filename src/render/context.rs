@@ -1,5 +1,13 @@
 //! Adapter and device: CPU adapters (lavapipe) are welcome; optional features are taken where
 //! the adapter has them.
+//!
+//! Waiting differs per platform. On the desktop the GPU is waited for by polling the device, and
+//! an async step runs to its end at once inside `pollster::block_on`. In the browser nothing may
+//! block: a read-back is mapped when the work that writes it is done, through the page's event
+//! loop, so the core is async (read-backs, [`GpuContext::scope_error`]) and the desktop's
+//! blocking calls wrap it.
+
+use std::sync::{Arc, Mutex};
 
 use crate::error::RenderError;
 
@@ -26,16 +34,21 @@ pub struct GpuContext {
     pub early_depth_test: bool,
     /// SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
     pub int64_atomics: bool,
+    /// GPU errors of steps that could not wait for them (the web build's pipeline creation and
+    /// uploads): the viewer shows them when they arrive.
+    late_errors: Arc<Mutex<Vec<String>>>,
 }
 
 impl GpuContext {
     /// The first adapter wgpu offers (a real GPU if present, else a CPU one), or
     /// [`RenderError::NoAdapter`].
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn new() -> Result<Self, RenderError> {
         pollster::block_on(Self::new_async())
     }
 
-    async fn new_async() -> Result<Self, RenderError> {
+    /// [`Self::new`], without blocking.
+    pub async fn new_async() -> Result<Self, RenderError> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
         desc.backends = wgpu::Backends::from_env().unwrap_or(wgpu::Backends::PRIMARY);
         let instance = wgpu::Instance::new(desc);
@@ -75,6 +88,7 @@ impl GpuContext {
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
             int64_atomics: features.contains(INT64_ATOMICS),
+            late_errors: Arc::default(),
         })
     }
 
@@ -93,6 +107,7 @@ impl GpuContext {
             timestamps: features.contains(wgpu::Features::TIMESTAMP_QUERY),
             early_depth_test: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
             int64_atomics: features.contains(INT64_ATOMICS),
+            late_errors: Arc::default(),
         }
     }
 
@@ -104,6 +119,9 @@ impl GpuContext {
         camera: &crate::camera::Camera,
     ) -> crate::request::FrameRequest {
         let mut req = *req;
+        if !self.prepass_fits() {
+            req.method.drop_prepass();
+        }
         let key_bytes = if self.int64_atomics { 8 } else { 4 };
         let pixels = u64::from(camera.width) * u64::from(camera.height);
         if req.splat_pixels() > 0
@@ -114,7 +132,15 @@ impl GpuContext {
         req
     }
 
+    /// Whether the device binds as many storage buffers per shader stage as Gumhold's compute
+    /// prepass needs (Vulkan devices do; some WebGPU adapters do not).
+    pub fn prepass_fits(&self) -> bool {
+        self.limits.max_storage_buffers_per_shader_stage
+            >= crate::render::gumhold::prepass::COMPUTE_STORAGE_BUFFERS
+    }
+
     /// Wait for all submitted work. lavapipe can take many seconds on large frames.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn wait(&self) -> Result<(), RenderError> {
         self.device
             .poll(wgpu::PollType::Wait {
@@ -123,5 +149,33 @@ impl GpuContext {
             })
             .map(|_| ())
             .map_err(|e| RenderError::Gpu(format!("waiting for the GPU: {e}")))
+    }
+
+    /// The error an error scope caught, for a step that goes on without it where it cannot wait
+    /// (the browser): there the error arrives later, and [`Self::take_late_errors`] hands it
+    /// over, `what` saying what failed.
+    pub fn scope_error(&self, scope: wgpu::ErrorScopeGuard, what: &str) -> Option<String> {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            pollster::block_on(scope.pop()).map(|e| format!("{what}: {e}"))
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            // Popped now (the scope ends here), its error awaited on the page's event loop.
+            let (error, late, what) = (scope.pop(), self.late_errors.clone(), what.to_string());
+            wasm_bindgen_futures::spawn_local(async move {
+                if let Some(e) = error.await {
+                    late.lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .push(format!("{what}: {e}"));
+                }
+            });
+            None
+        }
+    }
+
+    /// GPU errors that arrived after the step that caused them returned (browser only).
+    pub fn take_late_errors(&self) -> Vec<String> {
+        std::mem::take(&mut *self.late_errors.lock().unwrap_or_else(|e| e.into_inner()))
     }
 }

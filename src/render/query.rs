@@ -49,15 +49,14 @@ impl Queries {
 
     /// Every value (query by query, counter by counter), after the submission that resolved
     /// them.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read(&self, ctx: &GpuContext) -> Result<Vec<u64>, RenderError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.readback.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait()?;
-        rx.recv()
-            .map_err(|_| RenderError::Gpu("query readback dropped".into()))?
-            .map_err(|e| RenderError::Gpu(format!("query readback: {e}")))?;
+        pollster::block_on(self.read_async(ctx))
+    }
+
+    /// [`Self::read`] without blocking.
+    pub async fn read_async(&self, ctx: &GpuContext) -> Result<Vec<u64>, RenderError> {
+        crate::render::targets::map_read(&self.readback, ctx, "query readback").await?;
         let out = {
             let data = self
                 .readback

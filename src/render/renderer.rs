@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
-use std::time::Instant;
+use web_time::Instant;
 
 use crate::camera::Camera;
 use crate::error::RenderError;
@@ -42,10 +42,8 @@ impl GpuRenderer {
         let layouts = GlyphLayouts::new(&ctx);
         let underlay = UnderlayPipeline::new(&ctx);
         let effects = EffectsPipeline::new(&ctx);
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RenderError::Gpu(format!(
-                "creating the pipeline layout: {e}"
-            )));
+        if let Some(e) = ctx.scope_error(scope, "creating the pipeline layout") {
+            return Err(RenderError::Gpu(e));
         }
         Ok(Self {
             ctx,
@@ -79,10 +77,9 @@ impl GpuRenderer {
                 ));
             }
         };
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RenderError::Gpu(format!(
-                "creating {method} pipelines for {glyph}: {e}"
-            )));
+        let what = format!("creating {method} pipelines for {glyph}");
+        if let Some(e) = self.ctx.scope_error(scope, &what) {
+            return Err(RenderError::Gpu(e));
         }
         map.insert((method, glyph), drawer.clone());
         Ok(drawer)
@@ -110,14 +107,25 @@ impl GpuRenderer {
     }
 
     /// Render `scene` seen by `camera` with the request's method, as the scene's kind.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn render(
         &self,
         scene: &Scene,
         camera: &Camera,
         req: &FrameRequest,
     ) -> Result<Frame, RenderError> {
+        pollster::block_on(self.render_async(scene, camera, req))
+    }
+
+    /// [`Self::render`] without blocking (the browser's figures).
+    pub async fn render_async(
+        &self,
+        scene: &Scene,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<Frame, RenderError> {
         let buffers = self.upload(scene)?;
-        self.render_uploaded(&buffers, camera, req)
+        self.render_uploaded_async(&buffers, camera, req).await
     }
 
     /// Upload a scene's instances once; the result is drawn by [`Self::encode`] or
@@ -149,24 +157,42 @@ impl GpuRenderer {
     }
 
     /// Render instances uploaded by [`Self::upload`] (timing upload and frames apart).
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn render_uploaded(
         &self,
         buffers: &SceneBuffers,
         camera: &Camera,
         req: &FrameRequest,
     ) -> Result<Frame, RenderError> {
+        pollster::block_on(self.render_uploaded_async(buffers, camera, req))
+    }
+
+    /// [`Self::render_uploaded`] without blocking.
+    pub async fn render_uploaded_async(
+        &self,
+        buffers: &SceneBuffers,
+        camera: &Camera,
+        req: &FrameRequest,
+    ) -> Result<Frame, RenderError> {
         let req = &self.within_limits(&req.for_kind(buffers.kind), camera);
-        let ctx = &self.ctx;
-        let targets = Targets::new(ctx, camera.width, camera.height, req.writes_aux())?;
-        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let result = self.render_into(buffers, camera, req, &targets);
-        let oom = pollster::block_on(oom.pop());
-        let invalid = pollster::block_on(scope.pop());
-        if let Some(e) = oom.or(invalid) {
-            return Err(RenderError::Gpu(e.to_string()));
-        }
-        result
+        let targets = Targets::new(&self.ctx, camera.width, camera.height, req.writes_aux())?;
+        self.render_into(buffers, camera, req, &targets).await
+    }
+
+    /// Run `f` (recording and submitting GPU work) inside a validation and an out-of-memory
+    /// error scope, popped as soon as it returns: the browser keeps one stack of scopes per
+    /// device, which the page's other work (egui) uses between our waits.
+    fn scoped<T>(&self, f: impl FnOnce() -> T) -> (T, impl Future<Output = Option<String>>) {
+        let device = &self.ctx.device;
+        let invalid = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let out = f();
+        let (oom, invalid) = (oom.pop(), invalid.pop());
+        (out, async move {
+            let oom = oom.await;
+            let invalid = invalid.await;
+            oom.or(invalid).map(|e| e.to_string())
+        })
     }
 
     /// Record one frame of an uploaded scene into `views` (cleared first). The camera uniform is
@@ -230,7 +256,7 @@ impl GpuRenderer {
         }
     }
 
-    fn render_into(
+    async fn render_into(
         &self,
         buffers: &SceneBuffers,
         camera: &Camera,
@@ -239,8 +265,15 @@ impl GpuRenderer {
     ) -> Result<Frame, RenderError> {
         let ctx = &self.ctx;
         let device = &ctx.device;
-        let drawer = self.drawer(req.method.method(), buffers.kind)?;
-        buffers.write_uniforms(&ctx.queue, camera, req);
+        let (drawer, errors) = self.scoped(|| {
+            let drawer = self.drawer(req.method.method(), buffers.kind);
+            buffers.write_uniforms(&ctx.queue, camera, req);
+            drawer
+        });
+        if let Some(e) = errors.await {
+            return Err(RenderError::Gpu(e));
+        }
+        let drawer = drawer?;
         // Per render pass: [vertex invocations, fragment invocations] (ordered by flag bit).
         let passes = drawer.render_passes(ctx, buffers, req);
         let stats = ctx.pipeline_statistics.then(|| {
@@ -260,29 +293,45 @@ impl GpuRenderer {
         let mut effects = None;
         let mut counts = None;
         for f in 0..frames {
-            let mut encoder = device.create_command_encoder(&Default::default());
-            let recording = FrameRecording {
-                ctx,
-                buffers,
-                req,
-                views: &views,
-                stats: stats.as_ref().filter(|_| f == 0).map(|s| &s.set),
-                timestamps: None,
-                light: false,
-            };
-            drawer.record(&recording, &mut encoder);
-            self.record_underlay(buffers, req, &views, &mut encoder);
-            effects =
-                self.record_effects(buffers, drawer.as_ref(), camera, req, &views, &mut encoder)?;
-            if let (Some(s), true) = (&stats, f == 0) {
-                s.resolve(&mut encoder);
-            }
-            let start = Instant::now();
-            ctx.queue.submit([encoder.finish()]);
+            let ((recorded, start), errors) = self.scoped(|| {
+                let mut encoder = device.create_command_encoder(&Default::default());
+                let recording = FrameRecording {
+                    ctx,
+                    buffers,
+                    req,
+                    views: &views,
+                    stats: stats.as_ref().filter(|_| f == 0).map(|s| &s.set),
+                    timestamps: None,
+                    light: false,
+                };
+                drawer.record(&recording, &mut encoder);
+                self.record_underlay(buffers, req, &views, &mut encoder);
+                let recorded = self.record_effects(
+                    buffers,
+                    drawer.as_ref(),
+                    camera,
+                    req,
+                    &views,
+                    &mut encoder,
+                );
+                if let (Some(s), true) = (&stats, f == 0) {
+                    s.resolve(&mut encoder);
+                }
+                let start = Instant::now();
+                ctx.queue.submit([encoder.finish()]);
+                (recorded, start)
+            });
+            effects = recorded?;
+            // The browser's frames are timed by the read-back that follows (Chromium's
+            // onSubmittedWorkDone promises can fail where mapping does not).
+            #[cfg(not(target_arch = "wasm32"))]
             ctx.wait()?;
             frame_ms.push(start.elapsed().as_secs_f64() * 1e3);
+            if let Some(e) = errors.await {
+                return Err(RenderError::Gpu(e));
+            }
             if let (Some(s), true) = (&stats, f == 0) {
-                counts = Some(s.read(ctx)?);
+                counts = Some(s.read_async(ctx).await?);
             }
         }
         // The copies out of the targets are a submission of their own, after the timed frames: a
@@ -304,15 +353,18 @@ impl GpuRenderer {
         );
         ctx.queue.submit([encoder.finish()]);
         let (color_rb, id_rb, aux_rb, effects_rb) = readbacks;
-        let color = color_rb.read(ctx)?;
-        let ids: Vec<u32> = bytemuck::pod_collect_to_vec(&id_rb.read(ctx)?);
+        let color = color_rb.read_async(ctx).await?;
+        let ids: Vec<u32> = bytemuck::pod_collect_to_vec(&id_rb.read_async(ctx).await?);
         let aux = match aux_rb {
-            Some(rb) => Some(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&rb.read(ctx)?)),
+            Some(rb) => Some(bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(
+                &rb.read_async(ctx).await?,
+            )),
             None => None,
         };
         let effects = match effects_rb {
             Some(rb) => Some(
-                rb.read(ctx)?
+                rb.read_async(ctx)
+                    .await?
                     .chunks_exact(4)
                     .map(|p| [f32::from(p[0]) / 255.0, f32::from(p[1]) / 255.0])
                     .collect(),

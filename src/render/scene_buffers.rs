@@ -104,13 +104,10 @@ impl SceneBuffers {
             Some(u) => Some(UnderlayBuffers::upload(ctx, underlay, u)?),
             None => None,
         };
-        let oom = pollster::block_on(oom.pop());
-        let invalid = pollster::block_on(scope.pop());
-        if let Some(e) = oom.or(invalid) {
-            return Err(RenderError::Gpu(format!(
-                "uploading {} glyph instances: {e}",
-                scene.instances.len()
-            )));
+        let what = format!("uploading {} glyph instances", scene.instances.len());
+        let oom = ctx.scope_error(oom, &what);
+        if let Some(e) = oom.or(ctx.scope_error(scope, &what)) {
+            return Err(RenderError::Gpu(e));
         }
         Ok(Self {
             kind: scene.kind,

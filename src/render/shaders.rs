@@ -152,12 +152,15 @@ pub const SWAPS: [Swap; 2] = [
     ),
 ];
 
-/// Parse WGSL with naga (the same front end wgpu uses).
+/// Parse WGSL with naga (the same front end wgpu uses). Not in the web build, where wgpu hands
+/// WGSL to the browser, which compiles it itself (naga's front end would only add weight).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn parse(text: &str) -> Result<wgpu::naga::Module, String> {
     wgpu::naga::front::wgsl::parse_str(text).map_err(|e| e.emit_to_string(text))
 }
 
 /// Parse and validate with every capability wgpu may use.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn validate(text: &str) -> Result<(), String> {
     use wgpu::naga::valid::{Capabilities, ValidationFlags, Validator};
     let module = parse(text)?;

@@ -148,15 +148,14 @@ impl Readback {
     }
 
     /// Map and unpad. Call after the copy was submitted.
+    #[cfg(not(target_arch = "wasm32"))]
     pub fn read(self, ctx: &GpuContext) -> Result<Vec<u8>, RenderError> {
-        let (tx, rx) = std::sync::mpsc::channel();
-        self.buffer.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        ctx.wait()?;
-        rx.recv()
-            .map_err(|_| RenderError::Gpu("readback was dropped".into()))?
-            .map_err(|e| RenderError::Gpu(format!("readback failed: {e}")))?;
+        pollster::block_on(self.read_async(ctx))
+    }
+
+    /// [`Self::read`] without blocking (the browser's way; the desktop's runs at once).
+    pub async fn read_async(self, ctx: &GpuContext) -> Result<Vec<u8>, RenderError> {
+        map_read(&self.buffer, ctx, "readback").await?;
         let data = self
             .buffer
             .get_mapped_range(..)
@@ -170,6 +169,27 @@ impl Readback {
         self.buffer.unmap();
         Ok(out)
     }
+}
+
+/// Map `buffer` for reading once the submitted work is done; `what` names it in errors.
+pub(crate) async fn map_read(
+    buffer: &wgpu::Buffer,
+    ctx: &GpuContext,
+    what: &str,
+) -> Result<(), RenderError> {
+    let (tx, rx) = futures_channel::oneshot::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    // The desktop polls the device here, which runs the callback; in the browser the mapping
+    // itself waits for the work that writes the buffer.
+    #[cfg(not(target_arch = "wasm32"))]
+    ctx.wait()?;
+    #[cfg(target_arch = "wasm32")]
+    let _ = ctx;
+    rx.await
+        .map_err(|_| RenderError::Gpu(format!("{what} was dropped")))?
+        .map_err(|e| RenderError::Gpu(format!("{what} failed: {e}")))
 }
 
 /// Views of a [`Targets`]' textures, as a render pass attaches them.

@@ -338,6 +338,17 @@ impl MethodConfig {
         }
     }
 
+    /// Gumhold's proxies built in the vertex stage, without the compute prepass or splats (for
+    /// devices that cannot bind the prepass's buffers).
+    pub fn drop_prepass(&mut self) {
+        if let MethodConfig::Gumhold(GumholdConfig { depth, .. }) = self {
+            match depth {
+                GumholdDepth::Proxy { prepass } => *prepass = false,
+                GumholdDepth::RayCast { path, .. } => *path = DrawPath::Direct,
+            }
+        }
+    }
+
     /// Declare (or not) conservative depth to the GPU, where the configuration is conservative.
     pub fn set_early_depth(&mut self, on: bool) {
         if let MethodConfig::Gumhold(GumholdConfig {

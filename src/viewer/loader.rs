@@ -1,19 +1,24 @@
-//! Loading off the UI thread: read the file (or make the demo field), then eigendecompose, on a
-//! worker thread, with progress the panel can show. A failure (including a panic in a reader)
-//! comes back as an error message; the data on screen stays.
+//! Loading: read the file (or make the demo field), then eigendecompose, with progress the
+//! panel can show. On the desktop a worker thread does it off the UI thread. The browser has
+//! one thread (threads need a cross-origin isolated page, which a plain static server does not
+//! give), so there the load runs inside a frame, once a frame saying "loading" was shown; rayon
+//! then runs on that one thread too. A failure comes back as an error message; the data on
+//! screen stays.
 
 use std::sync::atomic::{AtomicU64, Ordering};
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::sync::{Arc, Mutex};
+#[cfg(not(target_arch = "wasm32"))]
 use std::thread::JoinHandle;
 
-use crate::field::ReadOptions;
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
+use crate::field::{Inputs, ReadOptions};
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
 use crate::scene::UnderlaySource;
-use crate::staging::{Source, decompose, field_spacing, read, read_underlay};
+use crate::staging::{Source, decompose, field_spacing, read_from, read_underlay};
 
 /// A loaded field and its glyphs.
 pub struct Loaded {
@@ -41,7 +46,18 @@ pub fn load_now(
     underlay: &Option<UnderlaySource>,
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
-    let field = read(source, opts, progress).map_err(|e| e.to_string())?;
+    load_now_from(&Inputs::file_system(), source, opts, underlay, progress)
+}
+
+/// [`load_now`], the tensors read from `inputs` (the page's files, by name).
+pub fn load_now_from(
+    inputs: &Inputs,
+    source: &Source,
+    opts: &ReadOptions,
+    underlay: &Option<UnderlaySource>,
+    progress: &dyn Progress,
+) -> Result<Loaded, String> {
+    let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;
     let underlay = read_underlay(underlay).map_err(|e| e.to_string())?;
     if field.is_empty() {
         return Err(format!("{}: no tensors", source.name()));
@@ -64,6 +80,27 @@ pub fn load_now(
         bounds,
         underlay: underlay.map(Arc::new),
     })
+}
+
+/// Of files opened together (the page's file input or a drop), the one to read: the one that
+/// names the others. A `.nhdr` names its data file and a `.pvti` its pieces; any member of an
+/// FSL eigen set names the set; a NIfTI file comes with its BEP016 sidecar (`.json`). So a
+/// `.nhdr` or `.pvti` first, else the first that is not a data file, piece or sidecar.
+pub fn main_file(names: &[String]) -> Option<&str> {
+    let lower = |n: &str| n.to_ascii_lowercase();
+    let names_others = |n: &&String| [".nhdr", ".pvti"].iter().any(|e| lower(n).ends_with(e));
+    let companion = |n: &&String| {
+        let n = lower(n);
+        [".raw", ".raw.gz", ".json", ".bval", ".bvec", ".vti"]
+            .iter()
+            .any(|e| n.ends_with(e))
+    };
+    names
+        .iter()
+        .find(names_others)
+        .or_else(|| names.iter().find(|n| !companion(n)))
+        .or(names.first())
+        .map(String::as_str)
 }
 
 /// Progress the worker reports and the panel reads.
@@ -90,47 +127,42 @@ impl Progress for SharedProgress {
 pub struct Loading {
     pub source: Source,
     progress: Arc<SharedProgress>,
+    job: Job,
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+struct Job {
     rx: Receiver<Result<Loaded, String>>,
     handle: Option<JoinHandle<()>>,
 }
 
+/// The load, run at the second poll (the first frame shows that it is loading).
+#[cfg(target_arch = "wasm32")]
+struct Job {
+    work: Option<Box<dyn FnOnce() -> Result<Loaded, String>>>,
+    shown: bool,
+}
+
 impl Loading {
-    /// Start loading on a worker thread (the tensors, and the underlay's file if it names one);
-    /// `wake` is called when it is done (to repaint).
+    /// Start loading (the tensors, and the underlay's file if it names one); `wake` is called
+    /// when it is done (to repaint).
     pub fn start(
         source: Source,
+        inputs: Inputs,
         opts: ReadOptions,
         underlay: Option<UnderlaySource>,
         wake: impl Fn() + Send + 'static,
     ) -> Self {
         let progress = Arc::new(SharedProgress::default());
         progress.begin("reading", None);
-        let (tx, rx) = channel();
         let pb = progress.clone();
         let src = source.clone();
-        let handle = std::thread::Builder::new()
-            .name("tensorglyph-load".into())
-            .spawn(move || {
-                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    load_now(&src, &opts, &underlay, pb.as_ref())
-                }))
-                .unwrap_or_else(|panic| {
-                    let msg = panic
-                        .downcast_ref::<&str>()
-                        .map(|s| s.to_string())
-                        .or_else(|| panic.downcast_ref::<String>().cloned())
-                        .unwrap_or_else(|| "unknown error".into());
-                    Err(format!("{}: reading failed: {msg}", src.name()))
-                });
-                let _ = tx.send(result);
-                wake();
-            })
-            .expect("spawning the loader thread");
+        let load = move || load_now_from(&inputs, &src, &opts, &underlay, pb.as_ref());
+        let name = source.name();
         Self {
             source,
             progress,
-            rx,
-            handle: Some(handle),
+            job: Job::start(load, name, wake),
         }
     }
 
@@ -145,6 +177,42 @@ impl Loading {
 
     /// The result, once there is one.
     pub fn poll(&mut self) -> Option<Result<Loaded, String>> {
+        self.job.poll(&self.source)
+    }
+}
+
+#[cfg(not(target_arch = "wasm32"))]
+impl Job {
+    /// On a worker thread; a panic in a reader becomes an error naming the source.
+    fn start(
+        load: impl FnOnce() -> Result<Loaded, String> + Send + 'static,
+        name: String,
+        wake: impl Fn() + Send + 'static,
+    ) -> Self {
+        let (tx, rx) = channel();
+        let handle = std::thread::Builder::new()
+            .name("tensorglyph-load".into())
+            .spawn(move || {
+                let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(load))
+                    .unwrap_or_else(|panic| {
+                        let msg = panic
+                            .downcast_ref::<&str>()
+                            .map(|s| s.to_string())
+                            .or_else(|| panic.downcast_ref::<String>().cloned())
+                            .unwrap_or_else(|| "unknown error".into());
+                        Err(format!("{name}: reading failed: {msg}"))
+                    });
+                let _ = tx.send(result);
+                wake();
+            })
+            .expect("spawning the loader thread");
+        Self {
+            rx,
+            handle: Some(handle),
+        }
+    }
+
+    fn poll(&mut self, source: &Source) -> Option<Result<Loaded, String>> {
         match self.rx.try_recv() {
             Ok(r) => {
                 if let Some(h) = self.handle.take() {
@@ -154,9 +222,31 @@ impl Loading {
             }
             Err(TryRecvError::Empty) => None,
             Err(TryRecvError::Disconnected) => {
-                Some(Err(format!("{}: the loader stopped", self.source.name())))
+                Some(Err(format!("{}: the loader stopped", source.name())))
             }
         }
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+impl Job {
+    fn start(
+        load: impl FnOnce() -> Result<Loaded, String> + 'static,
+        _name: String,
+        wake: impl Fn() + 'static,
+    ) -> Self {
+        wake();
+        Self {
+            work: Some(Box::new(load)),
+            shown: false,
+        }
+    }
+
+    fn poll(&mut self, _source: &Source) -> Option<Result<Loaded, String>> {
+        if !std::mem::replace(&mut self.shown, true) {
+            return None;
+        }
+        self.work.take().map(|work| work())
     }
 }
 
@@ -169,6 +259,7 @@ mod tests {
     fn loads_the_demo_off_thread_and_reports_bad_files() {
         let mut l = Loading::start(
             Source::Demo(Demo { n: 5 }),
+            Inputs::file_system(),
             ReadOptions::default(),
             None,
             || {},
@@ -185,7 +276,13 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let bad = dir.path().join("bad.vtk");
         std::fs::write(&bad, b"not a vtk file").unwrap();
-        let mut l = Loading::start(Source::File(bad), ReadOptions::default(), None, || {});
+        let mut l = Loading::start(
+            Source::File(bad),
+            Inputs::file_system(),
+            ReadOptions::default(),
+            None,
+            || {},
+        );
         let err = loop {
             if let Some(r) = l.poll() {
                 break r.err().expect("a bad file is an error");
@@ -193,5 +290,54 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(5));
         };
         assert!(err.contains("bad.vtk"), "{err}");
+    }
+
+    #[test]
+    fn files_opened_together_are_read_through_the_one_that_names_the_others() {
+        let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let pick = |n: &[&str]| main_file(&names(n)).map(str::to_string);
+        assert_eq!(pick(&["d.raw", "d.nhdr"]).as_deref(), Some("d.nhdr"));
+        assert_eq!(
+            pick(&["p_0.vti", "p.pvti", "p_1.vti"]).as_deref(),
+            Some("p.pvti")
+        );
+        assert_eq!(
+            pick(&["dwi.json", "dwi.nii.gz"]).as_deref(),
+            Some("dwi.nii.gz")
+        );
+        assert_eq!(
+            pick(&["f_L1.nii.gz", "f_V1.nii.gz"]).as_deref(),
+            Some("f_L1.nii.gz")
+        );
+        assert_eq!(pick(&["one.vti"]).as_deref(), Some("one.vti"));
+        assert_eq!(pick(&[]), None);
+
+        // A detached NRRD handed over as two buffers reads as the files do, in either order.
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dti");
+        let want =
+            crate::field::read_field(&dir.join("nrrd_detached.nhdr"), &ReadOptions::default())
+                .unwrap();
+        let files: Vec<(String, Vec<u8>)> = ["nrrd_detached.raw", "nrrd_detached.nhdr"]
+            .iter()
+            .map(|n| (n.to_string(), std::fs::read(dir.join(n)).unwrap()))
+            .collect();
+        let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+        let main = main_file(&names).unwrap().to_string();
+        let mut l = Loading::start(
+            Source::File(main.into()),
+            Inputs::named(files),
+            ReadOptions::default(),
+            None,
+            || {},
+        );
+        let loaded = loop {
+            if let Some(r) = l.poll() {
+                break r.unwrap();
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        };
+        assert_eq!(loaded.field.len(), want.len());
+        assert_eq!(loaded.field.tensors, want.tensors);
+        assert_eq!(loaded.field.positions, want.positions);
     }
 }

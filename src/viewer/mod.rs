@@ -1,13 +1,25 @@
-//! `tensorglyph view`: an interactive window (eframe: winit + egui on the renderer's wgpu).
+//! The interactive viewer: one for the desktop (`tensorglyph view`: eframe's native runner,
+//! winit + egui on the renderer's wgpu) and the browser (web/: eframe's web runner on WebGPU).
 //!
 //! The 3D view draws into its own long-lived colour / id / depth targets with the same
 //! [`GpuRenderer`](crate::render::GpuRenderer) as `render`, and only when something changed;
-//! egui shows the colour target next to the side panel. Loading runs on a worker thread.
+//! egui shows the colour target next to the side panel.
+//!
+//! Shared: the app (`app`: data, scene, panels, camera, picking, slices, underlay, figures),
+//! and everything it calls. Per platform, and only this: the window's glue (`native::run` here,
+//! the web crate's runner there), file access (paths read by a loader thread on the desktop;
+//! bytes handed over by the page, read at once, in `loader`), where a figure goes and who hears
+//! what the view shows (a [`Host`]), and waiting on the GPU (`pending`: at once on the desktop,
+//! on the page's event loop in the browser).
 
 pub mod app;
+pub mod host;
 pub mod loader;
+#[cfg(not(target_arch = "wasm32"))]
+mod native;
 pub mod navigation;
 pub mod panel;
+pub mod pending;
 pub mod picking;
 pub mod screenshot;
 pub mod state;
@@ -15,12 +27,16 @@ pub mod triad;
 pub mod view3d;
 
 use std::path::PathBuf;
-use std::sync::{Arc, Mutex};
+
+use std::sync::Arc;
 
 use crate::camera::Framing;
 use crate::field::vtk::ReadOptions;
 use crate::render::context::WANTED_FEATURES;
 use crate::staging::Source;
+pub use host::{Command, Host, Remote, Report};
+#[cfg(not(target_arch = "wasm32"))]
+pub use native::run;
 use state::Settings;
 
 /// How the viewer starts.
@@ -40,6 +56,14 @@ pub struct Options {
     /// Scripted mode: render `frames` frames, write a screenshot of the whole window, exit.
     pub screenshot: Option<PathBuf>,
     pub frames: u32,
+    /// Commands from outside the window (the page's file input, `?url=`, `?figure=`).
+    pub remote: Remote,
+    /// Each opened source brings its kind of data's defaults (colours, background, the
+    /// middle slice face-on for DTI): the page, which has no command line.
+    pub adopt_defaults: bool,
+    /// What to call the adapter when the back end gives no name (WebGPU hides it; the page
+    /// has its vendor and architecture).
+    pub adapter_label: Option<String>,
 }
 
 /// How a run ended (scripted mode reports its error here).
@@ -60,16 +84,12 @@ pub enum ViewerError {
     Render(#[from] crate::error::RenderError),
 }
 
-/// Open the window and run until it is closed.
-pub fn run(opts: Options) -> Result<(), ViewerError> {
-    let (w, h) = if opts.size.0 > 0 && opts.size.1 > 0 {
-        opts.size
-    } else {
-        (1280, 800)
-    };
+/// How eframe opens the device the viewer and egui share, on the desktop and in the browser:
+/// timestamps and pipeline statistics where the adapter has them, and its full limits (the
+/// largest storage buffers and textures it allows, which WebGPU otherwise caps low).
+pub fn wgpu_configuration() -> eframe::egui_wgpu::WgpuConfiguration {
     let mut wgpu_options = eframe::egui_wgpu::WgpuConfiguration::default();
     if let eframe::egui_wgpu::WgpuSetup::CreateNew(create) = &mut wgpu_options.wgpu_setup {
-        // Timestamps and pipeline statistics where the adapter has them, and its full limits.
         create.device_descriptor = Arc::new(|adapter: &wgpu::Adapter| wgpu::DeviceDescriptor {
             label: Some("tensorglyph viewer"),
             required_features: adapter.features() & WANTED_FEATURES,
@@ -77,29 +97,5 @@ pub fn run(opts: Options) -> Result<(), ViewerError> {
             ..Default::default()
         });
     }
-    let native = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("tensorglyph")
-            .with_inner_size([w as f32, h as f32])
-            .with_drag_and_drop(true),
-        renderer: eframe::Renderer::Wgpu,
-        wgpu_options,
-        ..Default::default()
-    };
-    let outcome = Arc::new(Mutex::new(Outcome::default()));
-    let out = outcome.clone();
-    eframe::run_native(
-        "tensorglyph",
-        native,
-        Box::new(move |cc| {
-            let app = app::ViewerApp::new(cc, opts, out).map_err(|e| format!("{e:#}"))?;
-            Ok(Box::new(app))
-        }),
-    )
-    .map_err(|e| ViewerError::Window(e.to_string()))?;
-    let outcome = outcome.lock().unwrap_or_else(|e| e.into_inner()).clone();
-    match outcome.error {
-        Some(e) => Err(ViewerError::Scripted(e)),
-        None => Ok(()),
-    }
+    wgpu_options
 }

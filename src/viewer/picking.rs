@@ -3,7 +3,9 @@
 
 use crate::error::RenderError;
 use crate::render::GpuContext;
-use crate::render::targets::{Readback, Targets};
+use crate::render::targets::Readback;
+#[cfg(not(target_arch = "wasm32"))]
+use crate::render::targets::Targets;
 use crate::scene::Scene;
 use crate::tensor::shape;
 use crate::viewer::loader::Loaded;
@@ -73,14 +75,25 @@ impl PickInfo {
 }
 
 /// Read the id target at pixel (x, y): one pixel copied and mapped, nothing else.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn read_id(ctx: &GpuContext, targets: &Targets, x: u32, y: u32) -> Result<u32, RenderError> {
-    if x >= targets.width || y >= targets.height {
+    pollster::block_on(read_id_async(ctx, &targets.id, x, y))
+}
+
+/// [`read_id`] of the id texture `id`, without blocking (the browser's way).
+pub async fn read_id_async(
+    ctx: &GpuContext,
+    id: &wgpu::Texture,
+    x: u32,
+    y: u32,
+) -> Result<u32, RenderError> {
+    if x >= id.width() || y >= id.height() {
         return Ok(0);
     }
     let mut encoder = ctx.device.create_command_encoder(&Default::default());
-    let rb = Readback::record_region(ctx, &mut encoder, &targets.id, 4, [x, y], [1, 1]);
+    let rb = Readback::record_region(ctx, &mut encoder, id, 4, [x, y], [1, 1]);
     ctx.queue.submit([encoder.finish()]);
-    let bytes = rb.read(ctx)?;
+    let bytes = rb.read_async(ctx).await?;
     Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
 }
 

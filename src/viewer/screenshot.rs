@@ -1,5 +1,6 @@
-//! PNGs: the 3D view at any size through the very path `render` takes
-//! ([`GpuRenderer::render`] then [`write_png_atomic`]), and the whole window (scripted mode).
+//! Figures: the 3D view at any size through the very path `render` takes
+//! ([`GpuRenderer::render`]'s async core, the legend, then [`write_png_atomic`] on the
+//! desktop or an image in the page), and the whole window (scripted mode).
 
 use std::path::Path;
 
@@ -23,7 +24,75 @@ pub struct Figure<'a> {
     pub legend: Option<(&'a ResolvedStyle, usize, bool)>,
 }
 
-/// Render `scene` with `camera` resized to the figure's samples and write it as a PNG.
+/// A rendered figure: RGBA8 pixels, row-major from the top left.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+impl Image {
+    /// The image as PNG bytes, as `render` writes them.
+    pub fn png(&self) -> Result<Vec<u8>, RenderError> {
+        let mut out = Vec::new();
+        crate::image_out::encode_png(&mut out, self.width, self.height, &self.rgba, None)
+            .map_err(|e| RenderError::Gpu(format!("encoding the PNG: {e}")))?;
+        Ok(out)
+    }
+}
+
+/// Render `scene` with `camera` resized to the figure's samples, downsample, and burn the
+/// legend in (its caption made from the figure's own request and camera). Nothing blocks: the
+/// desktop runs it to its end at once, the browser on its event loop.
+pub async fn render_figure(
+    gpu: &GpuRenderer,
+    scene: &Scene,
+    camera: &Camera,
+    req: &FrameRequest,
+    figure: &Figure<'_>,
+) -> Result<Image, RenderError> {
+    let (cam, req) = figure_view(camera, req, figure)?;
+    let frame = gpu.render_async(scene, &cam, &req).await?;
+    Ok(finish(frame, scene, &cam, &req, figure))
+}
+
+/// The camera at the figure's samples and the one-frame request.
+fn figure_view(
+    camera: &Camera,
+    req: &FrameRequest,
+    figure: &Figure<'_>,
+) -> Result<(Camera, FrameRequest), RenderError> {
+    let ((w, h), n) = (figure.size, figure.ssaa.max(1));
+    crate::frame::check_size(w.saturating_mul(n), h.saturating_mul(n))?;
+    let mut cam = *camera;
+    cam.width = w * n;
+    cam.height = h * n;
+    Ok((cam, FrameRequest { frames: 1, ..*req }))
+}
+
+fn finish(
+    frame: crate::frame::Frame,
+    scene: &Scene,
+    cam: &Camera,
+    req: &FrameRequest,
+    figure: &Figure<'_>,
+) -> Image {
+    let (w, h) = figure.size;
+    let mut frame = frame.downsample(figure.ssaa.max(1));
+    if let Some((style, clamped, anatomical)) = figure.legend {
+        let caption = Caption::of_frame(style, clamped, scene, req, cam, anatomical);
+        burn(&mut frame.color, w, h, &frame.ids, &caption, req.background);
+    }
+    Image {
+        width: frame.width,
+        height: frame.height,
+        rgba: frame.color,
+    }
+}
+
+/// [`render_figure`], written as a PNG to `path`.
+#[cfg(not(target_arch = "wasm32"))]
 pub fn save_view(
     gpu: &GpuRenderer,
     scene: &Scene,
@@ -32,18 +101,8 @@ pub fn save_view(
     figure: &Figure<'_>,
     path: &Path,
 ) -> Result<(), RenderError> {
-    let ((w, h), n) = (figure.size, figure.ssaa.max(1));
-    crate::frame::check_size(w.saturating_mul(n), h.saturating_mul(n))?;
-    let mut cam = *camera;
-    cam.width = w * n;
-    cam.height = h * n;
-    let req = FrameRequest { frames: 1, ..*req };
-    let mut frame = gpu.render(scene, &cam, &req)?.downsample(n);
-    if let Some((style, clamped, anatomical)) = figure.legend {
-        let caption = Caption::of_frame(style, clamped, scene, &req, &cam, anatomical);
-        burn(&mut frame.color, w, h, &frame.ids, &caption, req.background);
-    }
-    write_png(path, frame.width, frame.height, &frame.color)
+    let image = pollster::block_on(render_figure(gpu, scene, camera, req, figure))?;
+    write_png(path, image.width, image.height, &image.rgba)
 }
 
 /// Write an egui screenshot (RGBA, sRGB) as a PNG.
@@ -53,7 +112,7 @@ pub fn save_window(image: &egui::ColorImage, path: &Path) -> Result<(), RenderEr
     write_png(path, w as u32, h as u32, &rgba)
 }
 
-fn write_png(path: &Path, w: u32, h: u32, rgba: &[u8]) -> Result<(), RenderError> {
+pub(crate) fn write_png(path: &Path, w: u32, h: u32, rgba: &[u8]) -> Result<(), RenderError> {
     write_png_atomic(path, w, h, rgba).map_err(|source| RenderError::Output {
         path: path.to_path_buf(),
         source,

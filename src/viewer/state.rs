@@ -95,6 +95,15 @@ impl Settings {
         }
     }
 
+    /// Take a kind of data's defaults, as `view` starts with them for its file: colours, size
+    /// and background.
+    pub fn adopt(&mut self, defaults: &crate::defaults::Defaults) {
+        self.style.color = defaults.color;
+        self.style.size_by = defaults.size_by;
+        let [r, g, b, _] = defaults.background;
+        self.background = [r, g, b].map(|c| c as f32);
+    }
+
     /// Keep the slice indices inside a lattice of `dims` (after loading another file).
     pub fn clamp_to_lattice(&mut self, dims: Option<[usize; 3]>) {
         let Some(d) = dims else {

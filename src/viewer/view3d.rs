@@ -2,7 +2,9 @@
 //! scene's buffers, and a frame drawn into them only when asked (the app asks only when
 //! something changed). egui shows the colour target as a texture.
 
-use std::time::Instant;
+use std::sync::{Arc, Mutex};
+
+use web_time::Instant;
 
 use crate::camera::Camera;
 use crate::error::RenderError;
@@ -27,7 +29,12 @@ pub struct View3d {
     pub texture: Option<egui::TextureId>,
     buffers: Option<SceneBuffers>,
     timer: Option<GpuTimer>,
-    pub last_frame: Option<FrameTime>,
+    last_frame: Option<FrameTime>,
+    /// The time of a frame the browser's queue finished (set from its callback), with the
+    /// scene it drew (`scenes` then).
+    done: Arc<Mutex<Option<(u64, f64)>>>,
+    /// Scenes set so far: a frame time is shown for the scene it drew, never the last one's.
+    scenes: u64,
     /// The targets' aux target and the texture's filter, as last made.
     made: (bool, bool),
 }
@@ -35,6 +42,8 @@ pub struct View3d {
 impl View3d {
     pub fn set_scene(&mut self, gpu: &GpuRenderer, scene: &Scene) -> Result<(), RenderError> {
         self.buffers = None;
+        self.scenes += 1;
+        self.last_frame = None;
         self.buffers = Some(gpu.upload(scene)?);
         Ok(())
     }
@@ -82,7 +91,9 @@ impl View3d {
         Ok(())
     }
 
-    /// Draw a frame into the targets and wait for it (lavapipe draws on the CPU anyway).
+    /// Draw a frame into the targets and wait for it (lavapipe draws on the CPU anyway). In the
+    /// browser nothing waits: the queue reports the frame's time when it is done, and
+    /// [`Self::frame_time`] has it from then on.
     pub fn draw(
         &mut self,
         gpu: &GpuRenderer,
@@ -93,7 +104,8 @@ impl View3d {
             return Ok(());
         };
         let ctx = &gpu.ctx;
-        if ctx.timestamps && self.timer.is_none() {
+        // GPU timestamps are read back, which only the desktop can wait for.
+        if ctx.timestamps && self.timer.is_none() && cfg!(not(target_arch = "wasm32")) {
             self.timer = Some(GpuTimer::new(&ctx.device));
         }
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -105,27 +117,55 @@ impl View3d {
         }
         let start = Instant::now();
         ctx.queue.submit([encoder.finish()]);
-        ctx.wait()?;
-        let wall = start.elapsed().as_secs_f64() * 1e3;
-        if let Some(e) = pollster::block_on(scope.pop()) {
-            return Err(RenderError::Gpu(e.to_string()));
+        #[cfg(target_arch = "wasm32")]
+        {
+            let (done, scene) = (self.done.clone(), self.scenes);
+            ctx.queue.on_submitted_work_done(move || {
+                let ms = start.elapsed().as_secs_f64() * 1e3;
+                *done.lock().unwrap_or_else(|e| e.into_inner()) = Some((scene, ms));
+            });
+            if let Some(e) = ctx.scope_error(scope, "drawing the view") {
+                return Err(RenderError::Gpu(e));
+            }
+            encoded
         }
-        encoded?;
-        let gpu_ms = match &self.timer {
-            Some(t) => t.read_ms(gpu).ok(),
-            None => None,
-        };
-        self.last_frame = Some(match gpu_ms {
-            Some(ms) => FrameTime {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            ctx.wait()?;
+            let wall = start.elapsed().as_secs_f64() * 1e3;
+            if let Some(e) = pollster::block_on(scope.pop()) {
+                return Err(RenderError::Gpu(e.to_string()));
+            }
+            encoded?;
+            let gpu_ms = match &self.timer {
+                Some(t) => t.read_ms(gpu).ok(),
+                None => None,
+            };
+            self.last_frame = Some(match gpu_ms {
+                Some(ms) => FrameTime {
+                    ms,
+                    gpu_timestamps: true,
+                },
+                None => FrameTime {
+                    ms: wall,
+                    gpu_timestamps: false,
+                },
+            });
+            Ok(())
+        }
+    }
+
+    /// How long the last finished frame took (wall clock from submission to completion, or GPU
+    /// timestamps where the desktop has them).
+    pub fn frame_time(&mut self) -> Option<FrameTime> {
+        let done = self.done.lock().unwrap_or_else(|e| e.into_inner()).take();
+        if let Some((_, ms)) = done.filter(|(scene, _)| *scene == self.scenes) {
+            self.last_frame = Some(FrameTime {
                 ms,
-                gpu_timestamps: true,
-            },
-            None => FrameTime {
-                ms: wall,
                 gpu_timestamps: false,
-            },
-        });
-        Ok(())
+            });
+        }
+        self.last_frame
     }
 }
 
@@ -147,6 +187,7 @@ impl GpuTimer {
     }
 
     /// Milliseconds between the two timestamps (after the submission completed).
+    #[cfg(not(target_arch = "wasm32"))]
     fn read_ms(&self, gpu: &GpuRenderer) -> Result<f64, RenderError> {
         let t = self.0.read(&gpu.ctx)?;
         let period = f64::from(gpu.ctx.queue.get_timestamp_period());

@@ -50,7 +50,7 @@ impl GumholdRenderer {
     /// ellipsoid's; the prepass where the kind takes it ([`crate::shape::Capabilities`]).
     pub fn new(ctx: &GpuContext, layouts: &GlyphLayouts, glyph: GlyphKind) -> Self {
         let source = ShaderSource::new(MethodShader::Gumhold, glyph);
-        let prepass = glyph.caps().prepass;
+        let prepass = glyph.caps().prepass && ctx.prepass_fits();
         // What vs_frames reads per instance: the ellipsoid's frames, another kind's glyph list.
         let instance_input = prepass.then(|| {
             if glyph == GlyphKind::Ellipsoid {

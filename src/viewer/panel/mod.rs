@@ -178,7 +178,7 @@ fn file_section(
             ui.end_row();
         });
     } else if info.loading.is_none() {
-        ui.label("No data: drop a VTK file here or open one below.");
+        ui.label("No data: drop a tensor file here or open one below.");
     }
     if let Some((name, stage, frac)) = &info.loading {
         ui.horizontal(|ui| {
@@ -191,6 +191,11 @@ fn file_section(
     }
     if let Some(e) = info.error {
         ui.colored_label(Color32::from_rgb(200, 30, 30), e);
+    }
+    // The page opens files with its own button and drops (a browser gives no paths).
+    if cfg!(target_arch = "wasm32") {
+        ui.small("Open a file with the button above the view, or drop it on the page.");
+        return;
     }
     ui.horizontal(|ui| {
         let field = ui.add(

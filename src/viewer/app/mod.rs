@@ -1,5 +1,7 @@
-//! The eframe app: owns the data, the scene, the navigation and the 3D view, and ties panel,
-//! input, loading, picking and screenshots together.
+//! The eframe app, the same on the desktop and in the browser: owns the data, the scene, the
+//! navigation and the 3D view, and ties panel, input, loading, picking and figures together.
+//! What the platform does differently it does through a [`Host`], a [`Remote`], the loader and
+//! [`Pending`](crate::viewer::pending::Pending) work.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
@@ -7,35 +9,47 @@ use std::sync::{Arc, Mutex};
 use eframe::egui_wgpu::RenderState;
 use glam::DVec3;
 
+mod figures;
+mod picks;
+mod report;
+
 use crate::camera::{Framing, ViewPreset};
+use crate::defaults::DataKind;
+use crate::field::Inputs;
 use crate::field::vtk::ReadOptions;
+use crate::glyph::style::ResolvedStyle;
 use crate::progress::Silent;
 use crate::render::{GpuContext, GpuRenderer};
 use crate::scene::Scene;
 use crate::scene::UnderlaySource;
 use crate::select::Slicing;
 use crate::staging::{self, Recipe, Source};
-use crate::viewer::loader::{Loaded, Loading};
+use crate::viewer::loader::{Loaded, Loading, main_file};
 use crate::viewer::navigation::{Navigation, axis_view};
 use crate::viewer::panel::{self, Action, PanelInfo, PanelState};
-use crate::viewer::picking::{PickInfo, read_id};
-use crate::viewer::screenshot::{Figure, parse_size, save_view, save_window};
+use crate::viewer::picking::PickInfo;
+use crate::viewer::screenshot::save_window;
 use crate::viewer::state::{BuildKey, RenderKey, Settings};
 use crate::viewer::triad;
 use crate::viewer::view3d::View3d;
-use crate::viewer::{Options, Outcome, ViewerError};
+use crate::viewer::{Command, Host, Options, Outcome, Remote, Report, ViewerError};
+use figures::FigureJob;
+use picks::{PickFor, PickJob};
 
 /// The scene built from the current data, settings and selection.
 struct Built {
     key: BuildKey,
-    scene: Scene,
+    scene: Arc<Scene>,
     /// Glyph k of the scene (its instances' `glyph`) is glyph `selected[k]` of the set.
     selected: Vec<usize>,
     /// Of those, glyphs `--scale auto` scaled down to the robust largest size.
     clamped: usize,
     /// The style with the field's numbers fixed (the legend, the smallest relative radius).
-    style: crate::glyph::style::ResolvedStyle,
+    style: ResolvedStyle,
     generation: u64,
+    /// What `render` frames by default: the field's box (or the face-on slice), and the
+    /// framing the view started with.
+    render_framing: (Framing, DVec3, DVec3),
 }
 
 pub struct ViewerApp {
@@ -65,6 +79,22 @@ pub struct ViewerApp {
     hover: Option<(u32, u32)>,
     picked: Option<PickInfo>,
     drawn: usize,
+    /// The hover pick is stale (the pointer moved or the frame changed).
+    pick_dirty: bool,
+    pick_job: Option<PickJob>,
+    figure_job: Option<FigureJob>,
+    /// `?figure=`: asked for before a scene was there to draw.
+    figure_asked: Option<(u32, u32, String)>,
+    /// Each opened source brings its kind's defaults (the page; the desktop keeps its command
+    /// line's).
+    adopt_defaults: bool,
+    /// The adapter's name where the back end gives none.
+    adapter_label: Option<String>,
+    /// A frame of the current scene was drawn (the status waits for it).
+    drawn_generation: Option<u64>,
+    host: Box<dyn Host>,
+    remote: Remote,
+    reported: Report,
     // Scripted mode.
     script: Option<Script>,
     outcome: Arc<Mutex<Outcome>>,
@@ -82,6 +112,7 @@ impl ViewerApp {
         cc: &eframe::CreationContext<'_>,
         opts: Options,
         outcome: Arc<Mutex<Outcome>>,
+        host: Box<dyn Host>,
     ) -> Result<Self, ViewerError> {
         let rs = cc
             .wgpu_render_state
@@ -120,6 +151,16 @@ impl ViewerApp {
             hover: None,
             picked: None,
             drawn: 0,
+            pick_dirty: false,
+            pick_job: None,
+            figure_job: None,
+            figure_asked: None,
+            adopt_defaults: opts.adopt_defaults,
+            adapter_label: opts.adapter_label.clone(),
+            drawn_generation: None,
+            host,
+            remote: opts.remote.clone(),
+            reported: Report::default(),
             script: opts.screenshot.map(|output| Script {
                 output,
                 frames_left: opts.frames.max(1),
@@ -128,6 +169,7 @@ impl ViewerApp {
             }),
             outcome,
         };
+        app.remote.attach(&cc.egui_ctx);
         if let Some(src) = opts.source {
             app.open(&cc.egui_ctx, src);
         }
@@ -135,12 +177,34 @@ impl ViewerApp {
     }
 
     fn open(&mut self, ctx: &egui::Context, source: Source) {
+        self.open_from(ctx, source, Inputs::file_system());
+    }
+
+    /// Files handed over as bytes, read through the one that names the others.
+    fn open_files(&mut self, ctx: &egui::Context, files: Vec<(String, Vec<u8>)>) {
+        let names: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
+        let Some(main) = main_file(&names) else {
+            return;
+        };
+        let source = Source::File(PathBuf::from(main));
+        self.open_from(ctx, source, Inputs::named(files));
+    }
+
+    fn open_from(&mut self, ctx: &egui::Context, source: Source, inputs: Inputs) {
         if let Source::File(p) = &source {
             self.panel.path = p.display().to_string();
+        }
+        if self.adopt_defaults {
+            let defaults = DataKind::of(&source).defaults();
+            self.settings.adopt(&defaults);
+            self.face_slice = defaults.face_on;
+            self.middle_slice = defaults.middle_slice;
+            self.settings.selection.slicing = crate::select::Slicing::Whole;
         }
         let repaint = ctx.clone();
         self.loading = Some(Loading::start(
             source,
+            inputs,
             self.read.clone(),
             self.underlay_file.clone(),
             move || repaint.request_repaint(),
@@ -239,11 +303,23 @@ impl ViewerApp {
             selected,
             frame_centre,
             frame_radius,
+            frame_half,
             face,
             glyphs_clamped,
             style,
             ..
         } = built;
+        let render_framing = match face.filter(|_| self.face_slice) {
+            Some(f) => (
+                Framing {
+                    toward: Some(f.toward),
+                    ..self.framing
+                },
+                f.centre,
+                f.half,
+            ),
+            None => (self.framing, frame_centre, frame_half),
+        };
         if let Err(e) = self.view.set_scene(&self.gpu, &scene) {
             self.error = Some(format!(
                 "cannot upload {} glyphs: {e}",
@@ -273,11 +349,12 @@ impl ViewerApp {
         self.picked = None;
         self.built = Some(Built {
             key,
-            scene,
+            scene: Arc::new(scene),
             selected,
             clamped: glyphs_clamped,
             style,
             generation: self.scene_generation,
+            render_framing,
         });
     }
 
@@ -323,49 +400,16 @@ impl ViewerApp {
                     nav.reset(preset);
                 }
             }
-            Action::Screenshot => self.screenshot(),
+            Action::Screenshot => self.screenshot(ctx),
         }
     }
 
-    /// The 3D view as a PNG, through `render`'s own path.
-    fn screenshot(&mut self) {
-        let (Some(built), Some(nav)) = (&self.built, &self.nav) else {
-            self.status = Some("nothing to save yet".into());
-            return;
-        };
-        let size = if self.panel.screenshot_window_size {
-            self.view.size()
-        } else {
-            parse_size(&self.panel.screenshot_size)
-        };
-        let Some(size) = size else {
-            self.status = Some(format!(
-                "screenshot size '{}' is not WxH",
-                self.panel.screenshot_size
-            ));
-            return;
-        };
-        let path = PathBuf::from(self.panel.screenshot_path.trim());
-        let ssaa = self.panel.figure_ssaa.clamp(1, 4);
-        let camera = nav.camera(size.0, size.1);
-        let mut req = self.settings.request(ssaa);
-        if self.panel.figure_transparent {
-            req.background[3] = 0.0;
+    /// The adapter as people read it.
+    fn adapter_name(&self) -> &str {
+        match (self.gpu.adapter_name(), &self.adapter_label) {
+            ("", Some(label)) => label,
+            (name, _) => name,
         }
-        let figure = Figure {
-            size,
-            ssaa,
-            legend: self
-                .panel
-                .figure_legend
-                .then(|| (&built.style, built.clamped, self.anatomical())),
-        };
-        self.status = Some(
-            match save_view(&self.gpu, &built.scene, &camera, &req, &figure, &path) {
-                Ok(()) => format!("saved {} ({}x{})", path.display(), size.0, size.1),
-                Err(e) => format!("screenshot failed: {e:#}"),
-            },
-        );
     }
 
     /// Whether the loaded field's world is anatomical (RAS): axes labelled R/A/S.
@@ -412,31 +456,9 @@ impl ViewerApp {
                 (rel.y.max(0.0) as u32).min(pixels.1.saturating_sub(1)),
             )
         });
-        if response.double_clicked()
-            && let Some(p) = self.pick()
-            && let Some(nav) = &mut self.nav
-        {
-            nav.centre_on(DVec3::from(p.position));
+        if response.double_clicked() {
+            self.start_pick(ui.ctx(), PickFor::Centre);
         }
-    }
-
-    fn pick(&self) -> Option<PickInfo> {
-        let (x, y) = self.hover?;
-        let (targets, built, data) = (
-            self.view.targets.as_ref()?,
-            self.built.as_ref()?,
-            self.data.as_ref()?,
-        );
-        // The targets hold n×n samples per window pixel: read the pixel's centre sample.
-        let n = self.settings.ssaa.max(1);
-        let id = read_id(&self.gpu.ctx, targets, x * n + n / 2, y * n + n / 2).ok()?;
-        PickInfo::of(
-            id,
-            &built.scene,
-            &built.selected,
-            data,
-            self.settings.style.class_threshold,
-        )
     }
 
     /// Draw the frame if anything it depends on changed.
@@ -524,7 +546,20 @@ impl ViewerApp {
 impl eframe::App for ViewerApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        for command in self.remote.take() {
+            match command {
+                Command::Open(source) => self.open(&ctx, source),
+                Command::OpenFiles(files) => self.open_files(&ctx, files),
+                Command::Figure { size, name } => self.figure_asked = Some((size.0, size.1, name)),
+            }
+        }
+        // The first is the cause; later ones tend to follow from it.
+        if let Some(e) = self.gpu.ctx.take_late_errors().into_iter().next() {
+            self.error = Some(e);
+        }
         self.poll_loading(&ctx);
+        self.poll_figure();
+        self.poll_pick();
         // Files dropped on the window.
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
@@ -544,7 +579,7 @@ impl eframe::App for ViewerApp {
             let (stage, frac) = l.progress();
             (l.source.name(), stage, frac)
         });
-        let adapter = self.gpu.adapter_name().to_string();
+        let adapter = self.adapter_name().to_string();
         egui::Panel::left("panel")
             .default_size(330.0)
             .resizable(true)
@@ -556,7 +591,7 @@ impl eframe::App for ViewerApp {
                     status: self.status.as_deref(),
                     glyphs_selected: self.built.as_ref().map_or(0, |b| b.selected.len()),
                     glyphs_drawn: self.drawn,
-                    frame: self.view.last_frame,
+                    frame: self.view.frame_time(),
                     adapter: &adapter,
                     glyphs_clamped: self.built.as_ref().map_or(0, |b| b.clamped),
                     min_radius: self.built.as_ref().map(|b| b.style.min_radius),
@@ -620,12 +655,21 @@ impl eframe::App for ViewerApp {
                     );
                 }
             }
-            // Hover picking: read the id under the pointer when it moved or the frame changed.
+            // Hover picking: read the id under the pointer when it moved or the frame changed
+            // (one read at a time: the browser's come a frame or so later).
             let moved = ui.input(|i| i.pointer.delta() != egui::Vec2::ZERO);
+            if rendered {
+                self.drawn_generation = self.built.as_ref().map(|b| b.generation);
+            }
             if self.hover.is_none() {
                 self.picked = None;
+                self.pick_dirty = false;
             } else if (moved || rendered) && !response.dragged() {
-                self.picked = self.pick();
+                self.pick_dirty = true;
+            }
+            if self.pick_dirty && self.pick_job.is_none() {
+                self.pick_dirty = false;
+                self.start_pick(&ctx, PickFor::Hover);
             }
             if let (Some(p), Some(pos)) = (&self.picked, response.hover_pos()) {
                 let text = p.text();
@@ -641,5 +685,11 @@ impl eframe::App for ViewerApp {
             }
         });
         self.scripted(&ctx);
+        if let (Some((w, h, name)), true) = (&self.figure_asked, self.drawn_generation.is_some()) {
+            let (size, name) = ((*w, *h), name.clone());
+            self.figure_asked = None;
+            self.render_figure(&ctx, size, name);
+        }
+        self.report(&ctx);
     }
 }
