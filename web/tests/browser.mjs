@@ -185,8 +185,9 @@ try {
     const cmp = await compare(page, src, nativeFigure('grid40'));
     check(!cmp.size, `the figure is 640x480 (${cmp.size || 'yes'})`);
     check(cmp.glyph > 0.05 * cmp.n, `the figure shows glyphs (${cmp.glyph} of ${cmp.n} pixels)`);
-    // Not asserted: 64,000 glyphs a few pixels wide are nearly all edge, where SwiftShader and
-    // lavapipe rasterise apart (grid:10 below is held to the 99 %).
+    // Not asserted: on SwiftShader grid40's figure is 93.4 % like the native one and the exact
+    // reference alike (native: 99.999 % like the reference), cause not yet found; see the book's
+    // "In the browser" page. grid:10 below is held to the 99 %.
     const grid40Match = ((100 * cmp.close) / cmp.n).toFixed(2);
     console.log(`measured: grid40's figure against the native render: ${grid40Match} % of pixels within 3/255`);
 
