@@ -16,23 +16,13 @@
 
 use std::path::Path;
 
-use serde::Serialize;
-
+pub use super::frame::Sidecar;
 use super::frame::TensorFrame;
 use super::inputs::Inputs;
 use crate::error::{LoadErrorKind, escape_for_error};
 
 /// A sidecar larger than this is not read (real ones are a few hundred bytes).
 pub const SIDECAR_MAX_BYTES: u64 = 1 << 20;
-
-/// What the sidecar said, as `info` reports it.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Sidecar {
-    /// The sidecar's file name (the one read, or the one looked for).
-    pub name: String,
-    /// `ijk` or `xyz` when the sidecar decided the frame; `None` when the default was used.
-    pub reference_axes: Option<String>,
-}
 
 /// How a BEP016 file is to be read.
 pub(crate) struct Decision {

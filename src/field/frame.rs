@@ -85,6 +85,15 @@ pub struct FrameInfo {
     pub source: String,
 }
 
+/// What a BEP016 map's JSON sidecar said (read by [`super::bep016`]), as `info` reports it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Sidecar {
+    /// The sidecar's file name (the one read, or the one looked for).
+    pub name: String,
+    /// `ijk` or `xyz` when the sidecar decided the frame; `None` when the default was used.
+    pub reference_axes: Option<String>,
+}
+
 /// What a reader knows about the data beyond the tensors.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ReadMeta {
@@ -94,7 +103,7 @@ pub struct ReadMeta {
     /// that the lattice stays whole, and counted here.
     pub masked: usize,
     /// The BEP016 sidecar that decided the tensor frame (or was looked for), for BEP016 maps.
-    pub sidecar: Option<super::bep016::Sidecar>,
+    pub sidecar: Option<Sidecar>,
     /// What the reader assumed that the user should know, one line each (a BEP016 map read
     /// with the default for want of a usable sidecar).
     pub notes: Vec<String>,

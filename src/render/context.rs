@@ -17,6 +17,12 @@ pub const WANTED_FEATURES: wgpu::Features = wgpu::Features::PIPELINE_STATISTICS_
     .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
     .union(INT64_ATOMICS);
 
+/// Storage buffers Gumhold's compute prepass binds in one stage: the glyph group's three and the
+/// compute group's nine. WebGPU adapters may allow fewer per stage (SwiftShader in Chromium: 10);
+/// there the prepass and splats are left out ([`GpuContext::prepass_fits`]). Kept here, with the
+/// other device requirements, so that the context need not know the prepass.
+pub const COMPUTE_STORAGE_BUFFERS: u32 = 12;
+
 /// 64-bit atomic max in shaders: splats keep depth and id in one atomic (splat64.wgsl).
 const INT64_ATOMICS: wgpu::Features =
     wgpu::Features::SHADER_INT64.union(wgpu::Features::SHADER_INT64_ATOMIC_MIN_MAX);
@@ -135,8 +141,7 @@ impl GpuContext {
     /// Whether the device binds as many storage buffers per shader stage as Gumhold's compute
     /// prepass needs (Vulkan devices do; some WebGPU adapters do not).
     pub fn prepass_fits(&self) -> bool {
-        self.limits.max_storage_buffers_per_shader_stage
-            >= crate::render::gumhold::prepass::COMPUTE_STORAGE_BUFFERS
+        self.limits.max_storage_buffers_per_shader_stage >= COMPUTE_STORAGE_BUFFERS
     }
 
     /// Wait for all submitted work. lavapipe can take many seconds on large frames.

@@ -140,11 +140,6 @@ pub fn glyph_list_layout() -> wgpu::VertexBufferLayout<'static> {
     }
 }
 
-/// Storage buffers the prepass's compute stage binds: the glyph group's three and the compute
-/// group's nine. WebGPU adapters may allow fewer per stage (SwiftShader in Chromium: 10); there
-/// the prepass and splats are left out ([`GpuContext::prepass_fits`]).
-pub const COMPUTE_STORAGE_BUFFERS: u32 = 12;
-
 /// Bind group 1 of the compute passes and of the splat tiles' draw, and their pipeline
 /// layouts (group 0 is the glyph group every method uses).
 #[derive(Clone)]
