@@ -67,6 +67,8 @@ pub struct Skipped {
     pub nan: usize,
     pub inf: usize,
     pub zero: usize,
+    /// Eigenvalues beyond the f32 range a glyph stores (±3.4e38).
+    pub overflow: usize,
     /// Confidence below 0.5 (NRRD masked tensors); not counted in `zero`.
     pub masked: usize,
 }
@@ -147,6 +149,7 @@ pub fn info_report(
             // Masked voxels are held as zero tensors so that the lattice stays whole.
             zero: s.skipped_zero.saturating_sub(field.meta.masked),
             masked: field.meta.masked,
+            overflow: s.skipped_overflow,
         },
         symmetrised: s.symmetrised,
         indefinite: s.indefinite,
@@ -301,9 +304,17 @@ pub fn human_summary(r: &InfoReport) -> String {
     } else {
         String::new()
     };
+    let overflow = if r.skipped.overflow > 0 {
+        format!(
+            ", {} beyond ±3.4e38 (the glyphs' f32 range)",
+            r.skipped.overflow
+        )
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         o,
-        "tensors: {} total, {} valid; skipped {} NaN, {} Inf, {} zero{masked}",
+        "tensors: {} total, {} valid; skipped {} NaN, {} Inf, {} zero{masked}{overflow}",
         r.tensors, r.valid, r.skipped.nan, r.skipped.inf, r.skipped.zero
     );
     let _ = writeln!(

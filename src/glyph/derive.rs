@@ -2,7 +2,9 @@
 //! symmetrised and eigendecomposed, in parallel chunks (rayon); glyph order is file order.
 //!
 //! Nothing is dropped silently: tensors with a NaN component are counted in `skipped_nan`, else
-//! with an infinite component in `skipped_inf`, else all-zero tensors in `skipped_zero`.
+//! with an infinite component in `skipped_inf`, else all-zero tensors in `skipped_zero`, and
+//! finite tensors whose eigenvalues leave the f32 range a glyph stores in `skipped_overflow`
+//! (beyond 3.4e38 the glyph's size is infinite and it cannot be drawn or scaled).
 //! Non-symmetric tensors (see [`crate::tensor::eigen::SYMMETRY_TOL`]) are replaced by
 //! `(A + Aᵀ)/2` and counted in `symmetrised`.
 
@@ -24,6 +26,7 @@ enum Outcome {
     Nan,
     Inf,
     Zero,
+    Overflow,
     Valid {
         glyph: Glyph,
         values: [f64; 3],
@@ -61,6 +64,11 @@ fn process(t: &[f64; 9], centre: [f64; 3], index: usize) -> Outcome {
     }
     let (s, symmetrised) = symmetrise(t);
     let e = symmetric_eigen(&s);
+    // A NaN the overflow may have made is out of range too.
+    let in_range = |v: &f64| v.is_finite() && v.abs() <= f64::from(f32::MAX);
+    if !e.values.iter().all(in_range) {
+        return Outcome::Overflow;
+    }
     Outcome::Valid {
         glyph: Glyph {
             centre,
@@ -108,6 +116,7 @@ impl Partial {
             Outcome::Nan => s.skipped_nan += 1,
             Outcome::Inf => s.skipped_inf += 1,
             Outcome::Zero => s.skipped_zero += 1,
+            Outcome::Overflow => s.skipped_overflow += 1,
             Outcome::Valid {
                 glyph,
                 values,
@@ -152,6 +161,7 @@ impl Partial {
         a.skipped_nan += b.skipped_nan;
         a.skipped_inf += b.skipped_inf;
         a.skipped_zero += b.skipped_zero;
+        a.skipped_overflow += b.skipped_overflow;
         a.symmetrised += b.symmetrised;
         a.indefinite += b.indefinite;
         for k in 0..3 {
@@ -233,7 +243,7 @@ pub fn derive_glyphs(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
         outputs.push(head);
         rest = tail;
     }
-    let partials: Vec<Partial> = outputs
+    let partials: Vec<(Partial, usize)> = outputs
         .into_par_iter()
         .enumerate()
         .map(|(c, out)| {
@@ -241,20 +251,32 @@ pub fn derive_glyphs(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
             let len = range.len();
             let mut p = Partial::new();
             let mut slots = out.iter_mut();
+            let mut filled = 0;
             for i in range {
                 let t = field.world_tensor(i);
                 if let Some(g) = p.add(process(&t, field.positions[i], i)) {
-                    *slots.next().expect("as many valid tensors as counted") = g;
+                    *slots.next().expect("no more valid tensors than counted") = g;
+                    filled += 1;
                 }
             }
-            debug_assert!(slots.next().is_none(), "as many valid tensors as counted");
             progress.advance(len as u64);
-            p
+            (p, filled)
         })
         .collect();
 
+    // The count saw only NaN, Inf and zero; a chunk holding tensors whose eigenvalues overflow
+    // filled fewer slots than it was given: close the gaps, in order.
+    let mut end = 0;
+    let mut start = 0;
+    for (&given, &(_, filled)) in counts.iter().zip(&partials) {
+        glyphs.copy_within(start..start + filled, end);
+        start += given;
+        end += filled;
+    }
+    glyphs.truncate(end);
+
     let mut total = Partial::new();
-    for p in &partials {
+    for (p, _) in &partials {
         total.merge_stats(p);
     }
     total.finish(glyphs)
@@ -284,6 +306,48 @@ mod tests {
             spacing: None,
             meta: Default::default(),
         }
+    }
+
+    /// Eigenvalues beyond what a glyph stores are a category of their own, not a valid glyph of
+    /// infinite size (nor of garbage: all-f64::MAX entries gave λ3 = −3.9e261).
+    #[test]
+    fn overflowing_eigenvalues_are_skipped() {
+        let m = f64::MAX;
+        let diag = |a: f64, b: f64, c: f64| [a, 0.0, 0.0, 0.0, b, 0.0, 0.0, 0.0, c];
+        let f32max = f64::from(f32::MAX);
+        let tensors = vec![
+            [m; 9],
+            diag(1e300, 5e299, 2e299),
+            diag(2.0 * f32max, 1.0, 1.0),
+            diag(-2.0 * f32max, 1.0, 1.0),
+            // Within range: drawn.
+            diag(f32max, 1.0, 1.0),
+            diag(1.0, 0.5, 0.2),
+        ];
+        let set = derive_glyphs(&field(tensors), &crate::progress::Silent);
+        let s = &set.stats;
+        assert_eq!((s.skipped_overflow, s.valid), (4, 2));
+        assert_eq!(
+            set.glyphs.iter().map(|g| g.index).collect::<Vec<_>>(),
+            vec![4, 5]
+        );
+        assert!(
+            set.glyphs
+                .iter()
+                .all(|g| g.eigenvalues.iter().all(|v| v.is_finite()))
+        );
+        assert_eq!(s.eigenvalues_max[0], f32max);
+
+        // Across chunks: each chunk's gaps are closed, in file order.
+        let n = 2 * CHUNK + 77;
+        let bad = |i: usize| i % 1000 == 7 || i == CHUNK - 1;
+        let tensors = (0..n)
+            .map(|i| if bad(i) { [m; 9] } else { diag(1.0, 0.5, 0.2) })
+            .collect();
+        let set = derive_glyphs(&field(tensors), &crate::progress::Silent);
+        let want: Vec<u32> = (0..n).filter(|&i| !bad(i)).map(|i| i as u32).collect();
+        assert_eq!(set.glyphs.iter().map(|g| g.index).collect::<Vec<_>>(), want);
+        assert_eq!(set.stats.skipped_overflow, n - want.len());
     }
 
     #[test]

@@ -36,6 +36,9 @@ pub struct FieldStats {
     pub skipped_nan: usize,
     pub skipped_inf: usize,
     pub skipped_zero: usize,
+    /// Finite tensors whose eigenvalues leave the range a glyph stores (f32, ±3.4e38): entries
+    /// within a few orders of f64::MAX give ±inf, and a glyph of 1e300 cannot be drawn.
+    pub skipped_overflow: usize,
     /// Non-symmetric tensors replaced by (A + Aᵀ)/2.
     pub symmetrised: usize,
     /// Valid tensors with eigenvalues of both signs, or any negative eigenvalue.

@@ -67,7 +67,7 @@ const F32S: [f32; 14] = [
 ];
 const MAGICS: [&[u8; 4]; 5] = [b"ni1\0", b"n+2\0", b"\0\0\0\0", b"n+1\n", b"\xff+1\0"];
 
-fn gunzip(b: &[u8]) -> Option<Vec<u8>> {
+pub fn gunzip(b: &[u8]) -> Option<Vec<u8>> {
     use std::io::Read as _;
     let mut out = Vec::new();
     flate2::read::MultiGzDecoder::new(b)
@@ -76,7 +76,7 @@ fn gunzip(b: &[u8]) -> Option<Vec<u8>> {
     Some(out)
 }
 
-fn gzip(b: &[u8]) -> Vec<u8> {
+pub fn gzip(b: &[u8]) -> Vec<u8> {
     use std::io::Write as _;
     let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
     e.write_all(b).unwrap();

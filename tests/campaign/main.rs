@@ -8,11 +8,14 @@
 //! absolute paths. The DTI files of `tests/data/dti` are mutated the same way by their structure:
 //! NIfTI-1 header fields at their offsets (inside the gzip stream of `.nii.gz`), NRRD header
 //! fields by name (data files pointed at devices, FIFOs, folders), detached NRRD data, and each
-//! file of an FSL eigen set read with the other five (by its own name and by the prefix). Each
-//! case is read once, sequentially, and must:
+//! file of an FSL eigen set read with the other five (by its own name and by the prefix). The
+//! BEP016 maps and sidecars, the scalar volumes of `--underlay`/`--mask`, gzip framing and
+//! decompression bombs are mutated in `pipeline.rs`. Each case is read once, sequentially, and
+//! must:
 //! - return a consistent field (as many positions as tensors, as the location's count, as the
-//!   dimensions say; 6, 7 or 9 components), which must then go through `derive_glyphs` and the
-//!   `info` report, or an error whose `Display` is one line without control characters that
+//!   dimensions say; 6, 7 or 9 components), which must then go through `derive_glyphs` (no
+//!   glyph with a non-finite eigenvalue) and the `info` report; or a consistent scalar volume
+//!   or mask; or an error whose `Display` is one line without control characters that
 //!   names the file;
 //! - take at most 2 s and allocate at most 64 MiB + 8× the bytes of the files read (measured by
 //!   the counting global allocator below, peak reset per case);
@@ -35,7 +38,9 @@ use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use tensorglyph::field::{ComponentOrder, ReadOptions, TensorFrame, read_field};
+use tensorglyph::field::{
+    ComponentOrder, ReadOptions, TensorFrame, read_field, read_scalar_volume,
+};
 
 // ---------------------------------------------------------------------------------------------
 // Counting allocator: current and peak live bytes of the whole process. The cases run one at a
@@ -110,6 +115,7 @@ fn peak_reset() -> usize {
 mod data;
 mod dti;
 mod mutate;
+mod pipeline;
 
 use mutate::{Rng, mutate, shape_of};
 
@@ -120,13 +126,29 @@ const BUDGET_FIXED: usize = 64 << 20;
 const BUDGET_PER_BYTE: usize = 8;
 const TIME_LIMIT: Duration = Duration::from_secs(2);
 
+/// How a case's file is read: as tensors (`render FILE`), or as the scalar volume of
+/// `--underlay FILE` or `--mask FILE`.
+#[derive(Clone)]
+enum Read {
+    Tensors(ReadOptions),
+    Scalar,
+    Mask,
+}
+
+/// What a case read.
+enum Got {
+    Field(Box<tensorglyph::TensorField>),
+    Volume(tensorglyph::field::ScalarVolume),
+    Mask,
+}
+
 struct Case {
     label: String,
     /// The file to read.
     path: PathBuf,
     /// Bytes of every file the read may open (the file, its pieces).
     input_bytes: usize,
-    opts: ReadOptions,
+    read: Read,
     /// File names an error may name instead of the file read: the files of an FSL eigen set
     /// (an error names the one at fault).
     names: Vec<String>,
@@ -155,7 +177,11 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
     let before = snapshot();
     let base = peak_reset();
     let t0 = Instant::now();
-    let res = read_field(&case.path, &case.opts);
+    let res = match &case.read {
+        Read::Tensors(opts) => read_field(&case.path, opts).map(|f| Got::Field(Box::new(f))),
+        Read::Scalar => read_scalar_volume(&case.path).map(Got::Volume),
+        Read::Mask => tensorglyph::select::Mask::read(&case.path).map(|_| Got::Mask),
+    };
     let elapsed = t0.elapsed();
     let peak = PEAK.load(Relaxed).saturating_sub(base);
     let label = &case.label;
@@ -179,7 +205,26 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
         return Err(format!("{label}: the input file changed"));
     }
     match res {
-        Ok(f) => {
+        Ok(Got::Mask) => {
+            tally.ok += 1;
+            Ok(())
+        }
+        Ok(Got::Volume(v)) => {
+            tally.ok += 1;
+            let n = v.dims.iter().try_fold(1usize, |a, &x| a.checked_mul(x));
+            if n != Some(v.values.len())
+                || v.voxel_to_world.iter().flatten().any(|x| !x.is_finite())
+            {
+                return Err(format!(
+                    "{label}: inconsistent volume: dims {:?}, {} values, voxel to world {:?}",
+                    v.dims,
+                    v.values.len(),
+                    v.voxel_to_world
+                ));
+            }
+            Ok(())
+        }
+        Ok(Got::Field(f)) => {
             tally.ok += 1;
             let n = f.tensors.len();
             let want = match f.array.location {
@@ -205,6 +250,17 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
                 ));
             }
             let set = tensorglyph::glyph::derive_glyphs(&f, &tensorglyph::progress::Silent);
+            // Eigenvalues beyond what a glyph holds are a skipped category, never a glyph.
+            if let Some(g) = set
+                .glyphs
+                .iter()
+                .find(|g| g.eigenvalues.iter().any(|v| !v.is_finite()))
+            {
+                return Err(format!(
+                    "{label}: a glyph with eigenvalues {:?}",
+                    g.eigenvalues
+                ));
+            }
             let samples: Vec<usize> = if n == 0 { vec![] } else { vec![0, n - 1] };
             let report = tensorglyph::info::info_report(&f, &set, &samples)
                 .map_err(|e| format!("{label}: info report failed: {e}"))?;
@@ -435,7 +491,7 @@ fn mutation_campaign() {
                         } else {
                             0
                         },
-                    opts: opts.clone(),
+                    read: Read::Tensors(opts.clone()),
                     names: Vec::new(),
                 }];
                 if is_piece {
@@ -450,7 +506,7 @@ fn mutation_campaign() {
                         label: format!("{label} (via {parent}.pvti)"),
                         path: copy,
                         input_bytes: size_of(&pvti) + pieces_bytes + bytes.len(),
-                        opts,
+                        read: Read::Tensors(opts),
                         names: Vec::new(),
                     });
                 }
@@ -535,7 +591,7 @@ fn mutation_campaign() {
                         ),
                         path,
                         input_bytes: size_of_all(&companions),
-                        opts: dti_options(k),
+                        read: Read::Tensors(dti_options(k)),
                         names: set_names.clone(),
                     };
                     if !run(case, &mut tally) {
@@ -583,7 +639,7 @@ fn mutation_campaign() {
                         label: format!("{prefix}_{} is {what}", EIGEN_MEMBERS[m]),
                         path,
                         input_bytes: size_of_all(files),
-                        opts: ReadOptions::default(),
+                        read: Read::Tensors(ReadOptions::default()),
                         names: files
                             .iter()
                             .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
@@ -596,6 +652,16 @@ fn mutation_campaign() {
             }
         }
 
+        // BEP016 maps and sidecars, scalar volumes, gzip streams and bombs.
+        let mut go = true;
+        pipeline::run_all(&dir, seed, per_file, fifo.as_deref(), &mut |c| {
+            go = go && run(c, &mut tally);
+            go
+        });
+        if !go {
+            return;
+        }
+
         for (label, bytes) in pvti_cases(&dir, fifo.as_deref()) {
             let path = dir.join("case.pvti");
             std::fs::write(&path, &bytes).unwrap();
@@ -603,7 +669,7 @@ fn mutation_campaign() {
                 label,
                 path,
                 input_bytes: bytes.len() + pieces_bytes,
-                opts: ReadOptions::default(),
+                read: Read::Tensors(ReadOptions::default()),
                 names: Vec::new(),
             };
             if !run(case, &mut tally) {
@@ -623,7 +689,7 @@ fn mutation_campaign() {
                 label: format!("input {}", p.display()),
                 path: p,
                 input_bytes: 0,
-                opts: ReadOptions::default(),
+                read: Read::Tensors(ReadOptions::default()),
                 names: Vec::new(),
             };
             if !run(case, &mut tally) {

@@ -208,6 +208,41 @@ fn info_json_on_the_demo() {
     assert_eq!(bad.status.code(), Some(2));
 }
 
+/// Tensors whose eigenvalues leave the f32 range a glyph stores are a skipped category: counted
+/// and named by `info`, never drawn, and the ranges of the others stay finite. Truth: the
+/// eigenvalues of c·(all ones) are 3c, 0, 0 (3·f64::MAX overflows f64; 3·2e38 is beyond f32).
+#[test]
+fn eigenvalues_beyond_the_glyph_range_are_skipped_and_counted() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("huge.vtk");
+    let row = |c: f64| format!("{c:e} {c:e} {c:e}\n").repeat(3);
+    let text = format!(
+        "# vtk DataFile Version 3.0\nhuge\nASCII\nDATASET POLYDATA\nPOINTS 4 double\n\
+         0 0 0\n1 0 0\n2 0 0\n3 0 0\nPOINT_DATA 4\nTENSORS t double\n{}{}{}{}",
+        row(f64::MAX),
+        row(2e38),
+        row(1e37),
+        "2 0 0\n0 1 0\n0 0 1\n"
+    );
+    std::fs::write(&file, text).unwrap();
+    let f = file.to_str().unwrap();
+    let o = tg(&["info", f, "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let j = json(&o);
+    assert_eq!(
+        (j["valid"].as_u64(), j["skipped"]["overflow"].as_u64()),
+        (Some(2), Some(2))
+    );
+    let max = j["eigenvalues"]["max"][0].as_f64().unwrap();
+    assert!((max - 3e37).abs() <= 3e37 * 1e-12, "{max}");
+    let text = tg(&["info", f]);
+    assert!(
+        String::from_utf8_lossy(&text.stdout).contains("2 beyond ±3.4e38"),
+        "{}",
+        String::from_utf8_lossy(&text.stdout)
+    );
+}
+
 #[test]
 fn demo_writes_vtk_that_reads_back() {
     let dir = tempfile::tempdir().unwrap();

@@ -160,11 +160,12 @@ fn file_section(
             ui.end_row();
             ui.label("skipped");
             ui.label(format!(
-                "{} (NaN {}, inf {}, zero {})",
-                s.skipped_nan + s.skipped_inf + s.skipped_zero,
+                "{} (NaN {}, inf {}, zero {}, beyond f32 {})",
+                s.skipped_nan + s.skipped_inf + s.skipped_zero + s.skipped_overflow,
                 s.skipped_nan,
                 s.skipped_inf,
-                s.skipped_zero
+                s.skipped_zero,
+                s.skipped_overflow
             ));
             ui.end_row();
             ui.label("symmetrised");
