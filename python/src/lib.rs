@@ -614,11 +614,11 @@ impl Renderer {
             }
         };
         detached(py, move || {
+            let plan = tensorglyph::report::Plan::new(&job).map_err(Failure::value)?;
             let (held, _) = self
                 .back_end(Method::Gumhold)
                 .map_err(|e| Failure::of(&e))?;
-            let outcome =
-                tensorglyph::report::run(&job, &out_dir, &held, &Silent).map_err(Failure::value)?;
+            let outcome = plan.run(&out_dir, &held, &Silent).map_err(Failure::value)?;
             let failed: Vec<serde_json::Value> = outcome
                 .failed
                 .iter()

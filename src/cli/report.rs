@@ -12,7 +12,7 @@ use clap::Args;
 
 use super::progress::Terminal;
 use crate::backend::Backend;
-use crate::report::{self, Job, Outcome};
+use crate::report::{Job, Outcome, Plan};
 use crate::request::Method;
 
 #[derive(Args, Debug)]
@@ -64,13 +64,14 @@ pub fn job(args: ReportArgs) -> Result<(Job, PathBuf)> {
 /// stderr line.
 pub fn run(args: ReportArgs) -> Result<bool> {
     let (job, out) = job(args)?;
+    let plan = Plan::new(&job)?;
     let progress = Terminal::new(true);
     // One back end for every image: the GPU's pipelines are built once.
     let (backend, fell_back) = Backend::for_method(Method::Gumhold)?;
     if fell_back {
         eprintln!("notice: no GPU adapter found; rendering with the CPU reference instead");
     }
-    let Outcome { failed, .. } = report::run(&job, &out, &backend, &progress)?;
+    let Outcome { failed, .. } = plan.run(&out, &backend, &progress)?;
     for f in &failed {
         eprintln!("error: {}: {}", f.name, f.error);
     }

@@ -116,6 +116,8 @@ pub struct FigureReport {
     pub slices: Vec<usize>,
     pub glyphs_drawn: usize,
     pub ms: f64,
+    /// Why the FA underlay is not drawn, if it is not.
+    pub underlay_missing: Option<String>,
 }
 
 /// One map's part of a report.
@@ -217,36 +219,66 @@ fn units(job: &Job) -> Result<Vec<Unit>, ReportError> {
     Ok(units)
 }
 
-/// Make the reports `job` asks for in `out` (created if missing), drawn with `backend`. A BIDS
-/// job also writes `dataset_description.json` (the output is a derivatives dataset).
+/// The reports a job asks for, found and checked before anything is drawn (a usage error
+/// stops the run before a GPU is set up).
+pub struct Plan {
+    units: Vec<Unit>,
+    bids: bool,
+}
+
+impl Plan {
+    pub fn new(job: &Job) -> Result<Self, ReportError> {
+        Ok(Self {
+            units: units(job)?,
+            bids: matches!(job, Job::Bids { .. }),
+        })
+    }
+
+    /// The reports' names, in the order they are made.
+    pub fn names(&self) -> Vec<&str> {
+        self.units.iter().map(|u| u.name.as_str()).collect()
+    }
+
+    /// Make the reports in `out` (created if missing), drawn with `backend`. A BIDS job also
+    /// writes `dataset_description.json` (the output is a derivatives dataset).
+    pub fn run(
+        &self,
+        out: &Path,
+        backend: &Backend,
+        progress: &dyn Progress,
+    ) -> Result<Outcome, ReportError> {
+        std::fs::create_dir_all(out).map_err(|source| ReportError::Write {
+            path: out.to_path_buf(),
+            source,
+        })?;
+        if self.bids {
+            write_dataset_description(out)?;
+        }
+        let mut outcome = Outcome {
+            written: Vec::new(),
+            failed: Vec::new(),
+        };
+        for unit in &self.units {
+            match report(unit, out, backend, progress) {
+                Ok(w) => outcome.written.push(w),
+                Err(error) => outcome.failed.push(Failed {
+                    name: unit.name.clone(),
+                    error,
+                }),
+            }
+        }
+        Ok(outcome)
+    }
+}
+
+/// Make the reports `job` asks for in `out`: [`Plan::new`], then [`Plan::run`].
 pub fn run(
     job: &Job,
     out: &Path,
     backend: &Backend,
     progress: &dyn Progress,
 ) -> Result<Outcome, ReportError> {
-    let units = units(job)?;
-    std::fs::create_dir_all(out).map_err(|source| ReportError::Write {
-        path: out.to_path_buf(),
-        source,
-    })?;
-    if matches!(job, Job::Bids { .. }) {
-        write_dataset_description(out)?;
-    }
-    let mut outcome = Outcome {
-        written: Vec::new(),
-        failed: Vec::new(),
-    };
-    for unit in &units {
-        match report(unit, out, backend, progress) {
-            Ok(w) => outcome.written.push(w),
-            Err(error) => outcome.failed.push(Failed {
-                name: unit.name.clone(),
-                error,
-            }),
-        }
-    }
-    Ok(outcome)
+    Plan::new(job)?.run(out, backend, progress)
 }
 
 /// What BIDS derivatives need: the output is a derivatives dataset of its own.
@@ -381,6 +413,7 @@ fn map(
             slices: m.slices,
             glyphs_drawn: m.glyphs_drawn,
             ms: m.ms,
+            underlay_missing: m.underlay_missing.map(|e| e.to_string()),
         });
     }
     let sidecar_axes = info

@@ -20,6 +20,7 @@ use crate::legend::raster::{Canvas, Pen};
 use crate::progress::Progress;
 use crate::request::{FrameRequest, GlyphKind, Method, Preset, UnderlayView};
 use crate::scene::UnderlaySource;
+use crate::scene::underlay::UnderlayError;
 use crate::select::{Plane, Selection, Slicing, lattice_coords};
 use crate::staging::{self, Recipe, StageError, Timings, field_spacing};
 use crate::tensor::measure::Measure;
@@ -76,6 +77,8 @@ pub struct Mosaic {
     pub glyphs_drawn: usize,
     /// Wall-clock time to build and draw the row.
     pub ms: f64,
+    /// Why the FA underlay could not be drawn, if it could not.
+    pub underlay_missing: Option<UnderlayError>,
 }
 
 /// The style of every report figure: DEC colours, every glyph the same size (as `render`
@@ -198,6 +201,7 @@ pub fn render(
     }
     let mut drawn = 0;
     let mut window = None;
+    let mut underlay_missing = None;
     let pen = Pen::new(TILE as f32 / 16.0);
     for (n, &index) in slices.iter().enumerate() {
         let recipe = Recipe {
@@ -211,7 +215,19 @@ pub fn render(
             underlay_side: Some(TILE as usize),
             ..Recipe::default()
         };
-        let built = staging::build(field, set, spacing.clone(), &recipe, None, progress)?;
+        let built = match staging::build(field, set, spacing.clone(), &recipe, None, progress) {
+            // A lattice whose planes are not evenly spaced (rectilinear data) has no image to
+            // put under its glyphs: the glyphs alone, as the page says.
+            Err(StageError::Underlay(why)) => {
+                underlay_missing = Some(why);
+                let recipe = Recipe {
+                    underlay: None,
+                    ..recipe
+                };
+                staging::build(field, set, spacing.clone(), &recipe, None, progress)?
+            }
+            built => built?,
+        };
         let Some(face) = built.face else {
             continue;
         };
@@ -294,6 +310,7 @@ pub fn render(
         slices,
         glyphs_drawn: drawn,
         ms: staging::ms(t),
+        underlay_missing,
     })
 }
 

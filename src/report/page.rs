@@ -94,11 +94,17 @@ fn section(page: &mut String, map: &MapReport) {
     for f in &map.figures {
         let axis = ["i", "j", "k"][f.lattice_axis];
         let slices: Vec<String> = f.slices.iter().map(|s| s.to_string()).collect();
+        let underlay = f.underlay_missing.as_ref().map_or(String::new(), |why| {
+            format!(
+                "; no FA underlay ({})",
+                esc(why.trim_start_matches("--underlay "))
+            )
+        });
         let _ = writeln!(
             page,
             "<figure><img alt=\"{o}\" width=\"{w}\" height=\"{h}\" \
              src=\"data:image/png;base64,{b64}\"><figcaption>{o}: slices {axis} = {s}; {n} \
-             glyphs drawn</figcaption></figure>",
+             glyphs drawn{underlay}</figcaption></figure>",
             o = f.orientation,
             w = f.width,
             h = f.height,

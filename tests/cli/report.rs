@@ -423,3 +423,34 @@ fn labels_follow_the_affine_when_it_flips_an_axis() {
         assert!(html.contains("neurological convention"), "{name}");
     }
 }
+
+#[test]
+fn vtk_lattices_are_reported_and_points_refused() {
+    // An image (regular lattice), a rectilinear grid (no FA image under its glyphs: its planes
+    // are not evenly spaced) and a point set (no slices to show).
+    let out = tempfile::tempdir().unwrap();
+    let files = ["image_T6", "rect_T9", "poly_T9"]
+        .map(|k| crate::data::path(&format!("vtk/legacy42_bin_{k}.vtk")));
+    let mut args = vec!["report"];
+    args.extend(files.iter().map(|f| f.to_str().unwrap()));
+    args.extend(["-o", out.path().to_str().unwrap()]);
+    let o = tg(&args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: legacy42_bin_poly_T9: ") && err.contains("not a lattice"),
+        "{err}"
+    );
+    let image = std::fs::read_to_string(out.path().join("legacy42_bin_image_T6.html")).unwrap();
+    assert!(!image.contains("no FA underlay"));
+    // VTK's world is not anatomical: the page says so by its units and labels.
+    assert!(image.contains("as stored in the file"));
+    let rect = std::fs::read_to_string(out.path().join("legacy42_bin_rect_T9.html")).unwrap();
+    assert_eq!(
+        rect.matches("no FA underlay (needs a regular lattice")
+            .count(),
+        3
+    );
+    assert_eq!(embedded(&rect).len(), 3);
+}
