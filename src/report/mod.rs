@@ -46,6 +46,11 @@ pub enum ReportError {
     NoInput,
     #[error("{0}: two inputs would write the same report (name them apart)")]
     SameName(String),
+    #[error(
+        "{}: the output folder is the BIDS folder read; write the reports to a folder of their own",
+        escape_path(.0)
+    )]
+    OutputIsInput(PathBuf),
     #[error("{}: cannot write: {source}", escape_path(.path))]
     Write {
         path: PathBuf,
@@ -223,14 +228,18 @@ fn units(job: &Job) -> Result<Vec<Unit>, ReportError> {
 /// stops the run before a GPU is set up).
 pub struct Plan {
     units: Vec<Unit>,
-    bids: bool,
+    /// The BIDS folder read, for a BIDS job.
+    bids: Option<PathBuf>,
 }
 
 impl Plan {
     pub fn new(job: &Job) -> Result<Self, ReportError> {
         Ok(Self {
             units: units(job)?,
-            bids: matches!(job, Job::Bids { .. }),
+            bids: match job {
+                Job::Bids { dir, .. } => Some(dir.clone()),
+                Job::Files(_) => None,
+            },
         })
     }
 
@@ -247,11 +256,19 @@ impl Plan {
         backend: &Backend,
         progress: &dyn Progress,
     ) -> Result<Outcome, ReportError> {
+        // The reports are a dataset of their own: never among the data they are made of (its
+        // dataset_description.json would be replaced).
+        if let Some(dir) = &self.bids
+            && let (Ok(a), Ok(b)) = (dir.canonicalize(), out.canonicalize())
+            && a == b
+        {
+            return Err(ReportError::OutputIsInput(out.to_path_buf()));
+        }
         std::fs::create_dir_all(out).map_err(|source| ReportError::Write {
             path: out.to_path_buf(),
             source,
         })?;
-        if self.bids {
+        if self.bids.is_some() {
             write_dataset_description(out)?;
         }
         let mut outcome = Outcome {

@@ -210,6 +210,19 @@ fn chosen_participants_only_and_usage_errors() {
         assert!(err.contains(want), "{err}");
     }
     assert!(!Path::new(&bids()).join("sub-01.html").exists());
+    // Reports among the data they are made of: refused before anything is written.
+    let input = tempfile::tempdir().unwrap();
+    with_broken_second_map(input.path());
+    let dir = input.path().to_str().unwrap();
+    let o = tg(&["report", dir, dir, "participant"]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the output folder is the BIDS folder read"),
+        "{err}"
+    );
+    assert!(!input.path().join("sub-01.html").exists());
+    assert!(!input.path().join("dataset_description.json").exists());
 }
 
 /// A copy of tests/data/bids/derivatives with participant 06, whose first session is good and
