@@ -65,6 +65,8 @@ pub mod image_out;
 pub mod info;
 pub mod legend;
 pub mod mem;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod report;
 
 // Front ends in the library; `cli` is the command line (arguments, dispatch and output
 // formatting), which the binary and the Python package's console script run. The viewer is

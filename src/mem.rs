@@ -9,6 +9,13 @@ pub fn peak_rss_bytes() -> Option<u64> {
     parse_status_kib(&status, "VmHWM")
 }
 
+/// Reset the peak resident set size to the current one, so that [`peak_rss_bytes`] measures
+/// from here (Linux: `5` written to `/proc/self/clear_refs`); `false` where the system does not
+/// allow it.
+pub fn reset_peak() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
 /// Current resident set size in bytes (`VmRSS`), if the system reports it.
 pub fn rss_bytes() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;

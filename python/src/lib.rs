@@ -579,6 +579,56 @@ impl Renderer {
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok((PyArray3::from_owned_array(py, pixels), json, fell_back))
     }
+
+    /// `tensorglyph report` with this renderer's back end: the reports of `files`, or of the
+    /// participants of the BIDS derivatives folder `bids_dir` (those of `participant_label`
+    /// when it names some), in `out_dir`. Returns JSON: `written` (name, page, figures) and
+    /// `failed` (name, the command line's error line without `error: `).
+    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new()))]
+    fn report(
+        &self,
+        py: Python<'_>,
+        out_dir: PathBuf,
+        files: Option<Vec<PathBuf>>,
+        bids_dir: Option<PathBuf>,
+        participant_label: Vec<String>,
+    ) -> PyResult<String> {
+        let job = match (files, bids_dir) {
+            (Some(files), None) if participant_label.is_empty() => {
+                tensorglyph::report::Job::Files(files)
+            }
+            (Some(_), None) => {
+                return Err(
+                    Failure::value("participant_label applies to bids_dir, not to files")
+                        .into_py(py),
+                );
+            }
+            (None, Some(dir)) => tensorglyph::report::Job::Bids {
+                dir,
+                labels: participant_label,
+            },
+            _ => {
+                return Err(
+                    Failure::value("give either files or bids_dir (exactly one)").into_py(py),
+                );
+            }
+        };
+        detached(py, move || {
+            let plan = tensorglyph::report::Plan::new(&job).map_err(Failure::value)?;
+            let (held, _) = self
+                .back_end(Method::Gumhold)
+                .map_err(|e| Failure::of(&e))?;
+            let outcome = plan.run(&out_dir, &held, &Silent).map_err(Failure::value)?;
+            let failed: Vec<serde_json::Value> = outcome
+                .failed
+                .iter()
+                .map(|f| {
+                    serde_json::json!({"name": f.name, "error": format!("{}: {}", f.name, f.error)})
+                })
+                .collect();
+            Ok(serde_json::json!({"written": outcome.written, "failed": failed}).to_string())
+        })
+    }
 }
 
 /// The PNG of RGBA pixels `(H, W, 4)`, as the command line writes it (`dpi` in its pHYs).

@@ -32,6 +32,7 @@ __all__ = [
     "Renderer",
     "read",
     "render",
+    "report",
     "widget",
 ]
 
@@ -437,6 +438,44 @@ def render(
         demo=demo,
         **options,
     )
+
+
+def report(
+    files: "str | os.PathLike | Sequence[str | os.PathLike] | None" = None,
+    out_dir: "str | os.PathLike | None" = None,
+    *,
+    bids_dir: "str | os.PathLike | None" = None,
+    participant_label: "Sequence[str] | str | None" = None,
+    renderer: Optional[Renderer] = None,
+) -> dict:
+    """Glyph reports, as ``tensorglyph report`` makes them: ``report(files, out_dir)`` writes one
+    report per tensor file (``report FILE... -o OUT_DIR``); ``report(bids_dir=...,
+    out_dir=..., participant_label=[...])`` one per participant of a BIDS derivatives folder of
+    BEP016 tensor maps (``report BIDS_DIR OUT_DIR participant --participant-label ...``).
+
+    Returns ``{"written": {name: {"page": path, "figures": [paths]}}, "failed": {name:
+    message}}``: a report that fails is named there, the others are written whole. Raises
+    ``tensorglyph.Error`` (a ``ValueError``) for a usage error (both or neither of ``files``
+    and ``bids_dir``, no ``out_dir``, an unknown participant)."""
+    if out_dir is None:
+        raise Error("report needs out_dir, the folder the reports go to")
+    if isinstance(files, (str, os.PathLike)):
+        files = [files]
+    if isinstance(participant_label, str):
+        participant_label = [participant_label]
+    text = (renderer or _renderer())._inner.report(
+        os.fspath(out_dir),
+        files=None if files is None else [os.fspath(f) for f in files],
+        bids_dir=None if bids_dir is None else os.fspath(bids_dir),
+        participant_label=list(participant_label or []),
+    )
+    done = json.loads(text)
+    return {
+        "written": {
+            w["name"]: {"page": w["page"], "figures": w["figures"]} for w in done["written"]
+        },
+        "failed": {f["name"]: f["error"] for f in done["failed"]},
+    }
 
 
 def widget(data: Any = None, **options: Any):

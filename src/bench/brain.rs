@@ -4,9 +4,19 @@
 //!
 //! Written by hand (a 348-byte NIfTI-1 header and the voxels): the `nifti` crate's writer needs
 //! its ndarray feature, which this project leaves out. Only the fields the readers use are set.
+//!
+//! [`report`] times the glyph report of the same volume as a pipeline makes it: written as the
+//! one participant of a BIDS derivatives folder in BEP016 form, reported on by the library's
+//! [`crate::report::run`], with the process's peak memory measured from the report's start.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+use web_time::Instant;
+
+use crate::backend::Backend;
+use crate::progress::Silent;
+use crate::report::{Job, Outcome};
 
 use flate2::Compression;
 use flate2::write::GzEncoder;
@@ -85,6 +95,11 @@ fn header() -> Vec<u8> {
 
 /// Write the volume as a gzip-compressed NIfTI-1 file.
 pub fn write(path: &Path) -> std::io::Result<()> {
+    write_scaled(path, 1.0)
+}
+
+/// [`write`], every tensor multiplied by `scale`.
+fn write_scaled(path: &Path, scale: f32) -> std::io::Result<()> {
     let file = std::fs::File::create(path)?;
     let mut gz = GzEncoder::new(std::io::BufWriter::new(file), Compression::default());
     gz.write_all(&header())?;
@@ -96,7 +111,7 @@ pub fn write(path: &Path) -> std::io::Result<()> {
             plane.clear();
             for j in 0..ny {
                 for i in 0..nx {
-                    plane.extend_from_slice(&tensor(i, j, k)[c].to_le_bytes());
+                    plane.extend_from_slice(&(tensor(i, j, k)[c] * scale).to_le_bytes());
                 }
             }
             gz.write_all(&plane)?;
@@ -105,10 +120,108 @@ pub fn write(path: &Path) -> std::io::Result<()> {
     gz.finish()?.flush()
 }
 
+/// The volume as participant `brain` of a BIDS derivatives folder at `root`: its map in BEP016
+/// form (FSL's component order is BEP016's; diffusivities in µm²/ms, the tensors above being
+/// in mm²/s) with a sidecar whose `ReferenceAxes` is `ijk`. Returns the map's path.
+pub fn write_bids(root: &Path) -> std::io::Result<PathBuf> {
+    let dwi = root.join("sub-brain").join("dwi");
+    std::fs::create_dir_all(&dwi)?;
+    std::fs::write(
+        root.join("dataset_description.json"),
+        "{\"Name\": \"whole-brain test volume\", \"BIDSVersion\": \"1.10.0\", \
+         \"DatasetType\": \"derivative\"}\n",
+    )?;
+    std::fs::write(
+        dwi.join("sub-brain_model-DTI_dwimap.json"),
+        "{\"OrientationRepresentation\": \"param\", \"ReferenceAxes\": \"ijk\"}\n",
+    )?;
+    let map = dwi.join("sub-brain_model-DTI_param-tensor_dwimap.nii.gz");
+    write_scaled(&map, 1000.0)?;
+    Ok(map)
+}
+
+/// What the whole-brain report took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReportRun {
+    /// Wall-clock time of the report (reading, decomposing, the three figures, the page).
+    pub ms: f64,
+    /// Peak resident set size of the process during the report: from its start where the
+    /// system lets the high-water mark be reset (Linux), else over the whole process.
+    pub peak_rss_bytes: Option<u64>,
+    /// Whether the high-water mark was reset before the report.
+    pub peak_is_the_reports: bool,
+    pub figures: usize,
+    pub error: Option<String>,
+}
+
+/// Write the volume as a BIDS folder under `dir`, then report on it into `dir/qc` with
+/// `backend`, timed (the folder is the caller's to remove).
+pub fn report(dir: &Path, backend: &Backend) -> ReportRun {
+    let mut run = ReportRun {
+        ms: 0.0,
+        peak_rss_bytes: None,
+        peak_is_the_reports: false,
+        figures: 0,
+        error: None,
+    };
+    let root = dir.join("derivatives");
+    if let Err(e) = write_bids(&root) {
+        run.error = Some(format!("writing the volume: {e}"));
+        return run;
+    }
+    run.peak_is_the_reports = crate::mem::reset_peak();
+    let t = Instant::now();
+    let job = Job::Bids {
+        dir: root,
+        labels: Vec::new(),
+    };
+    match crate::report::run(&job, &dir.join("qc"), backend, &Silent) {
+        Ok(Outcome { written, failed }) => {
+            run.figures = written.iter().map(|w| w.figures.len()).sum();
+            run.error = failed.first().map(|f| format!("{}: {}", f.name, f.error));
+        }
+        Err(e) => run.error = Some(e.to_string()),
+    }
+    run.ms = crate::staging::ms(t);
+    run.peak_rss_bytes = crate::mem::peak_rss_bytes();
+    run
+}
+
+/// `report`'s run as brain_report.csv holds it.
+pub fn report_csv(run: &ReportRun) -> String {
+    format!(
+        "ms,peak_rss_bytes,peak_is_the_reports,figures,status\n{:.1},{},{},{},{}\n",
+        run.ms,
+        run.peak_rss_bytes.map_or(String::new(), |b| b.to_string()),
+        run.peak_is_the_reports,
+        run.figures,
+        run.error.as_deref().map_or("ok".into(), |e| format!(
+            "\"failed: {}\"",
+            e.replace('"', "'")
+        )),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::field::{ReadOptions, read_field};
+
+    #[test]
+    fn the_bids_folder_holds_one_bep016_map_in_micrometres() {
+        let dir = tempfile::tempdir().unwrap();
+        let map = write_bids(dir.path()).unwrap();
+        let found = crate::bids::participants(dir.path(), &[]).unwrap();
+        assert_eq!(found.len(), 1);
+        assert_eq!(found[0].label, "brain");
+        assert_eq!(found[0].maps[0].path, map);
+        let f = read_field(&map, &ReadOptions::default()).unwrap();
+        let sidecar = f.meta.sidecar.as_ref().unwrap();
+        assert_eq!(sidecar.reference_axes.as_deref(), Some("ijk"));
+        let n = 64 + DIMS[0] * (20 + DIMS[1] * 50);
+        let [xx, xy, xz, yy, yz, zz] = tensor(64, 20, 50).map(|v| f64::from(v * 1000.0));
+        assert_eq!(f.world_tensor(n), [xx, xy, xz, xy, yy, yz, xz, yz, zz]);
+    }
 
     #[test]
     fn the_volume_reads_back_voxel_for_voxel() {

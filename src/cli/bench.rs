@@ -50,7 +50,8 @@ pub struct BenchArgs {
     pub large: usize,
     /// Also time a whole-brain DTI volume (128×128×70 float32 tensors, gzip NIfTI, written to
     /// a temporary file first): reading it and its first image as `render` shows it (the middle
-    /// axial slice, DTI defaults); in report.md and brain_volume.csv.
+    /// axial slice, DTI defaults); in report.md and brain_volume.csv; and its glyph report as
+    /// a BEP016 folder (`report`): time and peak RSS in brain_report.csv.
     #[arg(long)]
     pub brain: bool,
     /// Also measure what the figure effects cost, as Sigg et al.'s Table 1 (direct vs deferred
@@ -134,6 +135,28 @@ fn run_brain(args: &BenchArgs, gpu: &GpuRenderer, method: Method) -> Large {
     let run = run_staged(args, gpu, method, &source, recipe, title, about);
     std::fs::remove_file(&path).ok();
     run
+}
+
+/// The whole-brain volume's report, as `report` makes it of a BEP016 folder, with its own back
+/// end (as a pipeline's report process has): brain_report.csv.
+fn brain_report(args: &BenchArgs) -> Result<()> {
+    let dir = args
+        .out
+        .join(format!(".brain-report-{}", std::process::id()));
+    let (backend, _) = crate::backend::Backend::for_method(Method::Gumhold)?;
+    let run = bench::brain::report(&dir, &backend);
+    std::fs::remove_dir_all(&dir).ok();
+    let path = args.out.join("brain_report.csv");
+    report::write_atomic(&path, bench::brain::report_csv(&run).as_bytes())
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    if !args.scene.quiet {
+        eprintln!(
+            "whole-brain report: {:.0} ms, peak RSS {:.0} MiB",
+            run.ms,
+            run.peak_rss_bytes.unwrap_or(0) as f64 / 1048576.0
+        );
+    }
+    Ok(())
 }
 
 /// One run through the staged pipeline of `render`; a failure is recorded, not fatal.
@@ -317,6 +340,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     if args.brain {
         staged_runs.push(("brain_volume.csv", run_brain(&args, &gpu, method)));
+        brain_report(&args)?;
     }
     for (csv, l) in &staged_runs {
         let path = args.out.join(csv);

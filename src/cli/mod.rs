@@ -44,8 +44,8 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Adversarial stability suite: every method and glyph against the reference.
     Stability(stability::StabilityArgs),
-    /// Glyph figures and an HTML page per participant of a BIDS derivatives folder of BEP016
-    /// tensor maps (exit status 1 when some participant failed).
+    /// Glyph mosaics and an HTML page per tensor file (FILE... -o OUT_DIR) or per participant of
+    /// a BIDS derivatives folder of BEP016 tensor maps (exit status 1 when some report failed).
     Report(report::ReportArgs),
 }
 

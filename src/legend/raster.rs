@@ -68,15 +68,16 @@ impl Caption {
 /// Where a legend was drawn: (x, y, width, height) in pixels.
 pub type Placed = [u32; 4];
 
-struct Canvas<'a> {
-    rgba: &'a mut [u8],
-    w: i64,
-    h: i64,
+/// An RGBA8 image to draw on (the report's mosaics draw their labels with it too).
+pub(crate) struct Canvas<'a> {
+    pub(crate) rgba: &'a mut [u8],
+    pub(crate) w: i64,
+    pub(crate) h: i64,
 }
 
 impl Canvas<'_> {
     /// Blend `c` over pixel (x, y) with coverage `a`; the result is opaque.
-    fn blend(&mut self, x: i64, y: i64, c: [f64; 3], a: f64) {
+    pub(crate) fn blend(&mut self, x: i64, y: i64, c: [f64; 3], a: f64) {
         if x < 0 || y < 0 || x >= self.w || y >= self.h || a <= 0.0 {
             return;
         }
@@ -89,7 +90,7 @@ impl Canvas<'_> {
         p[3] = 255;
     }
 
-    fn rect(&mut self, x: i64, y: i64, w: i64, h: i64, c: [f64; 3]) {
+    pub(crate) fn rect(&mut self, x: i64, y: i64, w: i64, h: i64, c: [f64; 3]) {
         for yy in y..y + h {
             for xx in x..x + w {
                 self.blend(xx, yy, c, 1.0);
@@ -118,13 +119,21 @@ impl Canvas<'_> {
 }
 
 /// Text metrics and drawing in one face at one size.
-struct Pen<'f> {
+pub(crate) struct Pen<'f> {
     font: FontRef<'f>,
     size: f32,
 }
 
+impl Pen<'static> {
+    /// The legend's face (egui's Ubuntu Light) at `size` pixels.
+    pub(crate) fn new(size: f32) -> Option<Self> {
+        let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT).ok()?;
+        Some(Self { font, size })
+    }
+}
+
 impl Pen<'_> {
-    fn width(&self, text: &str) -> f64 {
+    pub(crate) fn width(&self, text: &str) -> f64 {
         let f = self.font.as_scaled(PxScale::from(self.size));
         let mut w = 0.0;
         let mut prev = None;
@@ -140,7 +149,7 @@ impl Pen<'_> {
     }
 
     /// Draw `text` with its top-left at (x, y).
-    fn draw(&self, canvas: &mut Canvas<'_>, x: f64, y: f64, text: &str, c: [f64; 3]) {
+    pub(crate) fn draw(&self, canvas: &mut Canvas<'_>, x: f64, y: f64, text: &str, c: [f64; 3]) {
         let f = self.font.as_scaled(PxScale::from(self.size));
         let mut caret = x as f32;
         let baseline = y as f32 + f.ascent();
@@ -167,7 +176,7 @@ impl Pen<'_> {
         }
     }
 
-    fn line_height(&self) -> f64 {
+    pub(crate) fn line_height(&self) -> f64 {
         f64::from(self.size) * 1.35
     }
 }

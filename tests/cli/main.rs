@@ -10,6 +10,7 @@ mod data;
 mod xvfb;
 
 mod bench_large;
+mod brain_report;
 mod commands;
 mod report;
 mod scaling;

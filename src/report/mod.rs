@@ -1,0 +1,482 @@
+//! Glyph reports for pipelines: per participant of a BIDS derivatives folder (its BEP016 tensor
+//! maps), or per tensor file, PNG mosaics (axial, coronal and sagittal rows of slices) and one
+//! self-contained HTML page stating what was read, assumed and measured.
+//!
+//! Each map is read and decomposed once, and every figure drawn from that with the caller's one
+//! back end. A report is made in memory and then written file by file (each to a temporary
+//! file, then renamed), figures first and the page last; if a write fails, what was written of
+//! it is removed: a report is whole or absent. A report that fails does not stop the others.
+
+pub mod mosaic;
+pub mod page;
+pub mod stats;
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use web_time::Instant;
+
+use crate::backend::Backend;
+use crate::bids::{self, FindError};
+use crate::error::{LoadError, escape_path};
+use crate::field::{Inputs, ReadOptions};
+use crate::image_out::{encode_png, write_atomic};
+use crate::info::{Skipped, info_report, why_text};
+use crate::progress::Progress;
+use crate::staging::{self, Source, field_spacing};
+use mosaic::{FigureError, ORIENTATIONS};
+use stats::Summary;
+
+/// What to report on.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Job {
+    /// One report per file (any tensor file a reader reads), named after it.
+    Files(Vec<PathBuf>),
+    /// One report per participant of a BIDS derivatives folder (those of `labels` when it
+    /// names some, with or without `sub-`), as a BIDS App's `participant` level.
+    Bids { dir: PathBuf, labels: Vec<String> },
+}
+
+/// Why no report could be started (a usage error).
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    #[error(transparent)]
+    Find(#[from] FindError),
+    #[error("no tensor file to report on")]
+    NoInput,
+    #[error("{0}: two inputs would write the same report (name them apart)")]
+    SameName(String),
+    #[error(
+        "{}: the output folder is the BIDS folder read; write the reports to a folder of their own",
+        escape_path(.0)
+    )]
+    OutputIsInput(PathBuf),
+    #[error("{}: cannot write: {source}", escape_path(.path))]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// Why one report failed.
+#[derive(Debug, thiserror::Error)]
+pub enum UnitError {
+    #[error(
+        "no BEP016 tensor map (sub-{0}/[ses-*/]dwi/*_model-DTI[_param-tensor]_dwimap.nii[.gz])"
+    )]
+    NoMap(String),
+    #[error(transparent)]
+    Load(#[from] LoadError),
+    #[error(transparent)]
+    Figure(#[from] FigureError),
+    #[error("{}: not a lattice: a report shows slices of a volume", escape_path(.0))]
+    NotLattice(PathBuf),
+    #[error("{}: no valid tensor to draw", escape_path(.0))]
+    NoValidTensor(PathBuf),
+    #[error("{}: cannot write: {source}", escape_path(.path))]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// A report written: its page and figures.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Written {
+    /// `sub-<label>`, or the file's name without its extensions.
+    pub name: String,
+    pub page: PathBuf,
+    pub figures: Vec<PathBuf>,
+}
+
+/// A report that failed, and why.
+#[derive(Debug)]
+pub struct Failed {
+    pub name: String,
+    pub error: UnitError,
+}
+
+/// What a run did.
+#[derive(Debug)]
+pub struct Outcome {
+    pub written: Vec<Written>,
+    pub failed: Vec<Failed>,
+}
+
+/// What the page says of the run.
+pub struct RunInfo {
+    pub backend: String,
+    pub total_ms: f64,
+    pub peak_rss_bytes: Option<u64>,
+}
+
+/// One figure, encoded, and what it shows.
+pub struct FigureReport {
+    pub orientation: &'static str,
+    pub file: String,
+    pub width: u32,
+    pub height: u32,
+    pub png: Vec<u8>,
+    pub lattice_axis: usize,
+    pub slices: Vec<usize>,
+    pub glyphs_drawn: usize,
+    pub ms: f64,
+    /// Why the FA underlay is not drawn, if it is not.
+    pub underlay_missing: Option<String>,
+}
+
+/// One map's part of a report.
+pub struct MapReport {
+    pub name: String,
+    pub path: String,
+    pub session: Option<String>,
+    pub format: String,
+    /// The component layout and why (`fsl (from the BEP016 sidecar)`).
+    pub layout: Option<String>,
+    /// The tensors' frame, the world and its source, and the sidecar's `ReferenceAxes`.
+    pub frame: Option<String>,
+    pub notes: Vec<String>,
+    pub units: String,
+    pub dims: [usize; 3],
+    pub tensors: usize,
+    pub valid: usize,
+    pub skipped: Skipped,
+    pub clamped: usize,
+    pub fa: Option<Summary>,
+    pub md: Option<Summary>,
+    pub read_ms: f64,
+    pub decompose_ms: f64,
+    pub figures: Vec<FigureReport>,
+}
+
+/// A report to make: its name (the report goes to `<name>.html` and `<name>/figures/` in the
+/// output folder) and its maps (with their sessions).
+struct Unit {
+    name: String,
+    maps: Vec<(PathBuf, Option<String>)>,
+    /// A participant with no map: its label (the report fails, naming it).
+    missing: Option<String>,
+}
+
+/// What the back end is, as the page names it.
+pub fn backend_name(backend: &Backend) -> String {
+    match backend.gpu() {
+        None => "the exact CPU reference (no GPU adapter)".into(),
+        Some(g) => {
+            let name = g.adapter_name();
+            if name.contains("llvmpipe") {
+                format!("lavapipe, Mesa's Vulkan on the CPU ({name})")
+            } else {
+                format!("the GPU {name}")
+            }
+        }
+    }
+}
+
+/// The file's name without its directory and its extensions (`.nii.gz`, `.nrrd` …).
+fn file_stem(path: &Path) -> String {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = name.strip_suffix(".gz").unwrap_or(&name);
+    let known = [
+        ".nii", ".nrrd", ".nhdr", ".vtk", ".vti", ".vtr", ".vts", ".vtu", ".vtp", ".pvti",
+    ];
+    let stem = known
+        .iter()
+        .find_map(|e| name.strip_suffix(e))
+        .unwrap_or(name);
+    if stem.is_empty() {
+        "report".into()
+    } else {
+        stem.into()
+    }
+}
+
+fn units(job: &Job) -> Result<Vec<Unit>, ReportError> {
+    let units: Vec<Unit> = match job {
+        Job::Files(files) => files
+            .iter()
+            .map(|f| Unit {
+                name: file_stem(f),
+                maps: vec![(f.clone(), None)],
+                missing: None,
+            })
+            .collect(),
+        Job::Bids { dir, labels } => bids::participants(dir, labels)?
+            .into_iter()
+            .map(|p| Unit {
+                name: format!("sub-{}", p.label),
+                missing: p.maps.is_empty().then(|| p.label.clone()),
+                maps: p.maps.into_iter().map(|m| (m.path, m.session)).collect(),
+            })
+            .collect(),
+    };
+    if units.is_empty() {
+        return Err(ReportError::NoInput);
+    }
+    let mut names: Vec<&str> = units.iter().map(|u| u.name.as_str()).collect();
+    names.sort_unstable();
+    if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+        return Err(ReportError::SameName(w[0].to_string()));
+    }
+    Ok(units)
+}
+
+/// The reports a job asks for, found and checked before anything is drawn (a usage error
+/// stops the run before a GPU is set up).
+pub struct Plan {
+    units: Vec<Unit>,
+    /// The BIDS folder read, for a BIDS job.
+    bids: Option<PathBuf>,
+}
+
+impl Plan {
+    pub fn new(job: &Job) -> Result<Self, ReportError> {
+        Ok(Self {
+            units: units(job)?,
+            bids: match job {
+                Job::Bids { dir, .. } => Some(dir.clone()),
+                Job::Files(_) => None,
+            },
+        })
+    }
+
+    /// The reports' names, in the order they are made.
+    pub fn names(&self) -> Vec<&str> {
+        self.units.iter().map(|u| u.name.as_str()).collect()
+    }
+
+    /// Make the reports in `out` (created if missing), drawn with `backend`. A BIDS job also
+    /// writes `dataset_description.json` (the output is a derivatives dataset).
+    pub fn run(
+        &self,
+        out: &Path,
+        backend: &Backend,
+        progress: &dyn Progress,
+    ) -> Result<Outcome, ReportError> {
+        // The reports are a dataset of their own: never among the data they are made of (its
+        // dataset_description.json would be replaced).
+        if let Some(dir) = &self.bids
+            && let (Ok(a), Ok(b)) = (dir.canonicalize(), out.canonicalize())
+            && a == b
+        {
+            return Err(ReportError::OutputIsInput(out.to_path_buf()));
+        }
+        std::fs::create_dir_all(out).map_err(|source| ReportError::Write {
+            path: out.to_path_buf(),
+            source,
+        })?;
+        if self.bids.is_some() {
+            write_dataset_description(out)?;
+        }
+        let mut outcome = Outcome {
+            written: Vec::new(),
+            failed: Vec::new(),
+        };
+        for unit in &self.units {
+            match report(unit, out, backend, progress) {
+                Ok(w) => outcome.written.push(w),
+                Err(error) => outcome.failed.push(Failed {
+                    name: unit.name.clone(),
+                    error,
+                }),
+            }
+        }
+        Ok(outcome)
+    }
+}
+
+/// Make the reports `job` asks for in `out`: [`Plan::new`], then [`Plan::run`].
+pub fn run(
+    job: &Job,
+    out: &Path,
+    backend: &Backend,
+    progress: &dyn Progress,
+) -> Result<Outcome, ReportError> {
+    Plan::new(job)?.run(out, backend, progress)
+}
+
+/// What BIDS derivatives need: the output is a derivatives dataset of its own.
+fn write_dataset_description(out: &Path) -> Result<(), ReportError> {
+    let text = serde_json::to_string_pretty(&serde_json::json!({
+        "Name": "tensorglyph glyph reports",
+        "BIDSVersion": "1.10.0",
+        "DatasetType": "derivative",
+        "GeneratedBy": [{"Name": "tensorglyph", "Version": env!("CARGO_PKG_VERSION")}],
+    }))
+    .expect("a JSON value serialises");
+    let path = out.join("dataset_description.json");
+    write_atomic(&path, &[], |w| {
+        use std::io::Write as _;
+        writeln!(w, "{text}")
+    })
+    .map_err(|source| ReportError::Write { path, source })
+}
+
+fn report(
+    unit: &Unit,
+    out: &Path,
+    backend: &Backend,
+    progress: &dyn Progress,
+) -> Result<Written, UnitError> {
+    let t = Instant::now();
+    if let Some(label) = &unit.missing {
+        return Err(UnitError::NoMap(label.clone()));
+    }
+    let mut maps = Vec::new();
+    let mut read = Vec::new();
+    for (path, session) in &unit.maps {
+        maps.push(map(path, session.clone(), backend, progress, &mut read)?);
+    }
+    let run = RunInfo {
+        backend: backend_name(backend),
+        total_ms: staging::ms(t),
+        peak_rss_bytes: crate::mem::peak_rss_bytes(),
+    };
+    let html = page::html(&unit.name, &maps, &run);
+    let folder = out.join(&unit.name).join("figures");
+    let page = out.join(format!("{}.html", unit.name));
+    let inputs: Vec<&Path> = read.iter().map(PathBuf::as_path).collect();
+    let mut written: Vec<PathBuf> = Vec::new();
+    let result = (|| {
+        std::fs::create_dir_all(&folder).map_err(|source| UnitError::Write {
+            path: folder.clone(),
+            source,
+        })?;
+        for f in maps.iter().flat_map(|m| &m.figures) {
+            let path = folder.join(&f.file);
+            write_bytes(&path, &inputs, &f.png)?;
+            written.push(path);
+        }
+        write_bytes(&page, &inputs, html.as_bytes())
+    })();
+    if let Err(e) = result {
+        for p in &written {
+            let _ = std::fs::remove_file(p);
+        }
+        return Err(e);
+    }
+    Ok(Written {
+        name: unit.name.clone(),
+        page,
+        figures: written,
+    })
+}
+
+fn write_bytes(path: &Path, inputs: &[&Path], bytes: &[u8]) -> Result<(), UnitError> {
+    write_atomic(path, inputs, |w| {
+        use std::io::Write as _;
+        w.write_all(bytes)
+    })
+    .map_err(|source| UnitError::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Read and decompose the map at `path` once, and draw its figures.
+fn map(
+    path: &Path,
+    session: Option<String>,
+    backend: &Backend,
+    progress: &dyn Progress,
+    read: &mut Vec<PathBuf>,
+) -> Result<MapReport, UnitError> {
+    let inputs = Inputs::file_system();
+    let t = Instant::now();
+    let field = staging::read_from(
+        &inputs,
+        &Source::File(path.to_path_buf()),
+        &ReadOptions::default(),
+        progress,
+    )?;
+    let read_ms = staging::ms(t);
+    read.extend(inputs.paths_read());
+    let dims = field
+        .lattice_dims()
+        .ok_or_else(|| UnitError::NotLattice(path.to_path_buf()))?;
+    let t = Instant::now();
+    let set = staging::decompose(&field, progress);
+    // The figures need the positions only.
+    let field = field.into_geometry();
+    let decompose_ms = staging::ms(t);
+    if set.glyphs.is_empty() {
+        return Err(UnitError::NoValidTensor(path.to_path_buf()));
+    }
+    let info = info_report(&field, &set, &[]).expect("no sample asked for");
+    let (fa, md) = stats::measures(&set);
+    let clamped = stats::clamped(&set, &mosaic::style(), field_spacing(&field));
+    let anatomical = field.meta.frame.as_ref().is_some_and(|f| f.world == "RAS");
+    let stem = file_stem(path);
+    let mut figures = Vec::new();
+    for o in ORIENTATIONS {
+        let m = mosaic::render(&field, &set, dims, o, anatomical, backend, progress)?;
+        let mut png = Vec::new();
+        encode_png(&mut png, m.width, m.height, &m.rgba, None).map_err(|source| {
+            UnitError::Write {
+                path: path.to_path_buf(),
+                source,
+            }
+        })?;
+        figures.push(FigureReport {
+            orientation: o.name,
+            file: format!("{stem}_{}.png", o.name),
+            width: m.width,
+            height: m.height,
+            png,
+            lattice_axis: m.lattice_axis,
+            slices: m.slices,
+            glyphs_drawn: m.glyphs_drawn,
+            ms: m.ms,
+            underlay_missing: m.underlay_missing.map(|e| e.to_string()),
+        });
+    }
+    let sidecar_axes = info
+        .bep016_sidecar
+        .as_ref()
+        .and_then(|s| s.reference_axes.clone());
+    let units = if info.bep016_sidecar.is_some() {
+        "µm²/ms (BEP016 diffusivities)".to_string()
+    } else {
+        crate::glyph::style::units_in_name(&field.array.name)
+            .unwrap_or_else(|| "as stored in the file (it does not say)".into())
+    };
+    Ok(MapReport {
+        name: path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        path: path.display().to_string(),
+        session,
+        format: info.format.clone(),
+        layout: info
+            .layout
+            .as_ref()
+            .map(|l| format!("{} ({})", l.order, why_text(l.why))),
+        frame: info.frame.as_ref().map(|f| {
+            let axes = sidecar_axes.as_deref().map_or(String::new(), |a| {
+                format!(", ReferenceAxes {a} from the BEP016 sidecar")
+            });
+            format!(
+                "tensors in {} axes{axes}; world {} from {}",
+                f.tensor_frame.name(),
+                f.world,
+                f.source
+            )
+        }),
+        notes: info.notes.clone(),
+        units,
+        dims,
+        tensors: info.tensors,
+        valid: info.valid,
+        skipped: info.skipped.clone(),
+        clamped,
+        fa,
+        md,
+        read_ms,
+        decompose_ms,
+        figures,
+    })
+}

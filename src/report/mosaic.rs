@@ -1,0 +1,476 @@
+//! One figure of a report: a row of slices of one orientation (axial, coronal or sagittal),
+//! each glyphs over the FA underlay in DEC colours with the anatomical directions at its edges
+//! and its slice named, and a legend panel (the DEC key and the underlay's grey scale) beside
+//! the row, all drawn into the image so that the PNG reads alone.
+//!
+//! Every tile is built from the field and glyphs the report read and decomposed once
+//! ([`crate::staging::build`]) and drawn with the run's one back end; tiles of a row share the
+//! whole field's framing, so they are drawn at one scale.
+
+use glam::DVec3;
+use web_time::Instant;
+
+use crate::backend::{Backend, StageFailed};
+use crate::camera::{Camera, Framing};
+use crate::effects::Effects;
+use crate::field::TensorField;
+use crate::glyph::{ColorScheme, GlyphSet, GlyphStyle, SizeBy};
+use crate::legend::axis_labels;
+use crate::legend::raster::{Canvas, Pen};
+use crate::progress::Progress;
+use crate::request::{FrameRequest, GlyphKind, Method, Preset, UnderlayView};
+use crate::scene::UnderlaySource;
+use crate::scene::underlay::UnderlayError;
+use crate::select::{Plane, Selection, Slicing, lattice_coords};
+use crate::staging::{self, Recipe, StageError, Timings, field_spacing};
+use crate::tensor::measure::Measure;
+
+/// Each tile's side, in pixels: five tiles and the legend fill a report page's width.
+pub const TILE: u32 = 256;
+/// Slices per row.
+pub const SLICES: usize = 5;
+/// The legend panel's width, in pixels.
+const LEGEND_WIDTH: u32 = 200;
+const BLACK: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
+
+/// A row's orientation: its name and the world axis (x, y, z) its slices are normal to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Orientation {
+    pub name: &'static str,
+    pub world_axis: usize,
+}
+
+/// The three rows of a map's report.
+pub const ORIENTATIONS: [Orientation; 3] = [
+    Orientation {
+        name: "axial",
+        world_axis: 2,
+    },
+    Orientation {
+        name: "coronal",
+        world_axis: 1,
+    },
+    Orientation {
+        name: "sagittal",
+        world_axis: 0,
+    },
+];
+
+/// Why a figure could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum FigureError {
+    #[error(transparent)]
+    Stage(#[from] StageError),
+    #[error(transparent)]
+    Render(#[from] StageFailed),
+}
+
+/// A figure, RGBA8, and what it shows.
+pub struct Mosaic {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+    /// The lattice axis sliced (0: i, 1: j, 2: k) and the slices, in order.
+    pub lattice_axis: usize,
+    pub slices: Vec<usize>,
+    /// Glyphs drawn, over all tiles.
+    pub glyphs_drawn: usize,
+    /// Wall-clock time to build and draw the row.
+    pub ms: f64,
+    /// Why the FA underlay could not be drawn, if it could not.
+    pub underlay_missing: Option<UnderlayError>,
+}
+
+/// The style of every report figure: DEC colours, every glyph the same size (as `render`
+/// shows DTI files).
+pub(crate) fn style() -> GlyphStyle {
+    GlyphStyle {
+        color: ColorScheme::Dec,
+        size_by: SizeBy::None,
+        ..GlyphStyle::default()
+    }
+}
+
+/// The lattice axis whose steps run most nearly along world axis `world`: the axis whose
+/// slices are this orientation's, whatever order the voxels are stored in.
+pub fn lattice_axis(field: &TensorField, dims: [usize; 3], world: usize) -> usize {
+    let at = |c: [usize; 3]| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])]);
+    let origin = at([0, 0, 0]);
+    (0..3)
+        .max_by(|&a, &b| {
+            let along = |axis: usize| {
+                if dims[axis] < 2 {
+                    return -1.0;
+                }
+                let mut c = [0; 3];
+                c[axis] = 1;
+                let step = (at(c) - origin).normalize_or_zero();
+                step[world].abs()
+            };
+            along(a).total_cmp(&along(b))
+        })
+        .unwrap_or(world)
+}
+
+/// The box (centre, half extents) of the lattice's voxels, corners to corners.
+fn lattice_box(field: &TensorField, dims: [usize; 3]) -> (DVec3, DVec3) {
+    let at = |c: [usize; 3]| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])]);
+    let corners: Vec<DVec3> = (0..8)
+        .map(|k| at([0, 1, 2].map(|a| if k >> a & 1 == 1 { dims[a] - 1 } else { 0 })))
+        .collect();
+    let lo = corners.iter().fold(DVec3::INFINITY, |m, c| m.min(*c));
+    let hi = corners.iter().fold(DVec3::NEG_INFINITY, |m, c| m.max(*c));
+    // Half a voxel beyond the centres of the outer ones.
+    let step = (0..3)
+        .filter(|&a| dims[a] > 1)
+        .map(|a| {
+            let mut c = [0; 3];
+            c[a] = 1;
+            (at(c) - at([0; 3])).length()
+        })
+        .fold(0.0, f64::max);
+    ((lo + hi) / 2.0, (hi - lo) / 2.0 + DVec3::splat(step / 2.0))
+}
+
+/// Up to `n` slices along lattice `axis`, evenly spaced through the part of the volume that
+/// holds valid tensors (its first and last slices, often nearly empty, left out), each moved
+/// to the nearest slice with a valid tensor.
+pub fn slices(set: &GlyphSet, dims: [usize; 3], axis: usize, n: usize) -> Vec<usize> {
+    let mut count = vec![0usize; dims[axis]];
+    for g in &set.glyphs {
+        count[lattice_coords(g.index as usize, dims)[axis]] += 1;
+    }
+    let held: Vec<usize> = (0..count.len()).filter(|&i| count[i] > 0).collect();
+    let (Some(&lo), Some(&hi)) = (held.first(), held.last()) else {
+        return Vec::new();
+    };
+    if hi - lo < n {
+        return held.into_iter().take(n).collect();
+    }
+    let mut out: Vec<usize> = (1..=n)
+        .map(|j| {
+            let target = lo as f64 + (hi - lo) as f64 * j as f64 / (n + 1) as f64;
+            *held
+                .iter()
+                .min_by(|a, b| {
+                    (**a as f64 - target)
+                        .abs()
+                        .total_cmp(&(**b as f64 - target).abs())
+                })
+                .expect("held is not empty")
+        })
+        .collect();
+    out.dedup();
+    out
+}
+
+/// The label of world direction `d`: the axis it mostly runs along, by its sign.
+fn direction_label(d: DVec3, anatomical: bool) -> &'static str {
+    let a = d.abs().max_position();
+    axis_labels(anatomical)[a][usize::from(d[a] < 0.0)]
+}
+
+/// The labels at a tile's (left, right, top, bottom) edges for a camera looking along
+/// `forward` with `up`: where the world's directions point on screen.
+pub fn edge_labels(forward: DVec3, up: DVec3, anatomical: bool) -> [&'static str; 4] {
+    let right = forward.cross(up).normalize();
+    let up = right.cross(forward).normalize();
+    [-right, right, up, -up].map(|d| direction_label(d, anatomical))
+}
+
+/// Draw the figure of `orientation`: `field` (its geometry) and `set`, its glyphs.
+pub fn render(
+    field: &TensorField,
+    set: &GlyphSet,
+    dims: [usize; 3],
+    orientation: Orientation,
+    anatomical: bool,
+    backend: &Backend,
+    progress: &dyn Progress,
+) -> Result<Mosaic, FigureError> {
+    let t = Instant::now();
+    let axis = lattice_axis(field, dims, orientation.world_axis);
+    let slices = slices(set, dims, axis, SLICES);
+    let spacing = field_spacing(field);
+    let lattice = lattice_box(field, dims);
+    let tiles = slices.len() as u32;
+    let (width, height) = (tiles * TILE + LEGEND_WIDTH, TILE);
+    let mut rgba = vec![0u8; (width * height * 4) as usize];
+    for px in rgba.chunks_exact_mut(4) {
+        px[3] = 255;
+    }
+    let mut drawn = 0;
+    let mut window = None;
+    let mut underlay_missing = None;
+    let pen = Pen::new(TILE as f32 / 16.0);
+    for (n, &index) in slices.iter().enumerate() {
+        let recipe = Recipe {
+            style: style(),
+            selection: Selection {
+                slicing: Slicing::Planes(vec![Plane { axis, index }]),
+                ..Selection::default()
+            },
+            glyph: GlyphKind::default(),
+            underlay: Some(UnderlaySource::Measure(Measure::Fa)),
+            underlay_side: Some(TILE as usize),
+            ..Recipe::default()
+        };
+        let built = match staging::build(field, set, spacing.clone(), &recipe, None, progress) {
+            // A lattice whose planes are not evenly spaced (rectilinear data) has no image to
+            // put under its glyphs: the glyphs alone, as the page says.
+            Err(StageError::Underlay(why)) => {
+                underlay_missing = Some(why);
+                let recipe = Recipe {
+                    underlay: None,
+                    ..recipe
+                };
+                staging::build(field, set, spacing.clone(), &recipe, None, progress)?
+            }
+            built => built?,
+        };
+        let Some(face) = built.face else {
+            continue;
+        };
+        // The lattice's box moved onto this slice, seen without perspective: every tile of the
+        // row at one scale.
+        let normal = face.toward.0;
+        let centre = lattice.0 + normal * normal.dot(face.centre - lattice.0);
+        let framing = Framing {
+            toward: Some(face.toward),
+            ortho: true,
+            // Room at the edges for the labels.
+            zoom: 0.8,
+            ..Framing::default()
+        };
+        let camera = Camera::frame_box(&framing, centre, lattice.1, TILE, TILE);
+        let mut scene = built.scene;
+        scene.sort_front_to_back(&camera);
+        window = window.or(scene.underlay.as_ref().map(|u| u.window));
+        let req = backend.adapt(
+            FrameRequest {
+                background: BLACK,
+                frames: 1,
+                underlay: UnderlayView {
+                    shown: true,
+                    window: None,
+                },
+                effects: Effects::default().resolved(),
+                ..FrameRequest::preset(Method::Gumhold, true, Preset::Splat)
+            },
+            &scene,
+            &camera,
+        );
+        let frame = backend.render(&scene, &camera, &req, &mut Timings::default(), progress)?;
+        let v = scene.visibility(&camera, req.cull, req.min_pixel_radius);
+        drawn += scene.instances.len() - v.eye_inside - v.behind_camera - v.degenerate - v.culled;
+        let x0 = n as u32 * TILE;
+        for row in 0..TILE {
+            let src = &frame.color[(row * TILE * 4) as usize..][..(TILE * 4) as usize];
+            let at = ((row * width + x0) * 4) as usize;
+            rgba[at..at + src.len()].copy_from_slice(src);
+        }
+        if let Some(pen) = &pen {
+            let mut canvas = Canvas {
+                rgba: &mut rgba,
+                w: i64::from(width),
+                h: i64::from(height),
+            };
+            let place = slice_place(field, dims, axis, index, orientation, anatomical);
+            label_tile(
+                &mut canvas,
+                pen,
+                x0,
+                camera.forward(),
+                camera.up,
+                anatomical,
+                &place,
+            );
+        }
+    }
+    if let Some(pen) = &pen {
+        let mut canvas = Canvas {
+            rgba: &mut rgba,
+            w: i64::from(width),
+            h: i64::from(height),
+        };
+        legend(
+            &mut canvas,
+            pen,
+            tiles * TILE,
+            orientation,
+            anatomical,
+            window,
+        );
+    }
+    Ok(Mosaic {
+        width,
+        height,
+        rgba,
+        lattice_axis: axis,
+        slices,
+        glyphs_drawn: drawn,
+        ms: staging::ms(t),
+        underlay_missing,
+    })
+}
+
+/// A slice's name: its lattice index, and where it is in the world along the row's axis.
+fn slice_place(
+    field: &TensorField,
+    dims: [usize; 3],
+    axis: usize,
+    index: usize,
+    orientation: Orientation,
+    anatomical: bool,
+) -> String {
+    let mut c = [0; 3];
+    c[axis] = index;
+    let p = field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])];
+    let w = orientation.world_axis;
+    let unit = if anatomical { " mm" } else { "" };
+    format!(
+        "{}={index}  {}={:.1}{unit}",
+        ["i", "j", "k"][axis],
+        ["x", "y", "z"][w],
+        p[w]
+    )
+}
+
+/// White text with a black rim, readable on glyphs and on the underlay.
+fn text(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, s: &str, c: [f64; 3]) {
+    for (dx, dy) in [(-1.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.0, 1.0)] {
+        pen.draw(canvas, x + dx, y + dy, s, [0.0; 3]);
+    }
+    pen.draw(canvas, x, y, s, c);
+}
+
+fn label_tile(
+    canvas: &mut Canvas<'_>,
+    pen: &Pen<'_>,
+    x0: u32,
+    forward: DVec3,
+    up: DVec3,
+    anatomical: bool,
+    place: &str,
+) {
+    let [left, right, top, bottom] = edge_labels(forward, up, anatomical);
+    let (x0, side) = (f64::from(x0), f64::from(TILE));
+    let lh = pen.line_height();
+    let yellow = [1.0, 0.9, 0.3];
+    let mid = (side - lh) / 2.0;
+    text(canvas, pen, x0 + 3.0, mid, left, yellow);
+    text(
+        canvas,
+        pen,
+        x0 + side - pen.width(right) - 3.0,
+        mid,
+        right,
+        yellow,
+    );
+    text(
+        canvas,
+        pen,
+        x0 + (side - pen.width(top)) / 2.0,
+        2.0,
+        top,
+        yellow,
+    );
+    let bottom_y = side - lh - 2.0;
+    text(
+        canvas,
+        pen,
+        x0 + (side - pen.width(bottom)) / 2.0,
+        bottom_y,
+        bottom,
+        yellow,
+    );
+    text(
+        canvas,
+        pen,
+        x0 + 3.0,
+        2.0,
+        place.split("  ").next().unwrap_or(place),
+        [1.0; 3],
+    );
+    if let Some(world) = place.split("  ").nth(1) {
+        text(canvas, pen, x0 + 3.0, bottom_y, world, [1.0; 3]);
+    }
+    // A thin rule between tiles.
+    canvas.rect(x0 as i64 + TILE as i64 - 1, 0, 1, TILE as i64, [0.25; 3]);
+}
+
+/// The legend panel at `x0`: the row's name, the DEC key and the underlay's grey scale.
+fn legend(
+    canvas: &mut Canvas<'_>,
+    pen: &Pen<'_>,
+    x0: u32,
+    orientation: Orientation,
+    anatomical: bool,
+    window: Option<[f32; 2]>,
+) {
+    let (x, w) = (f64::from(x0) + 10.0, f64::from(LEGEND_WIDTH) - 20.0);
+    canvas.rect(
+        i64::from(x0),
+        0,
+        i64::from(LEGEND_WIDTH),
+        i64::from(TILE),
+        [0.12; 3],
+    );
+    let lh = pen.line_height();
+    let ink = [1.0; 3];
+    let mut y = 6.0;
+    pen.draw(canvas, x, y, orientation.name, ink);
+    y += lh * 1.3;
+    pen.draw(canvas, x, y, "colour = |e1| × FA", ink);
+    y += lh;
+    let names = if anatomical {
+        ["R–L", "A–P", "S–I"]
+    } else {
+        ["x", "y", "z"]
+    };
+    let swatch = lh * 0.7;
+    for (k, name) in names.into_iter().enumerate() {
+        let mut c = [0.0; 3];
+        c[k] = 1.0;
+        canvas.rect(
+            x as i64,
+            (y + (lh - swatch) / 2.0) as i64,
+            swatch as i64,
+            swatch as i64,
+            c,
+        );
+        pen.draw(canvas, x + swatch + 6.0, y, name, ink);
+        y += lh;
+    }
+    y += lh * 0.3;
+    let [lo, hi] = window.unwrap_or([0.0, 1.0]);
+    pen.draw(canvas, x, y, "underlay: FA", ink);
+    y += lh;
+    let bar_h = lh * 0.7;
+    for k in 0..w as i64 {
+        let g = k as f64 / (w - 1.0);
+        canvas.rect(x as i64 + k, y as i64, 1, bar_h as i64, [g; 3]);
+    }
+    y += bar_h + 2.0;
+    let (a, b) = (format!("{lo:.2}"), format!("{hi:.2}"));
+    pen.draw(canvas, x, y, &a, ink);
+    pen.draw(canvas, x + w - pen.width(&b), y, &b, ink);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::ViewPreset;
+
+    #[test]
+    fn edges_name_the_world_directions_the_views_show() {
+        // Neurological convention, as the views are defined: the subject's right on the right.
+        let (f, u) = ViewPreset::Axial.direction_up();
+        assert_eq!(edge_labels(f, u, true), ["L", "R", "A", "P"]);
+        let (f, u) = ViewPreset::Coronal.direction_up();
+        assert_eq!(edge_labels(f, u, true), ["L", "R", "S", "I"]);
+        let (f, u) = ViewPreset::Sagittal.direction_up();
+        assert_eq!(edge_labels(f, u, true), ["A", "P", "S", "I"]);
+        assert_eq!(edge_labels(f, u, false), ["+y", "−y", "+z", "−z"]);
+    }
+}

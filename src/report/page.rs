@@ -1,0 +1,147 @@
+//! A report's HTML page: one self-contained file (the figures embedded as data URLs, the style
+//! inline, nothing fetched), stating what was read, assumed and measured.
+
+use std::fmt::Write as _;
+
+use base64::Engine as _;
+
+use super::stats::Summary;
+use super::{MapReport, RunInfo};
+
+/// `s` as HTML text.
+pub fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+fn summary(s: &Option<Summary>, digits: usize) -> String {
+    s.map_or("none (no valid tensor)".into(), |s| {
+        format!(
+            "min {:.digits$}, median {:.digits$}, mean {:.digits$}, max {:.digits$}",
+            s.min, s.median, s.mean, s.max
+        )
+    })
+}
+
+/// The MD's numbers in the units it is stored in, with 4 significant digits.
+fn md_summary(s: &Option<Summary>) -> String {
+    s.map_or("none (no valid tensor)".into(), |s| {
+        let f = crate::legend::short_number;
+        format!(
+            "min {}, median {}, mean {}, max {}",
+            f(s.min),
+            f(s.median),
+            f(s.mean),
+            f(s.max)
+        )
+    })
+}
+
+fn section(page: &mut String, map: &MapReport) {
+    let _ = writeln!(page, "<h2>{}</h2>\n<table>", esc(&map.name));
+    let mut row = |k: &str, v: String| {
+        let _ = writeln!(page, "<tr><th>{k}</th><td>{v}</td></tr>");
+    };
+    row("input", esc(&map.path));
+    if let Some(s) = &map.session {
+        row("session", esc(s));
+    }
+    row("format", esc(&map.format));
+    if let Some(l) = &map.layout {
+        row("layout", esc(l));
+    }
+    if let Some(f) = &map.frame {
+        row("frame", esc(f));
+    }
+    for n in &map.notes {
+        row("note", esc(n));
+    }
+    row("units", esc(&map.units));
+    let [nx, ny, nz] = map.dims;
+    row(
+        "tensors",
+        format!(
+            "{} ({nx}×{ny}×{nz}): {} valid; skipped {} NaN, {} Inf, {} zero, {} masked; \
+             {} clamped by <code>--scale auto</code>",
+            map.tensors,
+            map.valid,
+            map.skipped.nan,
+            map.skipped.inf,
+            map.skipped.zero,
+            map.skipped.masked,
+            map.clamped
+        ),
+    );
+    row("FA", summary(&map.fa, 4));
+    row("MD", md_summary(&map.md));
+    let figures: Vec<String> = map
+        .figures
+        .iter()
+        .map(|f| format!("{} {:.0} ms", f.orientation, f.ms))
+        .collect();
+    row(
+        "timings",
+        format!(
+            "read {:.0} ms, decompose {:.0} ms; figures: {}",
+            map.read_ms,
+            map.decompose_ms,
+            figures.join(", ")
+        ),
+    );
+    let _ = writeln!(page, "</table>");
+    for f in &map.figures {
+        let axis = ["i", "j", "k"][f.lattice_axis];
+        let slices: Vec<String> = f.slices.iter().map(|s| s.to_string()).collect();
+        let underlay = f.underlay_missing.as_ref().map_or(String::new(), |why| {
+            format!(
+                "; no FA underlay ({})",
+                esc(why.trim_start_matches("--underlay "))
+            )
+        });
+        let _ = writeln!(
+            page,
+            "<figure><img alt=\"{o}\" width=\"{w}\" height=\"{h}\" \
+             src=\"data:image/png;base64,{b64}\"><figcaption>{o}: slices {axis} = {s}; {n} \
+             glyphs drawn{underlay}</figcaption></figure>",
+            o = f.orientation,
+            w = f.width,
+            h = f.height,
+            b64 = base64::engine::general_purpose::STANDARD.encode(&f.png),
+            s = slices.join(", "),
+            n = f.glyphs_drawn,
+        );
+    }
+}
+
+/// The page of `label` (a participant's `sub-<label>`, or a file's name) and its maps.
+pub fn html(title: &str, maps: &[MapReport], run: &RunInfo) -> String {
+    let mut body = String::new();
+    for m in maps {
+        section(&mut body, m);
+    }
+    let peak = run
+        .peak_rss_bytes
+        .map_or("not known on this system".into(), |b| {
+            format!("{:.0} MiB (the process's, so far)", b as f64 / 1048576.0)
+        });
+    format!(
+        "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
+         <title>{title}: tensorglyph report</title>\n<style>body{{font-family:sans-serif;\
+         margin:2em;max-width:1600px}}th{{text-align:left;padding-right:1em;\
+         vertical-align:top}}figure{{margin:1em 0}}img{{background:#000;max-width:100%;\
+         height:auto}}</style></head><body>\n<h1>{title}</h1>\n\
+         <p>tensorglyph {version}; rendered with {backend}. Glyphs are ellipsoids of the \
+         same size, coloured by the direction of the largest eigenvector (DEC: red R–L, green \
+         A–P, blue S–I, scaled by FA), over the FA of each slice. Views follow the \
+         neurological convention: the subject's right on the image's right in axial and \
+         coronal slices, anterior on the left in sagittal ones; the letters at each tile's \
+         edges name the world directions (RAS, from the file's affine) that lie there.</p>\n\
+         <p>Time for this page {total:.0} ms; peak memory {peak}.</p>\n{body}</body></html>\n",
+        title = esc(title),
+        version = env!("CARGO_PKG_VERSION"),
+        backend = esc(&run.backend),
+        total = run.total_ms,
+    )
+}
