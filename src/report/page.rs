@@ -63,14 +63,15 @@ fn section(page: &mut String, map: &MapReport) {
     row(
         "tensors",
         format!(
-            "{} ({nx}×{ny}×{nz}): {} valid; skipped {} NaN, {} Inf, {} zero, {} masked; \
-             {} clamped by <code>--scale auto</code>",
+            "{} ({nx}×{ny}×{nz}): {} valid; skipped {} NaN, {} Inf, {} zero, {} masked, {} \
+             beyond ±3.4e38; {} clamped by <code>--scale auto</code>",
             map.tensors,
             map.valid,
             map.skipped.nan,
             map.skipped.inf,
             map.skipped.zero,
             map.skipped.masked,
+            map.skipped.overflow,
             map.clamped
         ),
     );
