@@ -83,10 +83,16 @@ fn header() -> Vec<u8> {
     h
 }
 
-/// Write the volume as a gzip-compressed NIfTI-1 file.
+/// Write the volume as a gzip-compressed NIfTI-1 file (whole or not at all).
 pub fn write(path: &Path) -> std::io::Result<()> {
-    let file = std::fs::File::create(path)?;
-    let mut gz = GzEncoder::new(std::io::BufWriter::new(file), Compression::default());
+    crate::image_out::write_atomic(path, &[], |file| {
+        let mut gz = GzEncoder::new(file, Compression::default());
+        write_voxels(&mut gz)?;
+        gz.finish()?.flush()
+    })
+}
+
+fn write_voxels(gz: &mut impl Write) -> std::io::Result<()> {
     gz.write_all(&header())?;
     let [nx, ny, nz] = DIMS;
     // Volume by volume (the 4th index slowest), x fastest within each.
@@ -102,7 +108,7 @@ pub fn write(path: &Path) -> std::io::Result<()> {
             gz.write_all(&plane)?;
         }
     }
-    gz.finish()?.flush()
+    Ok(())
 }
 
 #[cfg(test)]

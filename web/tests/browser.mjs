@@ -11,6 +11,9 @@
 //     still open: a detached NRRD and an FSL eigen set from their files given together, and
 //     DIPY's fit;
 //   - without a WebGPU adapter the page names browsers that have one.
+// Measured, not asserted: navigation to grid40's first frame and its frame time, and, when
+// TENSORGLYPH_WEB_BRAIN names a whole-brain volume (`cargo run --example brain_volume -- FILE`),
+// opening it by ?url= (read and decomposed on the page's one thread).
 // A screenshot of the page and the figures are kept in the output folder (TENSORGLYPH_WEB_OUT,
 // default target/web-tests). Without Chromium or web/dist the test skips, unless CI is set.
 //
@@ -27,6 +30,7 @@ const repo = path.resolve(here, '../..');
 const dist = path.join(repo, 'web/dist');
 const dipy = path.join(repo, 'tests/data/dti/dipy_small101');
 const out = path.resolve(process.env.TENSORGLYPH_WEB_OUT || path.join(repo, 'target/web-tests'));
+const brain = process.env.TENSORGLYPH_WEB_BRAIN && path.resolve(process.env.TENSORGLYPH_WEB_BRAIN);
 const chromiumPath = process.env.CHROMIUM || '/usr/bin/chromium';
 const cli = process.env.TENSORGLYPH_CLI || path.join(repo, 'target/debug/tensorglyph');
 // Headless Chromium has a WebGPU adapter here only with these: SwiftShader's Vulkan for WebGPU,
@@ -69,13 +73,15 @@ function check(ok, what) {
   if (!ok) failures.push(what);
 }
 
-// The page's files at /, the DIPY fit at /data/ (what ?url= fetches beside the page).
+// The page's files at /, the DIPY fit at /data/ and the brain at /brain.nii.gz (what ?url=
+// fetches beside the page).
 const TYPES = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm' };
 const server = http.createServer((req, res) => {
   const url = new URL(req.url, 'http://127.0.0.1');
   let file = decodeURIComponent(url.pathname);
-  const root = file.startsWith('/data/') ? dipy : dist;
+  let root = file.startsWith('/data/') ? dipy : dist;
   if (file.startsWith('/data/')) file = file.slice('/data'.length);
+  if (brain && file === '/brain.nii.gz') [root, file] = [path.dirname(brain), path.basename(brain)];
   if (file.endsWith('/')) file += 'index.html';
   const full = path.join(root, path.normalize(file));
   if (!full.startsWith(root)) {
@@ -218,6 +224,14 @@ try {
     const frac = cmp.close / cmp.n;
     check(!cmp.size && cmp.glyph > 0.02 * cmp.n, `grid:10's figure is 640x480 with glyphs (${cmp.size || cmp.glyph})`);
     check(frac >= 0.99, `grid:10's figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
+    await page.close();
+  }
+
+  // A whole brain by ?url=: how long reading and decomposing take on the page's one thread.
+  if (brain) {
+    const { page, start } = await open('?url=brain.nii.gz');
+    await statusMatching(page, / glyphs · /);
+    console.log(`measured: the brain by ?url=, ${Date.now() - start} ms from navigation: ${await text(page, 'status')}`);
     await page.close();
   }
 
