@@ -10,6 +10,8 @@
 //   - the file input: a truncated file gets the one-line error naming it, and good files then
 //     still open: a detached NRRD and an FSL eigen set from their files given together, and
 //     DIPY's fit;
+//   - BEP016: a map and its JSON sidecar given together open, and a picked glyph's principal
+//     direction is numpy's in the frame the sidecar names (tests/data/bids);
 //   - without a WebGPU adapter the page names browsers that have one.
 // Measured, not asserted: navigation to grid40's first frame and its frame time, and, when
 // TENSORGLYPH_WEB_BRAIN names a whole-brain volume (`cargo run --example brain_volume -- FILE`),
@@ -277,6 +279,47 @@ try {
     await page.close();
   }
 
+  // BEP016: a map and its sidecar given together. The sidecar's ReferenceAxes (xyz: sub-02's
+  // tensors are in scanner axes) decides the frame: a picked glyph's principal direction is
+  // numpy's world one (tests/data/bids/make_bids.py), where reading the tensors in voxel axes
+  // (the default without a sidecar) would flip its x. Glyphs whose direction has |x| > 0.3 are
+  // the ones that tell (|cos| ≤ 0.82 in the wrong frame).
+  {
+    const bids = path.join(repo, 'tests/data/bids');
+    const key = 'sub-02/dwi/sub-02_model-DTI_param-tensor_dwimap.nii.gz';
+    const truth = JSON.parse(fs.readFileSync(path.join(bids, 'expected.json')))[key];
+    const files = ['sub-02_model-DTI_param-tensor_dwimap.nii.gz', 'sub-02_model-DTI_dwimap.json'];
+    const { page } = await open('');
+    await page.waitForFunction(() => document.body.dataset.state === 'ready', null, { timeout: LONG });
+    await page.setInputFiles('#file', files.map((f) => path.join(bids, 'derivatives/sub-02/dwi', f)));
+    await statusMatching(page, new RegExp(`(^| of )${truth.fa.length} glyphs · `));
+    check((await text(page, 'error')) === '', `${files.join(' + ')} open: "${await text(page, 'status')}"`);
+    const box = await page.locator('#view').boundingBox();
+    let telling = null;
+    for (let i = 0; i < 48 && !telling; i++) {
+      // A lattice over the view's part of the canvas (the panel is on the left).
+      const [fx, fy] = [0.4 + 0.5 * ((i * 5) % 12) / 12, 0.15 + 0.7 * ((i * 7) % 16) / 16];
+      await page.mouse.move(box.x + box.width * fx, box.y + box.height * fy);
+      await page.waitForTimeout(600);
+      const pick = await text(page, 'pick');
+      if (!pick.includes('λ')) continue;
+      const lines = pick.split('\n');
+      const index = Number(lines[0].replace('glyph #', ''));
+      const want = truth.e1_world[index];
+      if (want && Math.abs(want[0]) > 0.3 && truth.fa[index] > 0.3) {
+        telling = { index, want, t: lines.slice(3, 6).flatMap((l) => l.trim().split(/\s+/).map(Number)) };
+      }
+    }
+    check(telling !== null, `hovering finds a glyph whose frame tells (${telling ? `glyph #${telling.index}` : 'none'})`);
+    if (telling) {
+      const e1 = jacobiEigen(telling.t)[0].vector;
+      const cos = Math.abs(e1.reduce((s, x, k) => s + x * telling.want[k], 0));
+      check(cos >= 0.99, `its principal direction is numpy's in the sidecar's frame (|cos| = ${cos.toFixed(5)})`);
+    }
+    await page.screenshot({ path: path.join(out, 'page_bep016.png') });
+    await page.close();
+  }
+
   // A browser without WebGPU (Chromium without the flags above has no adapter): a message naming
   // browsers that have it, not a blank page.
   {
@@ -302,9 +345,16 @@ if (failures.length) {
 }
 console.log(`all checks passed; screenshots in ${out}`);
 
-// Eigenvalues of a symmetric 3x3 matrix (row-major), largest first: cyclic Jacobi rotations.
+// Eigenvalues of a symmetric 3x3 matrix (row-major), largest first.
 function jacobiEigenvalues(m) {
+  return jacobiEigen(m).map((e) => e.value);
+}
+
+// Eigenpairs { value, vector } of a symmetric 3x3 matrix (row-major), largest value first:
+// cyclic Jacobi rotations A := Jᵀ A J, accumulated in V := V J (the eigenvectors are its columns).
+function jacobiEigen(m) {
   const a = [[m[0], m[1], m[2]], [m[3], m[4], m[5]], [m[6], m[7], m[8]]];
+  const v = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
   for (let sweep = 0; sweep < 50; sweep++) {
     for (const [p, q] of [[0, 1], [0, 2], [1, 2]]) {
       if (Math.abs(a[p][q]) < 1e-300) continue;
@@ -312,10 +362,12 @@ function jacobiEigenvalues(m) {
       const t = Math.sign(theta || 1) / (Math.abs(theta) + Math.sqrt(theta * theta + 1));
       const c = 1 / Math.sqrt(t * t + 1);
       const s = t * c;
-      for (let k = 0; k < 3; k++) {
-        const [akp, akq] = [a[k][p], a[k][q]];
-        a[k][p] = c * akp - s * akq;
-        a[k][q] = s * akp + c * akq;
+      for (const x of [a, v]) {
+        for (let k = 0; k < 3; k++) {
+          const [xkp, xkq] = [x[k][p], x[k][q]];
+          x[k][p] = c * xkp - s * xkq;
+          x[k][q] = s * xkp + c * xkq;
+        }
       }
       for (let k = 0; k < 3; k++) {
         const [apk, aqk] = [a[p][k], a[q][k]];
@@ -324,5 +376,7 @@ function jacobiEigenvalues(m) {
       }
     }
   }
-  return [a[0][0], a[1][1], a[2][2]].sort((x, y) => y - x);
+  return [0, 1, 2]
+    .map((i) => ({ value: a[i][i], vector: [v[0][i], v[1][i], v[2][i]] }))
+    .sort((x, y) => y.value - x.value);
 }
