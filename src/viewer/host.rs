@@ -43,6 +43,9 @@ pub enum Command {
     /// one that names the others is read ([`crate::viewer::loader::main_file`]), and the others
     /// are what it names (a `.nhdr`'s data file, an eigen set's members, a sidecar).
     OpenFiles(Vec<(String, Vec<u8>)>),
+    /// Lay a scalar volume under the slices, as `view --underlay FILE` does, its files handed
+    /// over as for [`Command::OpenFiles`] (the page's underlay input).
+    Underlay(Vec<(String, Vec<u8>)>),
     /// Render a figure of this many pixels as `render` frames one by default, and keep it
     /// (through [`Host::save_figure`]) as `name`.
     Figure { size: (u32, u32), name: String },

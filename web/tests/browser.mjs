@@ -10,6 +10,8 @@
 //   - the file input: a truncated file gets the one-line error naming it, and good files then
 //     still open: a detached NRRD and an FSL eigen set from their files given together, and
 //     DIPY's fit;
+//   - the underlay input: DIPY's FA map under its fit gives the figure of `tensorglyph render
+//     tensors.nii.gz --underlay fa.nii.gz` (>= 99 % of pixels within 3/255);
 //   - BEP016: a map and its JSON sidecar given together open, and a picked glyph's principal
 //     direction is numpy's in the frame the sidecar names (tests/data/bids);
 //   - without a WebGPU adapter the page names browsers that have one.
@@ -102,13 +104,11 @@ const server = http.createServer((req, res) => {
 await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve));
 const base = `http://127.0.0.1:${server.address().port}/`;
 
-// The native figures: render's defaults, on lavapipe.
-function nativeFigure(demo) {
-  const png = path.join(out, `native_${demo.replace(':', '')}_640x480.png`);
-  const r = spawnSync(cli, ['render', '--demo', demo, '--size', '640x480', '-o', png], {
-    stdio: 'inherit',
-  });
-  check(r.status === 0, `tensorglyph render --demo ${demo} --size 640x480 ran`);
+// The native figures: render's defaults, on lavapipe; `args` say what (`--demo grid40`, a file).
+function nativeFigure(name, args) {
+  const png = path.join(out, `native_${name}_640x480.png`);
+  const r = spawnSync(cli, ['render', ...args, '--size', '640x480', '-o', png], { stdio: 'inherit' });
+  check(r.status === 0, `tensorglyph render ${args.map((a) => path.basename(a)).join(' ')} --size 640x480 ran`);
   return png;
 }
 
@@ -189,7 +189,7 @@ try {
     check(true, `grid40 shows: "${status}" (${firstFrame} ms from navigation)`);
     const src = await figureOf(page);
     fs.writeFileSync(path.join(out, 'web_grid40_640x480.png'), Buffer.from(src.split(',')[1], 'base64'));
-    const cmp = await compare(page, src, nativeFigure('grid40'));
+    const cmp = await compare(page, src, nativeFigure('grid40', ['--demo', 'grid40']));
     check(!cmp.size, `the figure is 640x480 (${cmp.size || 'yes'})`);
     check(cmp.glyph > 0.05 * cmp.n, `the figure shows glyphs (${cmp.glyph} of ${cmp.n} pixels)`);
     const frac = cmp.close / cmp.n;
@@ -222,7 +222,7 @@ try {
     const { page } = await open('?demo=grid:10&figure=640x480');
     const src = await figureOf(page);
     fs.writeFileSync(path.join(out, 'web_grid10_640x480.png'), Buffer.from(src.split(',')[1], 'base64'));
-    const cmp = await compare(page, src, nativeFigure('grid:10'));
+    const cmp = await compare(page, src, nativeFigure('grid10', ['--demo', 'grid:10']));
     const frac = cmp.close / cmp.n;
     check(!cmp.size && cmp.glyph > 0.02 * cmp.n, `grid:10's figure is 640x480 with glyphs (${cmp.size || cmp.glyph})`);
     check(frac >= 0.99, `grid:10's figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
@@ -276,6 +276,24 @@ try {
       const names = files.map((f) => f.name || path.basename(f)).join(' + ');
       check((await text(page, 'error')) === '', `${names} open: "${await text(page, 'status')}"`);
     }
+    await page.close();
+  }
+
+  // The underlay: DIPY's FA map chosen as the underlay, then its fit; the figure is that of
+  // `tensorglyph render tensors.nii.gz --underlay fa.nii.gz`.
+  {
+    const { page } = await open('?figure=640x480');
+    await page.waitForFunction(() => document.body.dataset.state === 'ready', null, { timeout: LONG });
+    await page.setInputFiles('#underlay', path.join(dipy, 'fa.nii.gz'));
+    await page.setInputFiles('#file', path.join(dipy, 'tensors.nii.gz'));
+    const src = await figureOf(page);
+    fs.writeFileSync(path.join(out, 'web_underlay_640x480.png'), Buffer.from(src.split(',')[1], 'base64'));
+    const args = [path.join(dipy, 'tensors.nii.gz'), '--underlay', path.join(dipy, 'fa.nii.gz')];
+    const cmp = await compare(page, src, nativeFigure('underlay', args));
+    const frac = cmp.close / cmp.n;
+    check(!cmp.size && (await text(page, 'error')) === '', `the fit with its FA underlay opens (${cmp.size || 'no error'})`);
+    check(frac >= 0.99, `its figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
+    await page.screenshot({ path: path.join(out, 'page_underlay.png') });
     await page.close();
   }
 
