@@ -1,33 +1,23 @@
 // Gumhold's ellipsoid glyph: one perspective-correct silhouette quad per glyph, built here from
-// the vertex and instance index, and the incremental ray–ellipsoid intersection per fragment.
+// the vertex and instance index, and the ray–ellipsoid intersection per fragment from its pixel.
 // Math and names: shared/math/gumhold-ellipsoid.md. Composed as common.wgsl + this + outputs.wgsl.
 
-// With CONSERVATIVE_DEPTH the proxy's vertices are moved along their eye rays onto the glyph's
-// nearest view plane by a factor s_k (1 otherwise). The screen positions stay, but perspective
-// interpolation then weighs vertex k by 1/(s_k w_k): so every varying below except `s` is sent
-// multiplied by s_k and divided by the interpolated `s` per fragment, which restores the
-// interpolation over the original quad exactly.
+// Nothing is interpolated: every fragment finds its quad point q~ from its own pixel position
+// and the glyph's PixelCast, sent flat. Interpolation precision is not specified (WGSL, Vulkan),
+// and the hit is very sensitive to q~ on thin glyphs: SwiftShader's interpolated q~ turned
+// grid40's normals by 12° at the 99th percentile (0.009° now, as lavapipe's).
 struct VsOut {
     @builtin(position) position: vec4<f32>,
-    // Packed into few locations: rasterisers set up and store every location of every triangle.
-    // xy: (q~x, q~y), the proxy corner in the unit circle's plane; zw: clip (z, w) of the quad
-    // point (before any move): its depth is z / w.
-    @location(0) q_zw: vec4<f32>,
-    // xyz: V~, the quad point in parameter space; w: the move factor s_k (see above).
-    @location(1) vt_quad_s: vec4<f32>,
-    // xyz: v~ = V~ − e~ (perspective) or z^ (orthographic), the ray in parameter space; w: the
-    // quad point's view x.
-    @location(2) vt_ray_vx: vec4<f32>,
-    // The quad point's view (y, z).
-    @location(3) v_yz: vec2<f32>,
-    // Columns of N = R_view T⁻¹ (the view-space normal is N p~) with, in w: u~ = 1/E
-    // (perspective) or 1/|d~| (orthographic); the colour's bits; tz.x.
-    @location(4) @interpolate(flat) n0_u: vec4<f32>,
-    @location(5) @interpolate(flat) n1_color: vec4<u32>,
-    @location(6) @interpolate(flat) n2_tzx: vec4<f32>,
-    // Row 2 of R_view T: the hit's view z relative to the centre is tz · p~; this holds (y, z).
-    @location(7) @interpolate(flat) tz_yz: vec2<f32>,
-    @location(8) @interpolate(flat) id: u32,
+    // The PixelCast packed: (ux, uy); (off0, g.xy); (g.z, 1 − E², u, view z of the centre);
+    // the view normal's columns nx, ny, nz with tzq's components in w.
+    @location(0) @interpolate(flat) ux_uy: vec4<f32>,
+    @location(1) @interpolate(flat) off_gxy: vec4<f32>,
+    @location(2) @interpolate(flat) gz_k_u_cz: vec4<f32>,
+    @location(3) @interpolate(flat) nx_tzx: vec4<f32>,
+    @location(4) @interpolate(flat) ny_tzy: vec4<f32>,
+    @location(5) @interpolate(flat) nz_tzz: vec4<f32>,
+    @location(6) @interpolate(flat) color: u32,
+    @location(7) @interpolate(flat) id: u32,
 }
 
 // Everything a glyph's proxy vertices need, computed once per glyph: by each vertex in vs_main,
@@ -139,37 +129,44 @@ fn glyph_frame(ii: u32) -> FrameOrSkip {
     return out;
 }
 
-// Proxy vertex `s` (a corner of the polygon around the unit circle) of a glyph.
-fn proxy_vertex(f: GlyphFrame, s: vec2<f32>) -> VsOut {
+// The factors on the quad's (x, y) that widen it by PROXY_MARGIN_PX on each side: its half
+// widths T x~, T y~ measured in pixels on the view plane through the centre.
+fn proxy_growth(f: GlyphFrame) -> vec2<f32> {
+    let t = mat3x3<f32>(f.t0, f.t1, f.t2);
+    var w = 1.0;
+    if !is_ortho() {
+        w = max(dot(f.centre - camera.eye.xyz, camera.forward.xyz), 1e-30);
+    }
+    let hx = length((camera.view * vec4<f32>(t * f.x_t, 0.0)).xy) * camera.pixels.x / w;
+    let hy = length((camera.view * vec4<f32>(t * f.y_t, 0.0)).xy) * camera.pixels.x / w;
+    return 1.0 + PROXY_MARGIN_PX / max(vec2<f32>(hx, hy), vec2<f32>(1e-30));
+}
+
+// Proxy vertex `corner` (a corner of the polygon around the unit circle) of a glyph.
+fn proxy_vertex(f: GlyphFrame, corner: vec2<f32>) -> VsOut {
     var out: VsOut;
-    let vt_quad = f.m_t + s.x * f.x_t + s.y * f.y_t;
-    let v = f.centre + mat3x3<f32>(f.t0, f.t1, f.t2) * vt_quad;
-    let clip = camera.view_proj * vec4<f32>(v, 1.0);
-    out.position = clip;
-    var k = 1.0;
+    let s = corner * proxy_growth(f);
+    let v = f.centre + mat3x3<f32>(f.t0, f.t1, f.t2) * (f.m_t + s.x * f.x_t + s.y * f.y_t);
+    out.position = camera.view_proj * vec4<f32>(v, 1.0);
     if CONSERVATIVE_DEPTH && f.move_to > 0.0 {
+        // Along the eye ray, so the screen position stays (nothing is interpolated).
         let fwd = camera.forward.xyz;
         if is_ortho() {
             out.position = camera.view_proj * vec4<f32>(v + (f.move_to - dot(v - camera.eye.xyz, fwd)) * fwd, 1.0);
         } else {
-            k = f.move_to / dot(v - camera.eye.xyz, fwd);
+            let k = f.move_to / dot(v - camera.eye.xyz, fwd);
             out.position = camera.view_proj * vec4<f32>(camera.eye.xyz + k * (v - camera.eye.xyz), 1.0);
         }
     }
-    var vt_ray = f.ray_t;
-    if !is_ortho() {
-        vt_ray = vt_quad + f.ray_t;
-    }
-    let v_view = k * (camera.view * vec4<f32>(v, 1.0)).xyz;
-    out.q_zw = vec4<f32>(k * s, k * clip.zw);
-    out.vt_quad_s = vec4<f32>(k * vt_quad, k);
-    out.vt_ray_vx = vec4<f32>(k * vt_ray, v_view.x);
-    out.v_yz = v_view.yz;
+    let c = pixel_cast(f);
+    out.ux_uy = vec4<f32>(c.ux, c.uy);
+    out.off_gxy = vec4<f32>(c.off0, c.g.xy);
+    out.gz_k_u_cz = vec4<f32>(c.g.z, c.one_minus_e2, c.u, c.cz);
+    out.nx_tzx = vec4<f32>(c.nx, c.tzq.x);
+    out.ny_tzy = vec4<f32>(c.ny, c.tzq.y);
+    out.nz_tzz = vec4<f32>(c.nz, c.tzq.z);
+    out.color = f.color;
     out.id = f.id;
-    out.n0_u = vec4<f32>(f.n0, f.u);
-    out.n1_color = vec4<u32>(bitcast<vec3<u32>>(f.n1), f.color);
-    out.n2_tzx = vec4<f32>(f.n2, f.tz_x);
-    out.tz_yz = vec2<f32>(f.tz_y, f.tz_z);
     return out;
 }
 
@@ -221,11 +218,11 @@ fn splat_glyph(ii: u32, second: bool) {
 // Ray cast a splat's pixels px and keep its hits (splat_put); whether any pixel was hit.
 fn splat_frame(f: GlyphFrame, px: vec4<i32>, second: bool) -> bool {
     var any = false;
-    let setup = splat_setup(f);
+    let setup = pixel_cast(f);
     for (var y = px.y; y <= px.w; y++) {
         let span = splat_row(setup, y, px.x, px.z);
         for (var x = span.x; x <= span.y; x++) {
-            let depth = splat_depth(setup, splat_q(setup, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5)));
+            let depth = cast_depth(setup, splat_q(setup, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5)));
             if depth >= 0.0 {
                 splat_put(pixel_index(x, y), depth, f.id, second);
                 any = true;
@@ -284,81 +281,60 @@ fn vs_frames(@builtin(vertex_index) vi: u32, in: FrameInput) -> VsOut {
     return proxy_vertex(f, proxy_corner(vi));
 }
 
-// The interpolated quad point, unpacked (and, with CONSERVATIVE_DEPTH, moved back).
-struct Unpacked {
-    q: vec2<f32>,
-    zw: vec2<f32>,
-    vt_quad: vec3<f32>,
-    vt_ray: vec3<f32>,
-    v_view: vec3<f32>,
-    u: f32,
-}
-
 // The front intersection of the pixel's ray, or discard.
-fn ray_cast(packed: VsOut) -> Hit {
-    var in: Unpacked;
-    in.q = packed.q_zw.xy;
-    in.zw = packed.q_zw.zw;
-    in.vt_quad = packed.vt_quad_s.xyz;
-    in.vt_ray = packed.vt_ray_vx.xyz;
-    in.v_view = vec3<f32>(packed.vt_ray_vx.w, packed.v_yz);
-    in.u = packed.n0_u.w;
-    if CONSERVATIVE_DEPTH {
-        let inv = 1.0 / packed.vt_quad_s.w;
-        in.q *= inv;
-        in.vt_quad *= inv;
-        in.vt_ray *= inv;
-        in.v_view *= inv;
-    }
-    let n = mat3x3<f32>(packed.n0_u.xyz, bitcast<vec3<f32>>(packed.n1_color.xyz), packed.n2_tzx.xyz);
-    let tz = vec3<f32>(packed.n2_tzx.w, packed.tz_yz);
-    let hit = hit_at(in, n, tz, packed.n1_color.w);
+fn ray_cast(in: VsOut) -> Hit {
+    var c: PixelCast;
+    c.ux = in.ux_uy.xy;
+    c.uy = in.ux_uy.zw;
+    c.off0 = in.off_gxy.xy;
+    c.g = vec3<f32>(in.off_gxy.zw, in.gz_k_u_cz.x);
+    c.one_minus_e2 = in.gz_k_u_cz.y;
+    c.u = in.gz_k_u_cz.z;
+    c.cz = in.gz_k_u_cz.w;
+    c.nx = in.nx_tzx.xyz;
+    c.ny = in.ny_tzy.xyz;
+    c.nz = in.nz_tzz.xyz;
+    c.tzq = vec3<f32>(in.nx_tzx.w, in.ny_tzy.w, in.nz_tzz.w);
+    let hit = cast_hit(c, in.position.xy, in.color);
     if hit.miss {
         discard;
     }
     return hit;
 }
 
-// The front intersection of the ray through quad point `in` (miss: the ray passes the glyph).
-// N = R_view T⁻¹ gives the view normal N p~; tz · p~ the hit's view z relative to the centre.
-fn hit_at(in: Unpacked, n: mat3x3<f32>, tz: vec3<f32>, color: u32) -> Hit {
+// The hit's p~ is (q.x x~ + q.y y~ − (u + α) z^)/(1 + uα) with α = √(1 − |q~|²) and u = 1/E
+// (perspective: κ = uα/(1 + uα) in p~ = V~ − κ v~, m~ = −u z^, v~ = V~ + z^/u) or 0
+// (orthographic: p~ = V~ − α z^): the view normal and the view z relative to the centre are
+// linear in it, and nothing cancels.
+fn cast_p(c: PixelCast, q: vec2<f32>, alpha: f32) -> vec3<f32> {
+    return vec3<f32>(q, -(c.u + alpha));
+}
+
+// The hit's view z relative to the glyph's centre.
+fn cast_z_rel(c: PixelCast, p: vec3<f32>, alpha: f32) -> f32 {
+    return dot(c.tzq, p) / (1.0 + c.u * alpha);
+}
+
+// The front intersection of the ray through pixel centre px (miss: the ray passes the glyph).
+fn cast_hit(c: PixelCast, px: vec2<f32>, color: u32) -> Hit {
     var hit: Hit;
-    let q2 = dot(in.q, in.q);
+    let q = splat_q(c, px);
+    let q2 = dot(q, q);
     if q2 > 1.0 {
         hit.miss = true;
         return hit;
     }
     let alpha = sqrt(1.0 - q2);
-    var kappa: f32;
-    var p_view: vec3<f32>;
-    if is_ortho() {
-        // p = V + τ d with τ = −α/|d~|; the view depth grows by α/|d~|.
-        kappa = alpha;
-        p_view = in.v_view + vec3<f32>(0.0, 0.0, alpha * in.u);
-    } else {
-        // κ = 1 − λ = β/(1 + β): no cancellation for distant glyphs.
-        let beta = in.u * alpha;
-        kappa = beta / (1.0 + beta);
-        p_view = (1.0 - kappa) * in.v_view;
-    }
-    let p_t = in.vt_quad - kappa * in.vt_ray;
-    let n_view = normalize(n * p_t);
-    hit.color = vec4<f32>(shade(unpack4x8unorm(color).rgb, n_view, p_view), 1.0);
+    let p = cast_p(c, q, alpha);
+    let n_view = normalize(mat3x3<f32>(c.nx, c.ny, c.nz) * p);
+    // The hit lies on the pixel's ray: its direction is all shading needs of it.
+    let ray_view = vec3<f32>(pixel_view_xy(px), -1.0);
+    hit.color = vec4<f32>(shade(unpack4x8unorm(color).rgb, n_view, ray_view), 1.0);
     hit.n_view = n_view;
-    hit.z_rel = dot(tz, p_t);
-    hit.z_proxy_rel = dot(tz, in.vt_quad);
-    hit.depth = hit_depth(alpha, in.zw, in.v_view.z, in.u);
+    hit.z_rel = cast_z_rel(c, p, alpha);
+    hit.z_proxy_rel = dot(c.tzq, vec3<f32>(q, -c.u));
+    hit.depth = view_depth(c.cz + hit.z_rel);
     return hit;
-}
-
-// The depth of the hit on the ray through a quad point with clip (z, w) `zw` and view z `z_view`,
-// α = √(1 − |q~|²).
-fn hit_depth(alpha: f32, zw: vec2<f32>, z_view: f32, u: f32) -> f32 {
-    if is_ortho() {
-        // p = V + τ d with τ = −α/|d~|; the view depth grows by α/|d~|.
-        return zw.x / zw.y + camera.depth.y * alpha * u;
-    }
-    return zw.x / zw.y + u * alpha * camera.depth.x / (-z_view);
 }
 
 // --splat: glyphs whose proxy spans few pixels are ray cast per pixel in compute, not drawn.
@@ -367,9 +343,10 @@ fn hit_depth(alpha: f32, zw: vec2<f32>, z_view: f32, u: f32) -> f32 {
 // splat32.wgsl), and a quad per 16-pixel tile they touch (vs_splat_tile + fs_splat*) shades them,
 // depth-tested against the drawn glyphs.
 
-// A glyph's quad coordinates q~ and depth as functions of the pixel: everything per glyph that
-// the per-pixel loops need, so a pixel costs a few dozen operations.
-struct SplatSetup {
+// What a pixel's hit needs of a glyph, per glyph: q~ as a function of the pixel (splat_q), and
+// what is linear in the hit's p~ (cast_p): so a pixel costs a few dozen operations. The vertex
+// stage sends it flat to the fragments; the splats' loops use it directly.
+struct PixelCast {
     // q~(px) = t(px) (o.x ux + o.y uy) with o = xy(px) + off0, xy(px) the pixel's view-space
     // offset at distance 1 (perspective) or 0 (orthographic), t = (1 − E²)/(g · (xy, −1))
     // (orthographic: g = (0, 0, −1), 1 − E² = 1, so t = 1).
@@ -378,23 +355,29 @@ struct SplatSetup {
     off0: vec2<f32>,
     g: vec3<f32>,
     one_minus_e2: f32,
-    // Clip (z, w) and view z of the quad point, affine in q~.
-    zw0: vec2<f32>,
-    zwx: vec2<f32>,
-    zwy: vec2<f32>,
-    vz: vec3<f32>,
+    // u = 1/E (perspective) or 0 (orthographic), as in cast_p.
     u: f32,
+    // The view z of the glyph's centre.
+    cz: f32,
+    // N x~, N y~, N z^ (N = R_view T⁻¹): the view normal is their combination by cast_p.
+    nx: vec3<f32>,
+    ny: vec3<f32>,
+    nz: vec3<f32>,
+    // tz · x~, tz · y~, tz · z^: the view z relative to the centre, likewise.
+    tzq: vec3<f32>,
 }
 
-fn splat_setup(f: GlyphFrame) -> SplatSetup {
-    var s: SplatSetup;
+fn pixel_cast(f: GlyphFrame) -> PixelCast {
+    var s: PixelCast;
     let rv_t = transpose(mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz));
     // Parameter space from view space: T⁻¹ R_viewᵀ = R_viewᵀ N R_viewᵀ.
-    let m = rv_t * (mat3x3<f32>(f.n0, f.n1, f.n2) * rv_t);
+    let n = mat3x3<f32>(f.n0, f.n1, f.n2);
+    let m = rv_t * (n * rv_t);
     let r2 = dot(f.x_t, f.x_t);
     s.ux = vec2<f32>(dot(m[0], f.x_t), dot(m[0], f.y_t)) / r2;
     s.uy = vec2<f32>(dot(m[1], f.x_t), dot(m[1], f.y_t)) / r2;
     let c_v = (camera.view * vec4<f32>(f.centre, 1.0)).xyz;
+    var z_hat = f.ray_t;
     if is_ortho() {
         // The ray from (x, y, 0) in view space along the view direction keeps q~ while it
         // moves: take it level with the centre (in-plane offsets only, nothing to cancel).
@@ -411,22 +394,20 @@ fn splat_setup(f: GlyphFrame) -> SplatSetup {
         let e_t = -f.ray_t;
         s.g = transpose(m) * e_t;
         s.one_minus_e2 = 1.0 - dot(e_t, e_t);
+        s.u = f.u;
+        z_hat = f.ray_t * f.u;
     }
-    let t = mat3x3<f32>(f.t0, f.t1, f.t2);
-    let clip0 = camera.view_proj * vec4<f32>(f.centre + t * f.m_t, 1.0);
-    let clipx = camera.view_proj * vec4<f32>(t * f.x_t, 0.0);
-    let clipy = camera.view_proj * vec4<f32>(t * f.y_t, 0.0);
-    s.zw0 = clip0.zw;
-    s.zwx = clipx.zw;
-    s.zwy = clipy.zw;
-    let row2 = vec4<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z, camera.view[3].z);
-    s.vz = vec3<f32>(dot(row2, vec4<f32>(f.centre + t * f.m_t, 1.0)), dot(row2.xyz, t * f.x_t), dot(row2.xyz, t * f.y_t));
-    s.u = f.u;
+    s.cz = c_v.z;
+    s.nx = n * f.x_t;
+    s.ny = n * f.y_t;
+    s.nz = n * z_hat;
+    let tz = vec3<f32>(f.tz_x, f.tz_y, f.tz_z);
+    s.tzq = vec3<f32>(dot(tz, f.x_t), dot(tz, f.y_t), dot(tz, z_hat));
     return s;
 }
 
 // q~ at pixel centre `px` (framebuffer coordinates).
-fn splat_q(s: SplatSetup, px: vec2<f32>) -> vec2<f32> {
+fn splat_q(s: PixelCast, px: vec2<f32>) -> vec2<f32> {
     let xy = pixel_view_xy(px);
     let o = xy + s.off0;
     return (s.one_minus_e2 / (dot(s.g.xy, xy) - s.g.z)) * (o.x * s.ux + o.y * s.uy);
@@ -435,7 +416,7 @@ fn splat_q(s: SplatSetup, px: vec2<f32>) -> vec2<f32> {
 // The pixels of row y within [x0, x1] whose centres may see the glyph: |q~| ≤ 1 is
 // (1 − E²)² |L|² ≤ D² with L = o.x ux + o.y uy and D = g · (xy, −1) both affine in the pixel's x,
 // a quadratic inequality in x (splat_span; the depth test decides each pixel).
-fn splat_row(s: SplatSetup, y: i32, x0: i32, x1: i32) -> vec2<i32> {
+fn splat_row(s: PixelCast, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let start = vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5);
     let xy = pixel_view_xy(start);
     let o = xy + s.off0;
@@ -448,13 +429,13 @@ fn splat_row(s: SplatSetup, y: i32, x0: i32, x1: i32) -> vec2<i32> {
 }
 
 // The hit's depth at quad coordinates q (-1: no hit).
-fn splat_depth(s: SplatSetup, q: vec2<f32>) -> f32 {
+fn cast_depth(c: PixelCast, q: vec2<f32>) -> f32 {
     let q2 = dot(q, q);
     if q2 > 1.0 {
         return -1.0;
     }
-    let zw = s.zw0 + q.x * s.zwx + q.y * s.zwy;
-    let depth = hit_depth(sqrt(1.0 - q2), zw, s.vz.x + q.x * s.vz.y + q.y * s.vz.z, s.u);
+    let alpha = sqrt(1.0 - q2);
+    let depth = view_depth(c.cz + cast_z_rel(c, cast_p(c, q, alpha), alpha));
     // frag_depth is clamped, not clipped: a hit in front of the near plane is not drawn.
     if !(depth >= 0.0 && depth <= 1.0) {
         return -1.0;
@@ -462,26 +443,8 @@ fn splat_depth(s: SplatSetup, q: vec2<f32>) -> f32 {
     return depth;
 }
 
-// The quad point that pixel centre `px` sees, formed as the vertex stage forms it.
-fn pixel_quad_point(f: GlyphFrame, px: vec2<f32>) -> Unpacked {
-    var in: Unpacked;
-    in.q = splat_q(splat_setup(f), px);
-    let vt = f.m_t + in.q.x * f.x_t + in.q.y * f.y_t;
-    in.vt_quad = vt;
-    in.vt_ray = f.ray_t;
-    if !is_ortho() {
-        in.vt_ray = vt + f.ray_t;
-    }
-    let v = f.centre + mat3x3<f32>(f.t0, f.t1, f.t2) * vt;
-    in.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
-    in.zw = (camera.view_proj * vec4<f32>(v, 1.0)).zw;
-    in.u = f.u;
-    return in;
-}
-
 fn pixel_hit(f: GlyphFrame, px: vec2<f32>) -> Hit {
-    let tz = vec3<f32>(f.tz_x, f.tz_y, f.tz_z);
-    var hit = hit_at(pixel_quad_point(f, px), mat3x3<f32>(f.n0, f.n1, f.n2), tz, f.color);
+    var hit = cast_hit(pixel_cast(f), px, f.color);
     // frag_depth is clamped, not clipped: a hit in front of the near plane is not drawn.
     if !(hit.depth >= 0.0 && hit.depth <= 1.0) {
         hit.miss = true;

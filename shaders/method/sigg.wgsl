@@ -41,12 +41,14 @@ fn glyph_varyings(out: ptr<function, VsOut>, g: Glyph, o: mat3x3<f32>, scale: ve
 }
 
 // Corner vi of the strip ((−,−), (+,−), (−,+), (+,+)) of the box, or of the whole viewport at
-// the near plane; position and view-space point. Corners are clamped to the viewport.
+// the near plane; position and view-space point. The box is widened by PROXY_MARGIN_PX and
+// clamped to the viewport.
 fn emit_corner(out: ptr<function, VsOut>, vi: u32, b: SiggBox) {
     let k = vec2<bool>((vi & 1u) != 0u, (vi & 2u) != 0u);
     var ndc = vec3<f32>(select(vec2<f32>(-1.0), vec2<f32>(1.0), k), 0.0);
     if b.kind == PROXY_BOX {
-        ndc = vec3<f32>(clamp(select(b.lo, b.hi, k), vec2<f32>(-1.0), vec2<f32>(1.0)), clamp(b.z, 0.0, 1.0));
+        let margin = 2.0 * PROXY_MARGIN_PX * camera.viewport.zw;
+        ndc = vec3<f32>(clamp(select(b.lo - margin, b.hi + margin, k), vec2<f32>(-1.0), vec2<f32>(1.0)), clamp(b.z, 0.0, 1.0));
     }
     (*out).position = vec4<f32>(ndc, 1.0);
     let h = camera.inv_view_proj * vec4<f32>(ndc, 1.0);

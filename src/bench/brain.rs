@@ -93,15 +93,21 @@ fn header() -> Vec<u8> {
     h
 }
 
-/// Write the volume as a gzip-compressed NIfTI-1 file.
+/// Write the volume as a gzip-compressed NIfTI-1 file (whole or not at all).
 pub fn write(path: &Path) -> std::io::Result<()> {
     write_scaled(path, 1.0)
 }
 
 /// [`write`], every tensor multiplied by `scale`.
 fn write_scaled(path: &Path, scale: f32) -> std::io::Result<()> {
-    let file = std::fs::File::create(path)?;
-    let mut gz = GzEncoder::new(std::io::BufWriter::new(file), Compression::default());
+    crate::image_out::write_atomic(path, &[], |file| {
+        let mut gz = GzEncoder::new(file, Compression::default());
+        write_voxels(&mut gz, scale)?;
+        gz.finish()?.flush()
+    })
+}
+
+fn write_voxels(gz: &mut impl Write, scale: f32) -> std::io::Result<()> {
     gz.write_all(&header())?;
     let [nx, ny, nz] = DIMS;
     // Volume by volume (the 4th index slowest), x fastest within each.
@@ -117,7 +123,7 @@ fn write_scaled(path: &Path, scale: f32) -> std::io::Result<()> {
             gz.write_all(&plane)?;
         }
     }
-    gz.finish()?.flush()
+    Ok(())
 }
 
 /// The volume as participant `brain` of a BIDS derivatives folder at `root`: its map in BEP016

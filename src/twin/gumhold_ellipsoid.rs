@@ -76,17 +76,8 @@ impl QuadSetup {
         self.m_t + self.r_t * (q.x * self.x_hat + q.y * self.y_hat)
     }
 
-    /// The ray attribute `vt_ray`: v~ = V~ − e~ (perspective) or z^ (orthographic).
-    pub fn ray_t(&self, vt_quad: DVec3, ortho: bool) -> DVec3 {
-        if ortho {
-            self.z_hat
-        } else {
-            vt_quad + self.z_hat / self.u
-        }
-    }
-
     /// The attribute q where a world ray (parameter-space origin `o_t`, direction `d_t`) meets
-    /// the quad's plane: what rasterisation interpolates at that pixel.
+    /// the quad's plane: what `splat_q` finds for that pixel.
     pub fn q_of_ray(&self, o_t: DVec3, d_t: DVec3) -> DVec2 {
         // The plane p~ · z^ = m~ · z^ (−1/E in perspective, 0 orthographic).
         let s = (self.m_t.dot(self.z_hat) - o_t.dot(self.z_hat)) / d_t.dot(self.z_hat);
@@ -104,7 +95,7 @@ pub struct FragmentResult {
     pub point: DVec3,
     /// Unit world normal T⁻¹ p~.
     pub normal: DVec3,
-    /// Standard-Z depth via the compact update of gumhold-ellipsoid.md §6 / §9.
+    /// Standard-Z depth of the hit point.
     pub depth: f64,
 }
 
@@ -112,29 +103,20 @@ pub struct FragmentResult {
 #[derive(Debug, Clone, Copy)]
 pub struct FrameConstants {
     pub view_proj: DMat4,
-    /// World-space eye (perspective) and unit view direction.
-    pub eye: DVec3,
-    pub forward: DVec3,
-    /// B = `P[2][3]` and `P[2][2]` of the projection.
-    pub b: f64,
-    pub p22: f64,
     pub ortho: bool,
 }
 
 impl FrameConstants {
-    pub fn new(view: &DMat4, proj: &DMat4, eye: DVec3, forward: DVec3, ortho: bool) -> Self {
+    pub fn new(view: &DMat4, proj: &DMat4, ortho: bool) -> Self {
         Self {
             view_proj: *proj * *view,
-            eye,
-            forward,
-            b: proj.w_axis.z,
-            p22: proj.z_axis.z,
             ortho,
         }
     }
 }
 
-/// `ray_cast` in the shader for attribute q; `None` where the shader discards (q~² > 1).
+/// `cast_hit` in the shader for quad point q (the shader finds q from the pixel, `splat_q`;
+/// here it is given); `None` where the shader discards (q~² > 1).
 pub fn fragment(
     setup: &QuadSetup,
     t: &DMat3,
@@ -148,36 +130,21 @@ pub fn fragment(
         return None;
     }
     let alpha = (1.0 - q2).sqrt();
-    let vt_quad = setup.quad_point_t(q);
-    let vt_ray = setup.ray_t(vt_quad, k.ortho);
-    let v = c + *t * vt_quad;
-    let clip = k.view_proj * v.extend(1.0);
-    let depth_v = clip.z / clip.w;
-    let (kappa, point, depth) = if k.ortho {
-        // p = V + τ d, τ = −α/|d~|: the view depth grows by α/|d~|.
-        let tau = -alpha * setup.u;
-        (
-            alpha,
-            v + tau * k.forward,
-            depth_v + k.p22 * alpha * setup.u,
-        )
-    } else {
-        // κ = β/(1 + β); depth(p) = depth(V) + β B / w_V.
-        let beta = setup.u * alpha;
-        let kappa = beta / (1.0 + beta);
-        (
-            kappa,
-            v - kappa * (v - k.eye),
-            depth_v + beta * k.b / clip.w,
-        )
-    };
-    let p_t = vt_quad - kappa * vt_ray;
+    // `cast_p`: u = 1/E in perspective (κ = uα/(1 + uα)), 0 orthographic (κ = α).
+    let u = if k.ortho { 0.0 } else { setup.u };
+    let beta = u * alpha;
+    let p_t = (setup.r_t * (q.x * setup.x_hat + q.y * setup.y_hat) - (u + alpha) * setup.z_hat)
+        / (1.0 + beta);
+    let kappa = if k.ortho { alpha } else { beta / (1.0 + beta) };
+    let point = c + *t * p_t;
+    // `view_depth` of the hit's view z.
+    let clip = k.view_proj * point.extend(1.0);
     Some(FragmentResult {
         kappa,
         p_t,
         point,
         normal: (*t_inv * p_t).normalize(),
-        depth,
+        depth: clip.z / clip.w,
     })
 }
 
@@ -438,13 +405,7 @@ mod tests {
             let ortho = cam["projection"] == "orthographic";
             let eye = v3(&cam["eye"]);
             let forward = (v3(&cam["target"]) - eye).normalize();
-            let k = FrameConstants::new(
-                &m4(&e["view_cols"]),
-                &m4(&e["proj_cols"]),
-                eye,
-                forward,
-                ortho,
-            );
+            let k = FrameConstants::new(&m4(&e["view_cols"]), &m4(&e["proj_cols"]), ortho);
             let setup = if ortho {
                 setup_orthographic(&t_inv, forward)
             } else {
@@ -498,7 +459,7 @@ mod tests {
             let want_q = DVec2::new(gh["q"][0].as_f64().unwrap(), gh["q"][1].as_f64().unwrap());
             assert!((q - want_q).length() <= 1e-8, "{id}: q {q} vs {want_q}");
             // Near the rim α = √(1 − q²) amplifies the rounding in q, so the fragment is fed the
-            // vectors' q (the q check above covers the interpolation).
+            // vectors' q (the q check above covers `splat_q`).
             let f = fragment(&setup, &t, &t_inv, c, &k, want_q);
             assert_eq!(f.is_some(), e["hit"].as_bool().unwrap(), "{id}: hit");
             let Some(f) = f else {

@@ -12,6 +12,8 @@ use std::sync::{Arc, Mutex};
 #[cfg(not(target_arch = "wasm32"))]
 use std::thread::JoinHandle;
 
+use web_time::Instant;
+
 use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::field::{Inputs, ReadOptions};
@@ -31,6 +33,18 @@ pub struct Loaded {
     pub bounds: [f64; 6],
     /// The underlay file's volume, when one was given.
     pub underlay: Option<Arc<ScalarVolume>>,
+    pub timings: LoadTimings,
+}
+
+/// How long opening took (the page's status says it: one thread reads and decomposes there).
+#[derive(Debug, Clone, Copy)]
+pub struct LoadTimings {
+    /// When reading began.
+    pub started: Instant,
+    pub read_ms: f64,
+    pub eigen_ms: f64,
+    /// From `started` to the status of the first frame that shows the data (set by the view).
+    pub first_frame_ms: Option<f64>,
 }
 
 impl Loaded {
@@ -57,12 +71,16 @@ pub fn load_now_from(
     underlay: &Option<UnderlaySource>,
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
+    let started = Instant::now();
     let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;
     let underlay = read_underlay(underlay).map_err(|e| e.to_string())?;
     if field.is_empty() {
         return Err(format!("{}: no tensors", source.name()));
     }
+    let read_ms = crate::staging::ms(started);
+    let t = Instant::now();
     let set = decompose(&field, progress);
+    let eigen_ms = crate::staging::ms(t);
     if set.glyphs.is_empty() {
         return Err(format!(
             "{}: no valid tensors ({} skipped)",
@@ -79,6 +97,12 @@ pub fn load_now_from(
         spacing,
         bounds,
         underlay: underlay.map(Arc::new),
+        timings: LoadTimings {
+            started,
+            read_ms,
+            eigen_ms,
+            first_frame_ms: None,
+        },
     })
 }
 

@@ -93,11 +93,14 @@ impl WebHandle {
     /// the six files of an FSL eigen set, a NIfTI file with its BEP016 sidecar. A file that
     /// does not read gets its error line in `#error`; what is shown stays.
     pub fn open_files(&self) -> Result<(), JsValue> {
-        let files = std::mem::take(&mut *self.files.borrow_mut());
-        if files.is_empty() {
-            return Err(JsValue::from_str("no file to open"));
-        }
-        self.remote.push(Command::OpenFiles(files));
+        self.remote.push(Command::OpenFiles(self.take_files()?));
+        Ok(())
+    }
+
+    /// Lay the scalar volume in the files handed over since the last call under the slices
+    /// (`tensorglyph view --underlay FILE`), for what is shown and what is opened next.
+    pub fn open_underlay(&self) -> Result<(), JsValue> {
+        self.remote.push(Command::Underlay(self.take_files()?));
         Ok(())
     }
 
@@ -116,6 +119,17 @@ impl WebHandle {
     /// The panic message, if the viewer stopped on one.
     pub fn panic_message(&self) -> Option<String> {
         self.runner.panic_summary().map(|p| p.message())
+    }
+}
+
+impl WebHandle {
+    /// The files handed over since the last call.
+    fn take_files(&self) -> Result<Vec<(String, Vec<u8>)>, JsValue> {
+        let files = std::mem::take(&mut *self.files.borrow_mut());
+        if files.is_empty() {
+            return Err(JsValue::from_str("no file to open"));
+        }
+        Ok(files)
     }
 }
 

@@ -12,6 +12,7 @@ use glam::DVec3;
 mod figures;
 mod picks;
 mod report;
+mod underlay_file;
 
 use crate::camera::{Framing, ViewPreset};
 use crate::defaults::DataKind;
@@ -551,6 +552,7 @@ impl eframe::App for ViewerApp {
                 Command::Open(source) => self.open(&ctx, source),
                 Command::OpenFiles(files) => self.open_files(&ctx, files),
                 Command::Figure { size, name } => self.figure_asked = Some((size.0, size.1, name)),
+                Command::Underlay(files) => self.open_underlay(files),
             }
         }
         // The first is the cause; later ones tend to follow from it.

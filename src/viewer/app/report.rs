@@ -8,6 +8,13 @@ impl ViewerApp {
     /// Tell the host what the view shows, when that changed.
     pub(super) fn report(&mut self, ctx: &egui::Context) {
         let frame = self.view.frame_time();
+        let shown =
+            matches!((&self.built, self.drawn_generation), (Some(b), Some(g)) if g == b.generation);
+        if let (true, Some(_), Some(data)) = (shown, frame, &mut self.data) {
+            let t = &mut data.timings;
+            t.first_frame_ms
+                .get_or_insert_with(|| crate::staging::ms(t.started));
+        }
         let status = match (&self.data, &self.built, self.drawn_generation) {
             (Some(data), Some(built), Some(g)) if g == built.generation => {
                 if frame.is_none() {
@@ -21,11 +28,15 @@ impl ViewerApp {
                     } else {
                         format!("{shown} of {total} glyphs")
                     };
+                    let t = &data.timings;
                     format!(
-                        "{glyphs} · {:.1} ms/frame · {}: {}",
+                        "{glyphs} · {:.1} ms/frame · {}: {} · opened in {:.2} s (read {:.2} s, eigen {:.2} s)",
                         f.ms,
                         backend_name(&self.gpu.ctx.backend),
-                        self.adapter_name()
+                        self.adapter_name(),
+                        t.first_frame_ms.unwrap_or(0.0) / 1e3,
+                        t.read_ms / 1e3,
+                        t.eigen_ms / 1e3,
                     )
                 })
             }
