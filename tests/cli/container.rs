@@ -301,3 +301,110 @@ fn a_bare_container_gives_the_gpus_figures_from_the_reference_with_a_clean_stder
         assert_eq!(std::fs::read_dir(&bare.home).unwrap().count(), 0, "HOME");
     }
 }
+
+/// `render --json` of grid:2 with `args` and the environment `env`: the report and the image.
+fn render_json(out: &Path, args: &[&str], env: &[(&str, &Path)]) -> (serde_json::Value, Vec<u8>) {
+    let png = out.join("grid.png");
+    let mut all = vec!["render", "--demo", "grid:2", "-o", png.to_str().unwrap()];
+    all.extend(["--size", "320x240", "--json", "-q"]);
+    all.extend(args);
+    let mut cmd = command(&all);
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let o = cmd.output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).is_empty(), "nothing on stderr: {}", stderr(&o));
+    (crate::cli::json(&o), std::fs::read(&png).unwrap())
+}
+
+/// The pipeline cache on disk: written on the first run, loaded on the next, refused (and the
+/// frame the same) when a byte of it changed, off by `TENSORGLYPH_PIPELINE_CACHE=0` and,
+/// silently, where no folder can be made.
+#[test]
+fn the_pipeline_cache_is_stored_loaded_checked_and_off_where_it_cannot_be() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let env = [("TENSORGLYPH_PIPELINE_CACHE", cache.as_path())];
+    let (first, image) = render_json(dir.path(), &[], &env);
+    let Some(state) = first["pipeline_cache"].as_str() else {
+        assert!(std::env::var_os("CI").is_none(), "CI is set but no GPU");
+        eprintln!("skipping: no GPU adapter");
+        return;
+    };
+    if state.contains("PIPELINE_CACHE") {
+        // An adapter without the feature: off, and the report says so.
+        assert!(
+            state.starts_with("off: the adapter has no PIPELINE_CACHE"),
+            "{state}"
+        );
+        return;
+    }
+    assert!(state.starts_with("empty, kept in "), "{state}");
+    let files: Vec<PathBuf> = std::fs::read_dir(&cache)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(files.len(), 1, "one file, no temporary left: {files:?}");
+    let file = &files[0];
+    let stored = std::fs::read(file).unwrap();
+    assert!(stored.starts_with(b"TGPIPE1\n"));
+
+    let (second, again) = render_json(dir.path(), &[], &env);
+    let loaded = second["pipeline_cache"].as_str().unwrap();
+    assert!(loaded.starts_with("loaded "), "{loaded}");
+    assert_eq!(again, image, "the cache changes no pixel");
+
+    let mut corrupt = stored.clone();
+    *corrupt.last_mut().unwrap() ^= 0x40;
+    std::fs::write(file, &corrupt).unwrap();
+    let (third, refused) = render_json(dir.path(), &[], &env);
+    let state = third["pipeline_cache"].as_str().unwrap();
+    assert!(state.starts_with("empty, kept in "), "{state}");
+    assert_eq!(refused, image);
+
+    let off = [("TENSORGLYPH_PIPELINE_CACHE", Path::new("0"))];
+    let (j, _) = render_json(dir.path(), &[], &off);
+    assert_eq!(j["pipeline_cache"], "off: TENSORGLYPH_PIPELINE_CACHE=0");
+
+    // A HOME and a cache folder nothing can be made under (a plain file stands for both, as
+    // root ignores permissions): the cache is off, stderr stays empty, the image the same.
+    let plain = dir.path().join("plain");
+    std::fs::write(&plain, b"").unwrap();
+    let nowhere = plain.join("cache");
+    for env in [
+        vec![("HOME", plain.as_path())],
+        vec![
+            ("HOME", plain.as_path()),
+            ("TENSORGLYPH_PIPELINE_CACHE", nowhere.as_path()),
+        ],
+    ] {
+        let (j, img) = render_json(dir.path(), &[], &env);
+        let state = j["pipeline_cache"].as_str().unwrap();
+        assert!(state.starts_with("off: no cache folder at "), "{state}");
+        assert_eq!(img, image);
+    }
+}
+
+/// A run builds the pipelines its frames draw with and no others: the baseline one strip
+/// pipeline, a mesh method one of its four variants, the underlay its own on top.
+#[test]
+fn only_the_pipelines_a_frame_uses_are_built() {
+    let dir = tempfile::tempdir().unwrap();
+    let off = [("TENSORGLYPH_PIPELINE_CACHE", Path::new("0"))];
+    let built = |args: &[&str]| {
+        let (j, _) = render_json(dir.path(), args, &off);
+        j["pipelines_built"].as_u64()
+    };
+    let Some(baseline) = built(&["--preset", "baseline"]) else {
+        assert!(std::env::var_os("CI").is_none(), "CI is set but no GPU");
+        return;
+    };
+    assert_eq!(baseline, 1);
+    assert_eq!(built(&["--method", "mesh:1"]), Some(1));
+    assert_eq!(built(&["--method", "box"]), Some(1));
+    assert_eq!(
+        built(&["--preset", "baseline", "--underlay", "fa"]),
+        Some(2)
+    );
+}
