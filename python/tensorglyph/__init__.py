@@ -20,6 +20,16 @@ from typing import Any, Iterable, Optional, Sequence, Tuple
 
 import numpy as np
 
+# Mesa's implicit Vulkan layer VK_LAYER_MESA_device_select only reorders devices (the library
+# picks its adapter itself) but prints two error lines on every run without XDG_RUNTIME_DIR
+# (containers, batch jobs); the command line turns it off the same way (src/main.rs). Set before
+# any Vulkan instance exists; left alone when the user set it or one of the layer's own settings.
+if not any(
+    v in os.environ
+    for v in ("NODEVICE_SELECT", "MESA_VK_DEVICE_SELECT", "MESA_VK_DEVICE_SELECT_FORCE_DEFAULT_DEVICE")
+):
+    os.environ["NODEVICE_SELECT"] = "1"
+
 from . import _tensorglyph
 from ._errors import Error, FileError, FileNotFound
 

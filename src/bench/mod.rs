@@ -6,6 +6,7 @@ pub mod brain;
 pub mod chart;
 pub mod effects;
 pub mod report;
+pub mod startup;
 
 use glam::DVec3;
 use serde::Serialize;

@@ -59,6 +59,11 @@ pub struct BenchArgs {
     /// whole and close views of ellipsoids): effects_cost.csv and a table in report.md.
     #[arg(long)]
     pub effects: bool,
+    /// Also time the start-up as a pipeline meets it: this binary run as new processes, from
+    /// start to PNG (grid40, grid:2, the baseline preset, a report of one whole-brain
+    /// participant), cold and warm caches interleaved; startup.csv and a table in report.md.
+    #[arg(long)]
+    pub startup: bool,
     #[command(flatten)]
     pub scene: SceneArgs,
 }
@@ -298,6 +303,8 @@ pub fn run(args: BenchArgs) -> Result<()> {
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("{}: cannot create the output folder", args.out.display()))?;
+    // First, while this process holds no device.
+    let startup = args.startup.then(|| run_startup(&args)).transpose()?;
     let ctx = GpuContext::new().context("bench needs a GPU adapter (lavapipe counts)")?;
     let adapter = format!("{} ({})", ctx.adapter_name, ctx.backend);
     let gpu = GpuRenderer::new(ctx)?;
@@ -397,7 +404,37 @@ pub fn run(args: BenchArgs) -> Result<()> {
             .with_context(|| format!("{}: cannot write", path.display()))?;
     }
     let runs: Vec<&Large> = staged_runs.iter().map(|(_, l)| l).collect();
-    write_outputs(&args, &rows, &adapter, &runs, effects_rows.as_deref())
+    let startup = startup.map(|rows| bench::startup::markdown(&rows, args.frames, &adapter));
+    write_outputs(
+        &args,
+        &rows,
+        &adapter,
+        &runs,
+        effects_rows.as_deref(),
+        startup,
+    )
+}
+
+/// `--startup`: this binary run as new processes in a temporary folder (removed after), with a
+/// one-participant BIDS folder for the report; startup.csv written.
+fn run_startup(args: &BenchArgs) -> Result<Vec<bench::startup::StartupRow>> {
+    let exe = std::env::current_exe().context("cannot find this binary to run it")?;
+    let work = args.out.join(format!(".startup-{}", std::process::id()));
+    std::fs::create_dir_all(&work).with_context(|| format!("{}: cannot create", work.display()))?;
+    let rows = (|| {
+        let bids = bench::startup::write_bids(&work)
+            .with_context(|| format!("{}: cannot write the BIDS folder", work.display()))?;
+        let cases = bench::startup::cases(Some(&bids));
+        let runs = work.join("runs");
+        std::fs::create_dir_all(&runs)?;
+        anyhow::Ok(bench::startup::run(&exe, &runs, &cases, args.frames))
+    })();
+    let _ = std::fs::remove_dir_all(&work);
+    let rows = rows?;
+    let path = args.out.join("startup.csv");
+    report::write_atomic(&path, bench::startup::csv(&rows).as_bytes())
+        .with_context(|| format!("{}: cannot write", path.display()))?;
+    Ok(rows)
 }
 
 fn chart_name(scene_index: usize, scene: &str, view: &str) -> String {
@@ -423,6 +460,7 @@ fn write_outputs(
     adapter: &str,
     staged_runs: &[&Large],
     effects: Option<&[bench::effects::EffectsRow]>,
+    startup: Option<String>,
 ) -> Result<()> {
     let csv_path = args.out.join("speed_accuracy.csv");
     report::write_atomic(&csv_path, report::csv(rows).as_bytes())
@@ -471,6 +509,9 @@ fn write_outputs(
             "## What the figure effects cost (Sigg et al. 2006, Table 1)\n\n{}",
             bench::effects::markdown(e)
         );
+    }
+    if let Some(s) = startup {
+        let _ = writeln!(md, "{s}");
     }
     let _ = writeln!(md, "## What this shows\n\n{}", report::findings(rows));
     let md_path = args.out.join("report.md");

@@ -119,6 +119,10 @@ pub struct RenderReport {
     effects: String,
     adapter: Option<String>,
     backend: Option<String>,
+    /// GPU pipelines built so far by this process.
+    pipelines_built: Option<u32>,
+    /// The pipeline cache on disk: where, what was loaded, or why it is off.
+    pipeline_cache: Option<String>,
     width: u32,
     height: u32,
     /// Pieces the image was rendered in (1: whole; more beyond one render target).
@@ -372,12 +376,13 @@ where
         &camera,
     );
     let method = req.method.method();
-    let (adapter, backend_name) = match backend.gpu() {
+    let (adapter, backend_name, pipelines) = match backend.gpu() {
         Some(gpu) => (
             Some(gpu.ctx.adapter_name.clone()),
             Some(gpu.ctx.backend.clone()),
+            Some(gpu.ctx.pipelines.clone()),
         ),
-        None => (None, None),
+        None => (None, None, None),
     };
     // Beyond one render target (or the pixel cap) the samples are rendered in tiles, whose
     // margins hold the outline filter's reach so that outlines run on across their seams.
@@ -442,6 +447,8 @@ where
         effects: req.effects.to_string(),
         adapter,
         backend: backend_name,
+        pipelines_built: pipelines.as_ref().map(|p| p.built()),
+        pipeline_cache: pipelines.as_ref().map(|p| p.describe().to_string()),
         width: w,
         height: h,
         tiles,

@@ -10,11 +10,13 @@
 use std::sync::{Arc, Mutex};
 
 use crate::error::RenderError;
+use crate::render::pipeline_cache::Pipelines;
 
 /// Optional features taken where the adapter has them.
 pub const WANTED_FEATURES: wgpu::Features = wgpu::Features::PIPELINE_STATISTICS_QUERY
     .union(wgpu::Features::TIMESTAMP_QUERY)
     .union(wgpu::Features::SHADER_EARLY_DEPTH_TEST)
+    .union(wgpu::Features::PIPELINE_CACHE)
     .union(INT64_ATOMICS);
 
 /// Storage buffers Gumhold's compute prepass binds in one stage: the glyph group's three and the
@@ -40,6 +42,8 @@ pub struct GpuContext {
     pub early_depth_test: bool,
     /// SHADER_INT64 and SHADER_INT64_ATOMIC_MIN_MAX.
     pub int64_atomics: bool,
+    /// Builds (and counts) every pipeline, through the cache on disk where there is one.
+    pub pipelines: Arc<Pipelines>,
     /// GPU errors of steps that could not wait for them (the web build's pipeline creation and
     /// uploads): the viewer shows them when they arrive.
     late_errors: Arc<Mutex<Vec<String>>>,
@@ -85,6 +89,7 @@ impl GpuContext {
             .await
             .map_err(|e| RenderError::Gpu(format!("cannot open device: {e}")))?;
         Ok(Self {
+            pipelines: Arc::new(Pipelines::new(&device, &info, features)),
             device,
             queue,
             adapter_name: info.name.clone(),
@@ -104,6 +109,7 @@ impl GpuContext {
         let info = adapter.get_info();
         let features = device.features();
         Self {
+            pipelines: Arc::new(Pipelines::new(&device, &info, features)),
             limits: device.limits(),
             device,
             queue,

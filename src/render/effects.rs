@@ -201,7 +201,7 @@ impl EffectsPipeline {
                 bind_group_layouts: &[Some(&self.layout)],
                 immediate_size: 0,
             });
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            ctx.pipelines.render(&wgpu::RenderPipelineDescriptor {
                 label: Some("composite"),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {

@@ -75,7 +75,14 @@ pub fn triangles_per_glyph(method: Method, glyph: GlyphKind) -> Option<u64> {
 
 /// A mesh method's pipelines (one per output variant) and its shared unit mesh.
 pub struct MeshRenderer {
-    pipelines: Vec<wgpu::RenderPipeline>,
+    builder: std::sync::Arc<crate::render::pipeline_cache::Pipelines>,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    label: String,
+    /// `MESH_BOX`'s value.
+    boxes: bool,
+    /// Per variant ([`Variant::index`]), built on first use.
+    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 4],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,
@@ -99,32 +106,7 @@ impl MeshRenderer {
                 label: Some(&source.name()),
                 source: wgpu::ShaderSource::Wgsl(source.text().into()),
             });
-        let buffers = [Some(wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<MeshVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &VERTEX_ATTRIBUTES,
-        })];
-        let input = PipelineInput {
-            buffers: &buffers,
-            cull_mode: MESH_CULL_MODE,
-            constants: &[("MESH_BOX", f64::from(u8::from(method == Method::Box)))],
-            ..Default::default()
-        };
         let label = format!("{method} {glyph}");
-        let pipelines = Variant::ALL
-            .map(|v| {
-                glyph_pipeline(
-                    &ctx.device,
-                    layout,
-                    &module,
-                    &label,
-                    wgpu::PrimitiveTopology::TriangleList,
-                    v,
-                    &input,
-                )
-            })
-            .into_iter()
-            .collect();
         let buffer = |contents: &[u8], usage| {
             ctx.device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -133,17 +115,52 @@ impl MeshRenderer {
                     usage,
                 })
         };
+        let vertices = buffer(
+            bytemuck::cast_slice(&mesh.vertices),
+            wgpu::BufferUsages::VERTEX,
+        );
+        let indices = buffer(
+            bytemuck::cast_slice(&mesh.indices),
+            wgpu::BufferUsages::INDEX,
+        );
         Ok(Self {
-            pipelines,
-            vertices: buffer(
-                bytemuck::cast_slice(&mesh.vertices),
-                wgpu::BufferUsages::VERTEX,
-            ),
-            indices: buffer(
-                bytemuck::cast_slice(&mesh.indices),
-                wgpu::BufferUsages::INDEX,
-            ),
+            builder: ctx.pipelines.clone(),
+            layout: layout.clone(),
+            module,
+            label,
+            boxes: method == Method::Box,
+            pipelines: Default::default(),
+            vertices,
+            indices,
             index_count: mesh.indices.len() as u32,
+        })
+    }
+}
+
+impl MeshRenderer {
+    /// The pipeline of `variant`, built on first use.
+    fn pipeline(&self, variant: Variant) -> &wgpu::RenderPipeline {
+        self.pipelines[variant.index()].get_or_init(|| {
+            let buffers = [Some(wgpu::VertexBufferLayout {
+                array_stride: std::mem::size_of::<MeshVertex>() as u64,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &VERTEX_ATTRIBUTES,
+            })];
+            let input = PipelineInput {
+                buffers: &buffers,
+                cull_mode: MESH_CULL_MODE,
+                constants: &[("MESH_BOX", f64::from(u8::from(self.boxes)))],
+                ..Default::default()
+            };
+            glyph_pipeline(
+                &self.builder,
+                &self.layout,
+                &self.module,
+                &self.label,
+                wgpu::PrimitiveTopology::TriangleList,
+                variant,
+                &input,
+            )
         })
     }
 }
@@ -156,8 +173,7 @@ impl Drawer for MeshRenderer {
         _proxy: Proxy,
         chunk: &ChunkBuffers,
     ) {
-        // Variant::ALL is in index order.
-        pass.set_pipeline(&self.pipelines[variant.index()]);
+        pass.set_pipeline(self.pipeline(variant));
         pass.set_vertex_buffer(0, self.vertices.slice(..));
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
         pass.draw_indexed(0..self.index_count, 0, chunk.instances());

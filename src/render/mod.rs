@@ -9,6 +9,7 @@ pub mod gpu_data;
 pub mod gumhold;
 pub mod mesh;
 pub mod pipeline;
+pub mod pipeline_cache;
 pub mod query;
 pub mod renderer;
 pub mod scene_buffers;

@@ -2,6 +2,7 @@
 //! targets, depth test and no culling (impostor winding depends on the view).
 
 use crate::render::context::GpuContext;
+use crate::render::pipeline_cache::Pipelines;
 use crate::render::targets::{AUX_FORMAT, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
 
 /// Which fragment outputs a pipeline writes.
@@ -133,7 +134,7 @@ pub struct PipelineInput<'a> {
 
 /// A render pipeline for one method and output variant.
 pub fn glyph_pipeline(
-    device: &wgpu::Device,
+    pipelines: &Pipelines,
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     label: &str,
@@ -164,7 +165,7 @@ pub fn glyph_pipeline(
             write_mask: wgpu::ColorWrites::ALL,
         }));
     }
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+    pipelines.render(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
         vertex: wgpu::VertexState {

@@ -1,18 +1,21 @@
 //! The ray casters' pipelines for one shader: each draws a triangle strip per instance (glyph)
 //! with no vertex buffer, the shader placing the proxy's corners. Pipelines are built on first
-//! use per output variant and proxy (lavapipe compiles one in tens of milliseconds).
+//! use per output variant and proxy (lavapipe compiles one in tens of milliseconds), so a run
+//! builds only the ones its frames draw with.
 
 use std::collections::HashMap;
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::render::context::GpuContext;
 use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
+use crate::render::pipeline_cache::Pipelines;
 use crate::render::scene_buffers::ChunkBuffers;
 use crate::render::shaders::{ShaderDefs, ShaderSource};
 use crate::request::Proxy;
 
 pub struct StripRenderer {
-    pub(crate) device: wgpu::Device,
+    device: wgpu::Device,
+    pub(crate) builder: Arc<Pipelines>,
     layout: wgpu::PipelineLayout,
     source: ShaderSource,
     modules: [OnceLock<wgpu::ShaderModule>; 2],
@@ -34,6 +37,7 @@ impl StripRenderer {
     ) -> Self {
         let r = Self {
             device: ctx.device.clone(),
+            builder: ctx.pipelines.clone(),
             layout: layouts.pipeline.clone(),
             source,
             modules: Default::default(),
@@ -41,8 +45,10 @@ impl StripRenderer {
             instance_input,
             int64_atomics: ctx.int64_atomics,
         };
-        // Build the default variant now, so shader errors surface where the drawer is made.
-        r.pipeline(Variant::ALL[0], Proxy::default(), false, true);
+        // Parse the shader now, so that its errors surface where the drawer is made; the
+        // pipelines wait for the frames that use them (the prepass and splats draw with others
+        // than the default variant).
+        r.module(false);
         r
     }
 
@@ -117,7 +123,7 @@ impl StripRenderer {
             ("vs_main", &[])
         };
         let p = glyph_pipeline(
-            &self.device,
+            &self.builder,
             &self.layout,
             module,
             &self.source.name(),

@@ -93,7 +93,7 @@ impl UnderlayPipeline {
                 bind_group_layouts: &[Some(&self.layout)],
                 immediate_size: 0,
             });
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            ctx.pipelines.render(&wgpu::RenderPipelineDescriptor {
                 label: Some("underlay"),
                 layout: Some(&layout),
                 vertex: wgpu::VertexState {

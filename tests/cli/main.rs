@@ -1,6 +1,7 @@
 //! The `tensorglyph` binary as a user runs it: outputs, JSON reports, exit status and one-line
 //! errors, the selection flags, scaling on real fields, stress fields against VTK's yield criteria, `bench --large`, the viewer under Xvfb,
-//! and `render --glyph superquadric` against Teem's `tend glyph`. tests/README.md is the map.
+//! `render --glyph superquadric` against Teem's `tend glyph`, and `report`/`render` in a bare
+//! container (no driver, display or writable HOME) against the same run on lavapipe. tests/README.md is the map.
 
 #[path = "../common/cli.rs"]
 mod cli;
@@ -12,6 +13,7 @@ mod xvfb;
 mod bench_large;
 mod brain_report;
 mod commands;
+mod container;
 mod report;
 mod scaling;
 mod selection;

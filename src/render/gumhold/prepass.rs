@@ -241,19 +241,17 @@ impl PrepassCache {
             .or_insert_with(|| {
                 let constants = strips.constants(key, general);
                 let make = |entry| {
-                    strips
-                        .device
-                        .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                            label: Some(entry),
-                            layout: Some(&layouts.compute),
-                            module: strips.module(false),
-                            entry_point: Some(entry),
-                            compilation_options: wgpu::PipelineCompilationOptions {
-                                constants: &constants,
-                                ..Default::default()
-                            },
-                            cache: None,
-                        })
+                    strips.builder.compute(&wgpu::ComputePipelineDescriptor {
+                        label: Some(entry),
+                        layout: Some(&layouts.compute),
+                        module: strips.module(false),
+                        entry_point: Some(entry),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants: &constants,
+                            ..Default::default()
+                        },
+                        cache: None,
+                    })
                 };
                 // With 64-bit atomics cs_frames keeps the ids too.
                 let ids = (!self.int64_atomics).then(|| make("cs_splat_ids"));
@@ -270,7 +268,7 @@ impl PrepassCache {
         let resolve = resolve.unwrap_or_else(|| {
             let constants = strips.constants(key, general);
             let p = glyph_pipeline(
-                &strips.device,
+                &strips.builder,
                 &layouts.resolve,
                 strips.module(false),
                 "splat resolve",
