@@ -334,13 +334,36 @@ pub fn proxy_shape(
             None => return ProxyShape::None,
         }
     };
-    let view_proj = camera.projection_matrix() * camera.view(scene.origin);
+    let view = camera.view(scene.origin);
+    let view_proj = camera.projection_matrix() * view;
+    // The ellipsoid's quad reaches PROXY_MARGIN_PX beyond the silhouette (`proxy_growth` in
+    // shaders/method/gumhold_ellipsoid.wgsl): its half widths in pixels on the view plane
+    // through the centre, each grown by the margin.
+    let grow = if ellipsoid {
+        let w = if camera.is_ortho() {
+            1.0
+        } else {
+            (geo.centre - eye).dot(camera.forward()).max(1e-30)
+        };
+        let half = |a: DVec3| {
+            view.transform_vector3(t * (setup.r_t * a))
+                .truncate()
+                .length()
+                * camera.pixels_per_unit()
+                / w
+        };
+        DVec2::ONE
+            + crate::shape::rules::PROXY_MARGIN_PX
+                / DVec2::new(half(setup.x_hat), half(setup.y_hat)).max(DVec2::splat(1e-30))
+    } else {
+        DVec2::ONE
+    };
     let to_px =
         |p: glam::DVec4| DVec2::new((p.x / p.w + 1.0) * w / 2.0, (1.0 - p.y / p.w) * h / 2.0);
     let strip: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)]
         .iter()
         .map(|&(sx, sy)| {
-            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
+            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy) * grow)).extend(1.0)
         })
         .collect();
     if strip.iter().all(|p| p.w > 0.0 && p.z >= 0.0 && p.z <= p.w) {
@@ -356,7 +379,7 @@ pub fn proxy_shape(
     let poly: Vec<glam::DVec4> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
         .iter()
         .map(|&(sx, sy)| {
-            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy))).extend(1.0)
+            view_proj * (geo.centre + t * setup.quad_point_t(DVec2::new(sx, sy) * grow)).extend(1.0)
         })
         .collect();
     let planes: [&dyn Fn(glam::DVec4) -> f64; 6] = [

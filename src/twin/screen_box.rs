@@ -42,6 +42,16 @@ impl NdcBox {
         span(self.lo.x, self.hi.x, width) * span(self.lo.y, self.hi.y, height)
     }
 
+    /// The box widened by `px` pixels on each side of a `width` x `height` target, as the
+    /// vertex stage widens it ([`PROXY_MARGIN_PX`](crate::shape::rules::PROXY_MARGIN_PX)).
+    pub fn widened(self, px: f64, width: u32, height: u32) -> NdcBox {
+        let m = 2.0 * px * DVec2::new(1.0 / f64::from(width), 1.0 / f64::from(height));
+        NdcBox {
+            lo: self.lo - m,
+            hi: self.hi + m,
+        }
+    }
+
     /// The box clipped to the viewport, as the vertex stage emits it.
     pub fn clamped(self) -> NdcBox {
         NdcBox {

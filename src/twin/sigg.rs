@@ -21,16 +21,25 @@ pub fn glyph_proxy(
     crate::twin::of(kind).sigg_proxy(view_proj, geo, eye, ortho)
 }
 
-/// [`glyph_proxy`] for instance `i` of `scene` seen by `camera`.
+/// [`glyph_proxy`] for instance `i` of `scene` seen by `camera`, its box widened by the margin
+/// the vertex stage adds ([`PROXY_MARGIN_PX`](crate::shape::rules::PROXY_MARGIN_PX)).
 pub fn scene_proxy(scene: &Scene, camera: &Camera, i: usize) -> Proxy {
     let view_proj = camera.projection_matrix() * camera.view(scene.origin);
-    glyph_proxy(
+    let proxy = glyph_proxy(
         &view_proj,
         &scene.geometry(i),
         camera.eye - scene.origin,
         camera.is_ortho(),
         scene.kind,
-    )
+    );
+    match proxy {
+        Proxy::Box(b) => Proxy::Box(b.widened(
+            crate::shape::rules::PROXY_MARGIN_PX,
+            camera.width,
+            camera.height,
+        )),
+        p => p,
+    }
 }
 
 #[cfg(test)]
