@@ -5,7 +5,8 @@
 # and open http://127.0.0.1:8000/?demo=grid40.
 #
 # Needs: rustup's wasm32-unknown-unknown target and wasm-bindgen-cli at exactly the version of the
-# wasm-bindgen crate in Cargo.lock (both installed here when missing).
+# wasm-bindgen crate in Cargo.lock, both installed here when missing (the CLI into target/tools by
+# .ci/install-tool, so a clean clone always installs it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -19,15 +20,13 @@ fi
 
 # The CLI must match the crate it generates glue for, to the patch version.
 want="$(awk '/^name = "wasm-bindgen"$/ { getline; gsub(/[^0-9.]/, ""); print; exit }' Cargo.lock)"
-if [ "$(wasm-bindgen --version 2>/dev/null | awk '{ print $2 }')" != "$want" ]; then
-    cargo install wasm-bindgen-cli --version "$want" --locked
-fi
+wasm_bindgen="$(.ci/install-tool wasm-bindgen-cli "$want" wasm-bindgen)"
 
 cargo build -p tensorglyph-web --target "$target" --profile "$profile"
 
 rm -rf "$out"
 mkdir -p "$out"
-wasm-bindgen --target web --no-typescript --out-dir "$out" \
+"$wasm_bindgen" --target web --no-typescript --out-dir "$out" \
     "target/$target/$profile/tensorglyph_web.wasm"
 
 # No wasm-opt: Debian's binaryen (bookworm) shrinks the module by about a sixth but breaks

@@ -93,6 +93,29 @@ impl Failure {
     }
 }
 
+/// An option the command line's parser refused, named as Python spells the keyword that gave
+/// it (`glyph='banana': not one of: ellipsoid, …`); the command line's line where the parser
+/// names no option.
+fn keyword_error(e: Box<tensorglyph::cli::OptionError>) -> Failure {
+    let keyword = |flag: &str| flag.strip_prefix("--").map(|f| f.replace('-', "_"));
+    let Some(name) = e.option.as_deref().and_then(keyword) else {
+        return Failure::Value(e.to_string());
+    };
+    // Numbers as Python writes them, anything else as a quoted string.
+    let value = match e.value.as_deref() {
+        Some(v) if v.parse::<f64>().is_ok() => v.to_string(),
+        Some(v) => format!("'{}'", v.escape_default()),
+        None => String::new(),
+    };
+    let mut line = format!("{name}={value}: {}", e.reason);
+    if let Some(other) = e.conflicts_with.as_deref().and_then(keyword) {
+        line = format!("{name}= cannot be used with {other}=");
+    } else if let Some(other) = e.suggested.as_deref().and_then(keyword) {
+        line.push_str(&format!(" (did you mean {other}=?)"));
+    }
+    Failure::Value(line)
+}
+
 /// Run `work` without the GIL, a panic caught and turned into an error.
 fn detached<T: Send>(
     py: Python<'_>,
@@ -194,7 +217,7 @@ impl Field {
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf, args: Vec<String>) -> PyResult<Self> {
         detached(py, || {
-            let scene: SceneArgs = tensorglyph::cli::parse_options(args).map_err(Failure::Value)?;
+            let scene: SceneArgs = tensorglyph::cli::parse_options(args).map_err(keyword_error)?;
             let source = Source::File(path.clone());
             let diffusion = tensorglyph::defaults::DataKind::of(&source)
                 == tensorglyph::defaults::DataKind::Diffusion;
@@ -279,7 +302,7 @@ impl Field {
         args: Vec<String>,
     ) -> PyResult<Self> {
         detached(py, move || {
-            let scene: SceneArgs = tensorglyph::cli::parse_options(args).map_err(Failure::Value)?;
+            let scene: SceneArgs = tensorglyph::cli::parse_options(args).map_err(keyword_error)?;
             let inputs = Inputs::named([(name.clone(), bytes)]);
             let field = inputs
                 .open(Path::new(&name))
@@ -529,7 +552,7 @@ impl Renderer {
         });
         let (rendered, fell_back) = detached(py, move || {
             let mut frame: FrameArgs =
-                tensorglyph::cli::render::parse_frame_args(args).map_err(Failure::Value)?;
+                tensorglyph::cli::render::parse_frame_args(args).map_err(keyword_error)?;
             if let Some((volume, name)) = mask {
                 let m = Mask::new(name, volume).map_err(Failure::value)?;
                 frame.select.mask_volume = Some(m);

@@ -244,17 +244,34 @@ class Field:
         return render(self, **options)
 
 
-def read(path: "str | os.PathLike", **options: Any) -> Field:
-    """Read a tensor file (any format the command line reads) as ``tensorglyph info`` and
-    ``render`` do. Options: ``order=`` / ``layout=`` (of 6-component arrays the file does not
-    order itself), ``tensor_frame=`` / ``frame=`` (voxel, fsl, world), ``array=`` (by name)."""
-    layout = options.pop("layout", None)
-    frame = options.pop("frame", None)
+def read(
+    data: Any,
+    *,
+    affine: Any = None,
+    layout: Optional[str] = None,
+    frame: Optional[str] = None,
+    positions: Any = None,
+    **options: Any,
+) -> Field:
+    """Read tensors into a ``Field`` as ``render`` takes them, with the same signature: a
+    file's path (any format the command line reads, as ``tensorglyph info`` and ``render`` read
+    it), a ``Field``, a numpy array of tensors (with ``layout``, ``affine`` or ``positions``),
+    a DIPY ``TensorFit`` (with its image's ``affine``) or a nibabel image. Options of files:
+    ``order=`` (as ``layout=``), ``tensor_frame=`` (as ``frame=``: voxel, fsl, world),
+    ``array=`` (by name)."""
     extra = set(options) - {"order", "tensor_frame", "array"}
     if extra:
-        raise Error(f"read() takes order, layout, tensor_frame, frame and array, not {', '.join(sorted(extra))}")
-    args = _order_args(layout, frame) + _cli_args(options)
-    return Field(_tensorglyph.Field.read(os.fspath(path), args))
+        raise Error(
+            f"read() takes affine, layout, frame, positions, order, tensor_frame and array, "
+            f"not {', '.join(sorted(extra))}"
+        )
+    if options and not isinstance(data, (str, os.PathLike)):
+        raise Error(f"{', '.join(sorted(options))}= apply to files; arrays take layout= and frame=")
+    args: list = []
+    inner = _field(data, affine, layout, frame, positions, args)
+    if isinstance(inner, str):
+        return Field(_tensorglyph.Field.read(inner, args + _cli_args(options)))
+    return data if isinstance(data, Field) else Field(inner)
 
 
 def _field(data: Any, affine: Any, layout: Any, frame: Any, positions: Any, args: list):

@@ -28,10 +28,14 @@ def one_line(excinfo):
         (lambda: tg.render(random_tensors((3, 3, 3)), affine=np.full((4, 4), np.nan)), "affine"),
         (lambda: tg.render(random_tensors((3, 3, 3)), frame="scanner"), "frame 'scanner'"),
         (lambda: tg.render(random_tensors((5,)), positions=np.zeros((4, 3))), "positions"),
-        (lambda: tg.render(demo="grid:3", view="up"), "--view"),
-        (lambda: tg.render(demo="grid:3", glyhp="cylinder"), "--glyhp"),
-        (lambda: tg.render(demo="grid:3", size=(0, 10)), "size"),
+        (lambda: tg.render(demo="grid:3", view="up"), "view='up': "),
+        (lambda: tg.render(demo="grid:3", glyph="banana"), "glyph='banana': not one of: ellipsoid"),
+        (lambda: tg.render(demo="grid:3", glyhp="cylinder"), "glyhp=: no such option (did you mean glyph=?)"),
+        (lambda: tg.render(demo="grid:3", size=(0, 10)), "size='0x10': "),
+        (lambda: tg.render(demo="grid:3", ssaa=0), "ssaa=0: "),
         (lambda: tg.render(demo="grid:3", method="sigg", splat=16), "--splat"),
+        (lambda: tg.render(demo="grid:3", preset="splat", baseline=True), "preset= cannot be used with baseline="),
+        (lambda: tg.read(np.ones((3, 3, 3, 6)), layout="fsl", array="x"), "apply to files"),
         (lambda: tg.render(demo="grid:3", output="x.png"), "image.save"),
         (lambda: tg.render("data.txt.vtk.nope"), "data.txt.vtk.nope"),
     ],
@@ -66,3 +70,15 @@ def test_files_that_are_not_there_or_broken(tmp_path):
     with pytest.raises(OSError):
         tg.render(demo="grid:2").save(tmp_path / "no" / "such" / "folder.png")
     assert len(tg.read(good)) == 64000
+
+
+@pytest.mark.parametrize(
+    "keywords",
+    [{"glyph": "banana"}, {"view": "up"}, {"size": (0, 10)}, {"ssaa": 0}, {"glyhp": "cylinder"}],
+)
+def test_option_errors_name_no_command_line_flag(keywords):
+    """A Python user never typed ``--glyph <GLYPH>``: the message names the keyword."""
+    with pytest.raises(tg.Error) as e:
+        tg.render(demo="grid:3", **keywords)
+    text = one_line(e)
+    assert "--" not in text and "<" not in text, text

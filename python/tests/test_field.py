@@ -84,3 +84,21 @@ def test_a_bep016_map_is_read_through_its_sidecar_as_the_cli_reads_it():
     assert info["layout"] == {"order": "fsl", "why": "sidecar"}
     assert info["frame"]["tensor_frame"] == "world"
     assert info["bep016_sidecar"] == {"name": "sub-02_model-DTI_dwimap.json", "reference_axes": "xyz"}
+
+
+def test_read_takes_what_render_takes(dipy_fits, tmp_path):
+    """One signature: ``read(fit, affine=...)`` is the field ``render(fit, affine=...)`` draws,
+    and its eigenvalues are DIPY's own."""
+    fit, affine = dipy_fits["small_101D"]
+    field = tg.read(fit, affine=affine)
+    values, _ = field.eigen()
+    finite = np.isfinite(values).all(axis=-1)
+    assert np.allclose(values[finite], np.asarray(fit.evals)[finite], rtol=0, atol=1e-12 * np.abs(fit.evals).max())
+    a = tg.render(field, size=(96, 72)).array
+    b = tg.render(fit, affine=affine, size=(96, 72)).array
+    assert np.array_equal(a, b)
+    t = random_tensors((4, 3, 2), seed=5)
+    assert len(tg.read(six(t, "fsl"), layout="fsl", affine=OBLIQUE)) == 24
+    assert len(tg.read(t[:, 0, 0], positions=np.zeros((4, 3)))) == 4
+    with pytest.raises(tg.Error):
+        tg.read("tests/data/missing.vtk", affine=np.eye(4))

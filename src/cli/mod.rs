@@ -86,11 +86,11 @@ where
 
 /// Options of one group `A` of the command line's (`SceneArgs`, `render::FrameArgs`, …)
 /// parsed from arguments spelled as on the command line, for front ends that bring their own
-/// data (the Python package): the same defaults and checks; an error is the command line's
-/// one line.
+/// data (the Python package): the same defaults and checks; an error says which option and
+/// value it is about, so a front end can name them as its users spell them.
 pub fn parse_options<A: clap::Args>(
     args: impl IntoIterator<Item = impl Into<OsString> + Clone>,
-) -> Result<A, String> {
+) -> Result<A, Box<OptionError>> {
     #[derive(Parser)]
     #[command(name = "tensorglyph", no_binary_name = true)]
     struct Options<A: clap::Args> {
@@ -99,8 +99,72 @@ pub fn parse_options<A: clap::Args>(
     }
     Options::<A>::try_parse_from(args)
         .map(|o| o.options)
-        .map_err(|e| usage_line(&e))
+        .map_err(|e| Box::new(OptionError::of(&e)))
 }
+
+/// A front end's option that the command line's parser refused: the command line's one line
+/// (its `Display`), and where clap says so, the option (`--glyph`), the value given and why
+/// it was refused, for a front end that spells options its own way (`glyph='banana'`).
+#[derive(Debug, Clone)]
+pub struct OptionError {
+    line: String,
+    /// The option as the command line spells it, without its value name: `--glyph`.
+    pub option: Option<String>,
+    /// The value given, as given.
+    pub value: Option<String>,
+    /// Why, without the option and value: `not one of: ellipsoid, cylinder` or the
+    /// validator's reason.
+    pub reason: String,
+    /// The option meant, where the one given is unknown and clap has a guess (`--glyph`).
+    pub suggested: Option<String>,
+    /// The option given before that this one cannot go with (`--method`).
+    pub conflicts_with: Option<String>,
+}
+
+impl OptionError {
+    fn of(e: &clap::Error) -> Self {
+        use clap::error::{ContextKind, ContextValue, ErrorKind};
+        let value = match e.get(ContextKind::InvalidValue) {
+            Some(ContextValue::String(v)) => Some(v.clone()),
+            _ => None,
+        };
+        let reason = match (e.kind(), e.get(ContextKind::ValidValue)) {
+            (_, Some(ContextValue::Strings(values))) => {
+                format!("not one of: {}", values.join(", "))
+            }
+            (ErrorKind::ValueValidation, _) => std::error::Error::source(e)
+                .map(|s| s.to_string())
+                .unwrap_or_else(|| "invalid value".to_string()),
+            (ErrorKind::UnknownArgument, _) => "no such option".to_string(),
+            (ErrorKind::ArgumentConflict, _) => "cannot be used with the options given".to_string(),
+            _ => usage_line(e).trim_start_matches("error: ").to_string(),
+        };
+        let flag = |kind| match e.get(kind) {
+            Some(ContextValue::String(arg)) => arg.split([' ', '=']).next().map(str::to_string),
+            Some(ContextValue::Strings(args)) => args
+                .first()
+                .and_then(|a| a.split([' ', '=']).next())
+                .map(str::to_string),
+            _ => None,
+        };
+        OptionError {
+            line: usage_line(e),
+            option: flag(ContextKind::InvalidArg),
+            value,
+            reason,
+            suggested: flag(ContextKind::SuggestedArg),
+            conflicts_with: flag(ContextKind::PriorArg),
+        }
+    }
+}
+
+impl std::fmt::Display for OptionError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.line)
+    }
+}
+
+impl std::error::Error for OptionError {}
 
 /// Help and version as clap prints them; any other command-line error as one line (clap's
 /// first, with the accepted values where it has them), exit status 2 like every other error.

@@ -277,11 +277,10 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
 
 /// The options of `render` without its input and output (`--size 640x480`, `--glyph
 /// superquadric` …), parsed with the command line's defaults and checks, for front ends that
-/// bring their own data and take the pixels (the Python package); an error is the command
-/// line's one line.
+/// bring their own data and take the pixels (the Python package); an error names the option.
 pub fn parse_frame_args(
     args: impl IntoIterator<Item = impl Into<std::ffi::OsString> + Clone>,
-) -> std::result::Result<FrameArgs, String> {
+) -> std::result::Result<FrameArgs, Box<super::OptionError>> {
     super::parse_options(args)
 }
 

@@ -7,6 +7,7 @@
 //   - picking: the eigenvalues the page shows for the glyph under the pointer are those of the
 //     tensor it shows (a Jacobi eigensolver here);
 //   - ?url= a DIPY fit (tests/data/dti/dipy_small101) opens with DIPY's voxel count;
+//   - a file chosen while the viewer is still loading waits (#status says so) and then opens;
 //   - the file input: a truncated file gets the one-line error naming it, and good files then
 //     still open: a detached NRRD and an FSL eigen set from their files given together, and
 //     DIPY's fit;
@@ -243,6 +244,26 @@ try {
     const { page } = await open('?url=data/tensors.nii.gz');
     await statusMatching(page, new RegExp(`(^| of )${voxels} glyphs · `));
     check(true, `?url= opens DIPY's fit: "${await text(page, 'status')}"`);
+    await page.close();
+  }
+
+  // A file chosen while the viewer is still loading (its wasm held back 3 s here, as a slow
+  // network would) waits, #status says so, and it opens once the viewer has started.
+  {
+    const page = await browser.newPage({ viewport: { width: 1200, height: 800 } });
+    page.on('pageerror', (e) => console.log(`  page error: ${e}`));
+    await page.route('**/*.wasm', async (route) => {
+      await new Promise((resolve) => setTimeout(resolve, 3000));
+      await route.continue();
+    });
+    await page.goto(base, { waitUntil: 'domcontentloaded' });
+    const early = await page.evaluate(() => document.body.dataset.state ?? '');
+    await page.setInputFiles('#file', path.join(dipy, 'tensors.nii.gz'));
+    const waitingText = await text(page, 'status');
+    check(early !== 'ready' && /tensors\.nii\.gz will open when it is ready/.test(waitingText),
+      `a file chosen before the viewer is ready waits: "${waitingText}"`);
+    await statusMatching(page, new RegExp(`(^| of )${voxels} glyphs · `));
+    check((await text(page, 'error')) === '', `and opens once it is: "${await text(page, 'status')}"`);
     await page.close();
   }
 
