@@ -34,9 +34,9 @@ const MIN_SIDE: u32 = 400;
 /// in an image no page shows.
 const MAX_SIDE: u32 = 2048;
 /// The pixels per voxel the inset's side is chosen for (8 asked, some to spare for rounding).
-const PX_PER_VOXEL: f64 = 8.5;
+pub const PX_PER_VOXEL: f64 = 8.5;
 /// The share of the inset's side the region fills: the rest is room for its labels.
-pub(crate) const FILL: f64 = 0.9;
+pub const FILL: f64 = 0.9;
 /// [`Camera::frame_box`]'s margin around what it frames.
 const FRAME_MARGIN: f64 = 1.03;
 

@@ -424,7 +424,7 @@ pub fn render(
         let x0 = n as u32 * tile;
         blit(&mut rgba, width, &d.frame, x0);
         if let Some(r) = region.filter(|r| r.slice() == index) {
-            outline = Some((x0, d.camera.clone(), r));
+            outline = Some((x0, d.camera, r));
         }
         if let Some(pen) = &pen {
             let mut canvas = Canvas {
