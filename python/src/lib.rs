@@ -606,8 +606,11 @@ impl Renderer {
     /// `tensorglyph report` with this renderer's back end: the reports of `files`, or of the
     /// participants of the BIDS derivatives folder `bids_dir` (those of `participant_label`
     /// when it names some), in `out_dir`. Returns JSON: `written` (name, page, figures) and
-    /// `failed` (name, the command line's error line without `error: `).
-    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new()))]
+    /// `failed` (name, the command line's error line without `error: `). `tile_size` and
+    /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`; a bad one raises,
+    /// naming the keyword.
+    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None))]
+    #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
         py: Python<'_>,
@@ -615,7 +618,21 @@ impl Renderer {
         files: Option<Vec<PathBuf>>,
         bids_dir: Option<PathBuf>,
         participant_label: Vec<String>,
+        tile_size: Option<u32>,
+        zoom_region: Option<String>,
     ) -> PyResult<String> {
+        use tensorglyph::report::inset;
+        let mut options = tensorglyph::report::Options::default();
+        if let Some(px) = tile_size {
+            options.tile = inset::check_tile(px)
+                .map_err(|e| Failure::value(format!("tile_size={e}")).into_py(py))?;
+        }
+        if let Some(z) = zoom_region {
+            options.zoom = Some(
+                z.parse::<inset::ZoomRegion>()
+                    .map_err(|e| Failure::value(format!("zoom_region={e}")).into_py(py))?,
+            );
+        }
         let job = match (files, bids_dir) {
             (Some(files), None) if participant_label.is_empty() => {
                 tensorglyph::report::Job::Files(files)
@@ -637,7 +654,9 @@ impl Renderer {
             }
         };
         detached(py, move || {
-            let plan = tensorglyph::report::Plan::new(&job).map_err(Failure::value)?;
+            let plan = tensorglyph::report::Plan::new(&job)
+                .map_err(Failure::value)?
+                .with_options(options);
             let (held, _) = self
                 .back_end(Method::Gumhold)
                 .map_err(|e| Failure::of(&e))?;

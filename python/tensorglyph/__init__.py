@@ -473,6 +473,8 @@ def report(
     *,
     bids_dir: "str | os.PathLike | None" = None,
     participant_label: "Sequence[str] | str | None" = None,
+    tile_size: Optional[int] = None,
+    zoom_region: "str | Sequence[int] | None" = None,
     renderer: Optional[Renderer] = None,
 ) -> dict:
     """Glyph reports, as ``tensorglyph report`` makes them: ``report(files, out_dir)`` writes one
@@ -483,18 +485,38 @@ def report(
     Returns ``{"written": {name: {"page": path, "figures": [paths]}}, "failed": {name:
     message}}``: a report that fails is named there, the others are written whole. Raises
     ``tensorglyph.Error`` (a ``ValueError``) for a usage error (both or neither of ``files``
-    and ``bids_dir``, no ``out_dir``, an unknown participant)."""
+    and ``bids_dir``, no ``out_dir``, an unknown participant, a bad ``tile_size`` or
+    ``zoom_region``, the message naming the keyword).
+
+    ``tile_size`` is ``--tile-size``: the overview tiles' side in pixels (128 to 1024, default
+    256). ``zoom_region`` is ``--zoom-region``: the voxel each figure's zoomed inset is centred
+    on and its side in voxels, as ``"I,J,K:SIZE"`` or ``(i, j, k, size)``; by default the
+    48-voxel square of each row's middle slice where FA is highest."""
     if out_dir is None:
         raise Error("report needs out_dir, the folder the reports go to")
     if isinstance(files, (str, os.PathLike)):
         files = [files]
     if isinstance(participant_label, str):
         participant_label = [participant_label]
+    if tile_size is not None and (
+        isinstance(tile_size, bool) or not isinstance(tile_size, int) or not 0 <= tile_size < 2**32
+    ):
+        raise Error(f"tile_size={tile_size!r}: the tile side must be a whole number of pixels")
+    if zoom_region is not None and not isinstance(zoom_region, str):
+        try:
+            i, j, k, size = (int(v) for v in zoom_region)
+        except (TypeError, ValueError):
+            raise Error(
+                f"zoom_region={zoom_region!r}: give 'I,J,K:SIZE' or (i, j, k, size)"
+            ) from None
+        zoom_region = f"{i},{j},{k}:{size}"
     text = (renderer or _renderer())._inner.report(
         os.fspath(out_dir),
         files=None if files is None else [os.fspath(f) for f in files],
         bids_dir=None if bids_dir is None else os.fspath(bids_dir),
         participant_label=list(participant_label or []),
+        tile_size=tile_size,
+        zoom_region=zoom_region,
     )
     done = json.loads(text)
     return {

@@ -83,3 +83,41 @@ def test_usage_errors_raise(tmp_path):
         tensorglyph.report(bids_dir=BIDS, out_dir=tmp_path, participant_label="99")
     with pytest.raises(tensorglyph.Error):
         tensorglyph.report([SUB01])
+
+
+def test_the_figure_options_are_the_command_lines(tmp_path):
+    # tile_size and zoom_region (as text and as four numbers) draw what --tile-size and
+    # --zoom-region draw, pixel for pixel; the caption names the region asked for.
+    cli, py, seq = tmp_path / "cli", tmp_path / "py", tmp_path / "seq"
+    run_cli("report", SUB01, "-o", cli, "--tile-size", "320", "--zoom-region", "4,5,2:6")
+    done = tensorglyph.report(SUB01, py, tile_size=320, zoom_region="4,5,2:6")
+    assert list(done["written"]) == ["sub-01_model-DTI_param-tensor_dwimap"]
+    tensorglyph.report(SUB01, seq, tile_size=320, zoom_region=(4, 5, 2, 6))
+    assert figures(cli) == figures(py) == figures(seq) and len(figures(py)) == 3
+    for f in figures(py):
+        a = pixels(cli / f)
+        assert np.array_equal(a, pixels(py / f)), f
+        assert np.array_equal(a, pixels(seq / f)), f
+        # Five 320-px tiles at most, the inset and the 200-px legend.
+        assert (a.shape[1] - 200 - a.shape[0]) % 320 == 0, a.shape
+    page = (py / "sub-01_model-DTI_param-tensor_dwimap.html").read_text()
+    assert "as asked (zoom region)" in page
+    assert "px per voxel" in page
+
+
+@pytest.mark.parametrize(
+    "options, keyword",
+    [
+        ({"tile_size": 64}, "tile_size"),
+        ({"tile_size": "wide"}, "tile_size"),
+        ({"tile_size": True}, "tile_size"),
+        ({"zoom_region": "4,5:6"}, "zoom_region"),
+        ({"zoom_region": "4,5,2:1"}, "zoom_region"),
+        ({"zoom_region": (4, 5, 2)}, "zoom_region"),
+        ({"zoom_region": (-1, 5, 2, 6)}, "zoom_region"),
+    ],
+)
+def test_bad_figure_options_raise_naming_the_keyword(tmp_path, options, keyword):
+    with pytest.raises(tensorglyph.Error, match=keyword):
+        tensorglyph.report(SUB01, tmp_path / "out", **options)
+    assert not (tmp_path / "out").exists()

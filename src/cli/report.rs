@@ -12,7 +12,7 @@ use clap::Args;
 
 use super::progress::Terminal;
 use crate::backend::Backend;
-use crate::report::{Job, Outcome, Plan};
+use crate::report::{self, Job, Options, Outcome, Plan};
 use crate::request::Method;
 
 #[derive(Args, Debug)]
@@ -28,6 +28,33 @@ pub struct ReportArgs {
     /// The participants to report on (with or without sub-); all when not given.
     #[arg(long = "participant-label", value_name = "LABEL", num_args = 1..)]
     pub participant_label: Vec<String>,
+    /// The overview tiles' side, in pixels (128 to 1024). At 256 a whole-brain slice (128
+    /// voxels across) gets 2 px per voxel; 480 gives it 3.
+    #[arg(long = "tile-size", value_name = "PX", default_value_t = report::inset::DEFAULT_TILE,
+          value_parser = parse_tile)]
+    pub tile_size: u32,
+    /// The region each figure's zoomed inset shows: the voxel I,J,K (lattice indices) it is
+    /// centred on and its side in voxels (2 to 128), e.g. 64,64,35:48; each row's inset is
+    /// the slice through that voxel. Default: the 48-voxel square of the row's middle slice
+    /// where FA is highest.
+    #[arg(long = "zoom-region", value_name = "I,J,K:SIZE")]
+    pub zoom_region: Option<report::inset::ZoomRegion>,
+}
+
+fn parse_tile(s: &str) -> Result<u32, String> {
+    let px: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}' is not a whole number of pixels"))?;
+    report::inset::check_tile(px).map_err(|e| e.to_string())
+}
+
+/// The figures' options the arguments ask for.
+pub fn options(args: &ReportArgs) -> Options {
+    Options {
+        tile: args.tile_size,
+        zoom: args.zoom_region,
+    }
 }
 
 /// The job and the output folder the arguments ask for.
@@ -63,8 +90,9 @@ pub fn job(args: ReportArgs) -> Result<(Job, PathBuf)> {
 /// Run the reports: `Ok(true)` when every one was written; each failed one is named on one
 /// stderr line.
 pub fn run(args: ReportArgs) -> Result<bool> {
+    let options = options(&args);
     let (job, out) = job(args)?;
-    let plan = Plan::new(&job)?;
+    let plan = Plan::new(&job)?.with_options(options);
     let progress = Terminal::new(true);
     // One back end for every image: the GPU's pipelines are built once.
     let (backend, fell_back) = Backend::for_method(Method::Gumhold)?;

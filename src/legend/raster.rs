@@ -99,7 +99,7 @@ impl Canvas<'_> {
     }
 
     /// A line of `width` pixels, sampled densely (for the few short strokes of a triad).
-    fn line(&mut self, a: [f64; 2], b: [f64; 2], width: f64, c: [f64; 3]) {
+    pub(crate) fn line(&mut self, a: [f64; 2], b: [f64; 2], width: f64, c: [f64; 3]) {
         let len = ((b[0] - a[0]).hypot(b[1] - a[1])).max(1.0);
         let steps = (len * 2.0) as i64;
         let r = width / 2.0;

@@ -1,12 +1,14 @@
 //! Glyph reports for pipelines: per participant of a BIDS derivatives folder (its BEP016 tensor
-//! maps), or per tensor file, PNG mosaics (axial, coronal and sagittal rows of slices) and one
-//! self-contained HTML page stating what was read, assumed and measured.
+//! maps), or per tensor file, PNG mosaics (axial, coronal and sagittal rows of slices, each
+//! with a zoomed inset where the glyphs' shapes can be read: [`inset`]) and one self-contained
+//! HTML page stating what was read, assumed and measured.
 //!
 //! Each map is read and decomposed once, and every figure drawn from that with the caller's one
 //! back end. A report is made in memory and then written file by file (each to a temporary
 //! file, then renamed), figures first and the page last; if a write fails, what was written of
 //! it is removed: a report is whole or absent. A report that fails does not stop the others.
 
+pub mod inset;
 pub mod mosaic;
 pub mod page;
 pub mod stats;
@@ -24,7 +26,8 @@ use crate::image_out::{encode_png, write_atomic};
 use crate::info::{Skipped, info_report, why_text};
 use crate::progress::Progress;
 use crate::staging::{self, Source, field_spacing};
-use mosaic::{FigureError, ORIENTATIONS};
+use inset::ZoomRegion;
+use mosaic::{FigureError, InsetInfo, ORIENTATIONS};
 use stats::Summary;
 
 /// What to report on.
@@ -35,6 +38,25 @@ pub enum Job {
     /// One report per participant of a BIDS derivatives folder (those of `labels` when it
     /// names some, with or without `sub-`), as a BIDS App's `participant` level.
     Bids { dir: PathBuf, labels: Vec<String> },
+}
+
+/// How the figures are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Options {
+    /// The overview tiles' side, in pixels ([`inset::check_tile`]).
+    pub tile: u32,
+    /// The region each row's inset shows (its slices through the voxel asked for); `None`:
+    /// where FA is highest on the row's middle slice.
+    pub zoom: Option<ZoomRegion>,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self {
+            tile: inset::DEFAULT_TILE,
+            zoom: None,
+        }
+    }
 }
 
 /// Why no report could be started (a usage error).
@@ -120,6 +142,9 @@ pub struct FigureReport {
     pub lattice_axis: usize,
     pub slices: Vec<usize>,
     pub glyphs_drawn: usize,
+    /// Pixels per voxel in the overview tiles.
+    pub overview_px_per_voxel: f64,
+    pub inset: Option<InsetInfo>,
     pub ms: f64,
     /// Why the FA underlay is not drawn, if it is not.
     pub underlay_missing: Option<String>,
@@ -137,6 +162,8 @@ pub struct MapReport {
     pub frame: Option<String>,
     pub notes: Vec<String>,
     pub units: String,
+    /// Whether the world is anatomical (RAS, in millimetres).
+    pub anatomical: bool,
     pub dims: [usize; 3],
     pub tensors: usize,
     pub valid: usize,
@@ -230,6 +257,7 @@ pub struct Plan {
     units: Vec<Unit>,
     /// The BIDS folder read, for a BIDS job.
     bids: Option<PathBuf>,
+    options: Options,
 }
 
 impl Plan {
@@ -240,7 +268,13 @@ impl Plan {
                 Job::Bids { dir, .. } => Some(dir.clone()),
                 Job::Files(_) => None,
             },
+            options: Options::default(),
         })
+    }
+
+    /// The plan with its figures drawn as `options` say.
+    pub fn with_options(self, options: Options) -> Self {
+        Self { options, ..self }
     }
 
     /// The reports' names, in the order they are made.
@@ -276,7 +310,7 @@ impl Plan {
             failed: Vec::new(),
         };
         for unit in &self.units {
-            match report(unit, out, backend, progress) {
+            match report(unit, out, &self.options, backend, progress) {
                 Ok(w) => outcome.written.push(w),
                 Err(error) => outcome.failed.push(Failed {
                     name: unit.name.clone(),
@@ -318,6 +352,7 @@ fn write_dataset_description(out: &Path) -> Result<(), ReportError> {
 fn report(
     unit: &Unit,
     out: &Path,
+    options: &Options,
     backend: &Backend,
     progress: &dyn Progress,
 ) -> Result<Written, UnitError> {
@@ -328,7 +363,14 @@ fn report(
     let mut maps = Vec::new();
     let mut read = Vec::new();
     for (path, session) in &unit.maps {
-        maps.push(map(path, session.clone(), backend, progress, &mut read)?);
+        maps.push(map(
+            path,
+            session.clone(),
+            options,
+            backend,
+            progress,
+            &mut read,
+        )?);
     }
     let run = RunInfo {
         backend: backend_name(backend),
@@ -380,6 +422,7 @@ fn write_bytes(path: &Path, inputs: &[&Path], bytes: &[u8]) -> Result<(), UnitEr
 fn map(
     path: &Path,
     session: Option<String>,
+    options: &Options,
     backend: &Backend,
     progress: &dyn Progress,
     read: &mut Vec<PathBuf>,
@@ -412,7 +455,9 @@ fn map(
     let stem = file_stem(path);
     let mut figures = Vec::new();
     for o in ORIENTATIONS {
-        let m = mosaic::render(&field, &set, dims, o, anatomical, backend, progress)?;
+        let m = mosaic::render(
+            &field, &set, dims, o, anatomical, options, backend, progress,
+        )?;
         let mut png = Vec::new();
         encode_png(&mut png, m.width, m.height, &m.rgba, None).map_err(|source| {
             UnitError::Write {
@@ -429,6 +474,8 @@ fn map(
             lattice_axis: m.lattice_axis,
             slices: m.slices,
             glyphs_drawn: m.glyphs_drawn,
+            overview_px_per_voxel: m.overview_px_per_voxel,
+            inset: m.inset,
             ms: m.ms,
             underlay_missing: m.underlay_missing.map(|e| e.to_string()),
         });
@@ -468,6 +515,7 @@ fn map(
         }),
         notes: info.notes.clone(),
         units,
+        anatomical,
         dims,
         tensors: info.tensors,
         valid: info.valid,

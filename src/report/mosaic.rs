@@ -1,7 +1,9 @@
 //! One figure of a report: a row of slices of one orientation (axial, coronal or sagittal),
 //! each glyphs over the FA underlay in DEC colours with the anatomical directions at its edges
-//! and its slice named, and a legend panel (the DEC key and the underlay's grey scale) beside
-//! the row, all drawn into the image so that the PNG reads alone.
+//! and its slice named, then a zoomed inset of one region of one of them (outlined in cyan on
+//! its slice; [`super::inset`]), and a legend panel (the DEC key, the underlay's grey scale,
+//! the overview's pixels per voxel) beside the row, all drawn into the image so that the PNG
+//! reads alone.
 //!
 //! Every tile is built from the field and glyphs the report read and decomposed once
 //! ([`crate::staging::build`]) and drawn with the run's one back end; tiles of a row share the
@@ -10,10 +12,13 @@
 use glam::DVec3;
 use web_time::Instant;
 
+use super::Options;
+use super::inset::{self, Region, ZoomRegion};
 use crate::backend::{Backend, StageFailed};
 use crate::camera::{Camera, Framing};
 use crate::effects::Effects;
 use crate::field::TensorField;
+use crate::frame::Frame;
 use crate::glyph::{ColorScheme, GlyphSet, GlyphStyle, SizeBy};
 use crate::legend::axis_labels;
 use crate::legend::raster::{Canvas, Pen};
@@ -22,11 +27,14 @@ use crate::request::{FrameRequest, GlyphKind, Method, Preset, UnderlayView};
 use crate::scene::UnderlaySource;
 use crate::scene::underlay::UnderlayError;
 use crate::select::{Plane, Selection, Slicing, lattice_coords};
-use crate::staging::{self, Recipe, StageError, Timings, field_spacing};
+use crate::staging::{self, FaceOn, Recipe, StageError, Timings, field_spacing};
 use crate::tensor::measure::Measure;
 
-/// Each tile's side, in pixels: five tiles and the legend fill a report page's width.
-pub const TILE: u32 = 256;
+/// The labels' text height, in pixels, whatever the tiles' size.
+const LABEL_PX: f32 = 16.0;
+/// The inset's outline on the overview and around the inset: a colour the DEC glyphs (scaled
+/// by FA, shaded) and the grey underlay do not reach.
+pub const OUTLINE: [f64; 3] = [0.0, 1.0, 1.0];
 /// Slices per row.
 pub const SLICES: usize = 5;
 /// The legend panel's width, in pixels.
@@ -63,18 +71,26 @@ pub enum FigureError {
     Stage(#[from] StageError),
     #[error(transparent)]
     Render(#[from] StageFailed),
+    #[error(transparent)]
+    Zoom(#[from] inset::OutsideLattice),
 }
 
 /// A figure, RGBA8, and what it shows.
 pub struct Mosaic {
     pub width: u32,
     pub height: u32,
+    /// The overview tiles' side, in pixels.
+    pub tile: u32,
     pub rgba: Vec<u8>,
     /// The lattice axis sliced (0: i, 1: j, 2: k) and the slices, in order.
     pub lattice_axis: usize,
     pub slices: Vec<usize>,
-    /// Glyphs drawn, over all tiles.
+    /// Glyphs drawn, over all overview tiles.
     pub glyphs_drawn: usize,
+    /// Pixels per voxel in the overview tiles (of the shorter voxel step across the slices).
+    pub overview_px_per_voxel: f64,
+    /// The zoomed inset, when the row has a slice.
+    pub inset: Option<InsetInfo>,
     /// Wall-clock time to build and draw the row.
     pub ms: f64,
     /// Why the FA underlay could not be drawn, if it could not.
@@ -178,23 +194,192 @@ pub fn edge_labels(forward: DVec3, up: DVec3, anatomical: bool) -> [&'static str
     [-right, right, up, -up].map(|d| direction_label(d, anatomical))
 }
 
-/// Draw the figure of `orientation`: `field` (its geometry) and `set`, its glyphs.
+/// What a figure's inset shows and how.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InsetInfo {
+    pub region: Region,
+    /// Chosen where FA is highest (no region asked for).
+    pub by_fa: bool,
+    /// The world range of its voxel centres along x, y and z.
+    pub world: [[f64; 2]; 3],
+    pub px_per_voxel: f64,
+    pub glyphs_drawn: usize,
+    /// Where it lies in the figure: its left edge and its side, in pixels.
+    pub x0: u32,
+    pub side: u32,
+}
+
+/// One slice drawn face-on: its frame, the camera, the underlay's window and the glyphs drawn.
+pub struct Drawn {
+    pub frame: Frame,
+    pub camera: Camera,
+    pub window: Option<[f32; 2]>,
+    pub glyphs_drawn: usize,
+}
+
+/// Draw slice `plane` of `set` face-on with the camera `frame_it` makes of how the slice is seen
+/// (view direction and up) and its scene; the FA underlay in `window` (its own when `None`).
+/// `None` when the slice has nothing to draw.
+#[allow(clippy::too_many_arguments)]
+fn draw_slice(
+    field: &TensorField,
+    set: &GlyphSet,
+    plane: Plane,
+    window: Option<[f32; 2]>,
+    underlay_missing: &mut Option<UnderlayError>,
+    backend: &Backend,
+    progress: &dyn Progress,
+    frame_it: impl FnOnce((DVec3, DVec3), &FaceOn) -> Camera,
+) -> Result<Option<Drawn>, FigureError> {
+    if set.glyphs.is_empty() {
+        return Ok(None);
+    }
+    let spacing = field_spacing(field);
+    let recipe = Recipe {
+        style: style(),
+        selection: Selection {
+            slicing: Slicing::Planes(vec![plane]),
+            ..Selection::default()
+        },
+        glyph: GlyphKind::default(),
+        underlay: Some(UnderlaySource::Measure(Measure::Fa)),
+        ..Recipe::default()
+    };
+    let built = match staging::build(field, set, spacing.clone(), &recipe, None, progress) {
+        // A lattice whose planes are not evenly spaced (rectilinear data) has no image to put
+        // under its glyphs: the glyphs alone, as the page says.
+        Err(StageError::Underlay(why)) => {
+            *underlay_missing = Some(why);
+            let recipe = Recipe {
+                underlay: None,
+                ..recipe
+            };
+            staging::build(field, set, spacing, &recipe, None, progress)?
+        }
+        built => built?,
+    };
+    let Some(face) = built.face else {
+        return Ok(None);
+    };
+    let camera = frame_it(face.toward, &face);
+    let mut scene = built.scene;
+    scene.sort_front_to_back(&camera);
+    let window = window.or(scene.underlay.as_ref().map(|u| u.window));
+    let req = backend.adapt(
+        FrameRequest {
+            background: BLACK,
+            frames: 1,
+            underlay: UnderlayView {
+                shown: true,
+                window,
+            },
+            effects: Effects::default().resolved(),
+            ..FrameRequest::preset(Method::Gumhold, true, Preset::Splat)
+        },
+        &scene,
+        &camera,
+    );
+    let frame = backend.render(&scene, &camera, &req, &mut Timings::default(), progress)?;
+    let v = scene.visibility(&camera, req.cull, req.min_pixel_radius);
+    let glyphs_drawn =
+        scene.instances.len() - v.eye_inside - v.behind_camera - v.degenerate - v.culled;
+    Ok(Some(Drawn {
+        frame,
+        camera,
+        window: scene.underlay.as_ref().and(window),
+        glyphs_drawn,
+    }))
+}
+
+/// Draw `region`'s glyphs (and nothing else of the slice) face-on in the inset's square, under
+/// the FA underlay in `window` (the overview's, so that its greys are the overview's).
+pub fn draw_inset(
+    field: &TensorField,
+    set: &GlyphSet,
+    dims: [usize; 3],
+    region: &Region,
+    window: Option<[f32; 2]>,
+    backend: &Backend,
+    progress: &dyn Progress,
+) -> Result<Option<Drawn>, FigureError> {
+    let side = inset::side(field, dims, region);
+    let plane = Plane {
+        axis: region.axis,
+        index: region.slice(),
+    };
+    draw_slice(
+        field,
+        &inset::glyphs_in(set, dims, region),
+        plane,
+        window,
+        &mut None,
+        backend,
+        progress,
+        |toward, _| inset::camera(field, dims, region, toward, side),
+    )
+}
+
+/// The region the inset of the row along lattice `axis` shows: the one asked for, or the
+/// square of [`inset::DEFAULT_SIZE`] voxels of the middle slice where FA is highest.
+pub fn inset_region(
+    set: &GlyphSet,
+    dims: [usize; 3],
+    axis: usize,
+    slices: &[usize],
+    zoom: Option<ZoomRegion>,
+) -> Result<Option<Region>, FigureError> {
+    Ok(match zoom {
+        Some(z) => Some(inset::given(z, dims, axis)?),
+        None => slices
+            .get(slices.len() / 2)
+            .map(|&s| inset::brightest(set, dims, axis, s, inset::DEFAULT_SIZE)),
+    })
+}
+
+/// Copy `frame` into the figure at (`x0`, 0).
+fn blit(rgba: &mut [u8], width: u32, frame: &Frame, x0: u32) {
+    let row_bytes = (frame.width * 4) as usize;
+    for row in 0..frame.height {
+        let src = &frame.color[row as usize * row_bytes..][..row_bytes];
+        let at = ((row * width + x0) * 4) as usize;
+        rgba[at..at + row_bytes].copy_from_slice(src);
+    }
+}
+
+/// Draw the figure of `orientation`: `field` (its geometry) and `set`, its glyphs, in
+/// `options.tile`-pixel tiles, with the inset beside them.
+#[allow(clippy::too_many_arguments)]
 pub fn render(
     field: &TensorField,
     set: &GlyphSet,
     dims: [usize; 3],
     orientation: Orientation,
     anatomical: bool,
+    options: &Options,
     backend: &Backend,
     progress: &dyn Progress,
 ) -> Result<Mosaic, FigureError> {
     let t = Instant::now();
+    let tile = options.tile;
     let axis = lattice_axis(field, dims, orientation.world_axis);
-    let slices = slices(set, dims, axis, SLICES);
-    let spacing = field_spacing(field);
+    let mut slices = slices(set, dims, axis, SLICES);
+    let region = inset_region(set, dims, axis, &slices, options.zoom)?;
+    // The slice the inset is cut from is among the overview's, its outline drawn on it: the
+    // nearest of them gives way to it.
+    if let Some(r) = &region
+        && !slices.contains(&r.slice())
+        && let Some(near) = slices.iter_mut().min_by_key(|s| s.abs_diff(r.slice()))
+    {
+        *near = r.slice();
+        slices.sort_unstable();
+    }
     let lattice = lattice_box(field, dims);
+    let inset_side = region.map_or(0, |r| inset::side(field, dims, &r));
     let tiles = slices.len() as u32;
-    let (width, height) = (tiles * TILE + LEGEND_WIDTH, TILE);
+    let (width, height) = (
+        tiles * tile + inset_side + LEGEND_WIDTH,
+        tile.max(inset_side),
+    );
     let mut rgba = vec![0u8; (width * height * 4) as usize];
     for px in rgba.chunks_exact_mut(4) {
         px[3] = 255;
@@ -202,72 +387,44 @@ pub fn render(
     let mut drawn = 0;
     let mut window = None;
     let mut underlay_missing = None;
-    let pen = Pen::new(TILE as f32 / 16.0);
+    let mut overview_px_per_voxel = f64::NAN;
+    let mut outline = None;
+    let pen = Pen::new(LABEL_PX);
     for (n, &index) in slices.iter().enumerate() {
-        let recipe = Recipe {
-            style: style(),
-            selection: Selection {
-                slicing: Slicing::Planes(vec![Plane { axis, index }]),
-                ..Selection::default()
-            },
-            glyph: GlyphKind::default(),
-            underlay: Some(UnderlaySource::Measure(Measure::Fa)),
-            underlay_side: Some(TILE as usize),
-            ..Recipe::default()
-        };
-        let built = match staging::build(field, set, spacing.clone(), &recipe, None, progress) {
-            // A lattice whose planes are not evenly spaced (rectilinear data) has no image to
-            // put under its glyphs: the glyphs alone, as the page says.
-            Err(StageError::Underlay(why)) => {
-                underlay_missing = Some(why);
-                let recipe = Recipe {
-                    underlay: None,
-                    ..recipe
+        let plane = Plane { axis, index };
+        let Some(d) = draw_slice(
+            field,
+            set,
+            plane,
+            None,
+            &mut underlay_missing,
+            backend,
+            progress,
+            |toward, face| {
+                // The lattice's box moved onto this slice, seen without perspective: every
+                // tile of the row at one scale.
+                let normal = toward.0;
+                let centre = lattice.0 + normal * normal.dot(face.centre - lattice.0);
+                let framing = Framing {
+                    toward: Some(toward),
+                    ortho: true,
+                    // Room at the edges for the labels.
+                    zoom: 0.8,
+                    ..Framing::default()
                 };
-                staging::build(field, set, spacing.clone(), &recipe, None, progress)?
-            }
-            built => built?,
-        };
-        let Some(face) = built.face else {
+                Camera::frame_box(&framing, centre, lattice.1, tile, tile)
+            },
+        )?
+        else {
             continue;
         };
-        // The lattice's box moved onto this slice, seen without perspective: every tile of the
-        // row at one scale.
-        let normal = face.toward.0;
-        let centre = lattice.0 + normal * normal.dot(face.centre - lattice.0);
-        let framing = Framing {
-            toward: Some(face.toward),
-            ortho: true,
-            // Room at the edges for the labels.
-            zoom: 0.8,
-            ..Framing::default()
-        };
-        let camera = Camera::frame_box(&framing, centre, lattice.1, TILE, TILE);
-        let mut scene = built.scene;
-        scene.sort_front_to_back(&camera);
-        window = window.or(scene.underlay.as_ref().map(|u| u.window));
-        let req = backend.adapt(
-            FrameRequest {
-                background: BLACK,
-                frames: 1,
-                underlay: UnderlayView {
-                    shown: true,
-                    window: None,
-                },
-                effects: Effects::default().resolved(),
-                ..FrameRequest::preset(Method::Gumhold, true, Preset::Splat)
-            },
-            &scene,
-            &camera,
-        );
-        let frame = backend.render(&scene, &camera, &req, &mut Timings::default(), progress)?;
-        let v = scene.visibility(&camera, req.cull, req.min_pixel_radius);
-        drawn += scene.instances.len() - v.eye_inside - v.behind_camera - v.degenerate - v.culled;
-        let x0 = n as u32 * TILE;
-        for row in 0..TILE {
-            let src = &frame.color[(row * TILE * 4) as usize..][..(TILE * 4) as usize];
-            let at = ((row * width + x0) * 4) as usize;
-            rgba[at..at + src.len()].copy_from_slice(src);
+        drawn += d.glyphs_drawn;
+        window = window.or(d.window);
+        overview_px_per_voxel = inset::px_per_voxel(field, dims, axis, &d.camera);
+        let x0 = n as u32 * tile;
+        blit(&mut rgba, width, &d.frame, x0);
+        if let Some(r) = region.filter(|r| r.slice() == index) {
+            outline = Some((x0, d.camera, r));
         }
         if let Some(pen) = &pen {
             let mut canvas = Canvas {
@@ -275,40 +432,101 @@ pub fn render(
                 w: i64::from(width),
                 h: i64::from(height),
             };
-            let place = slice_place(field, dims, axis, index, orientation, anatomical);
+            let [top, bottom] = slice_place(field, dims, axis, index, orientation, anatomical);
             label_tile(
                 &mut canvas,
                 pen,
-                x0,
-                camera.forward(),
-                camera.up,
+                (x0, tile),
+                (d.camera.forward(), d.camera.up),
                 anatomical,
-                &place,
+                [top.as_str(), bottom.as_str()],
             );
         }
     }
-    if let Some(pen) = &pen {
-        let mut canvas = Canvas {
-            rgba: &mut rgba,
-            w: i64::from(width),
-            h: i64::from(height),
+    let mut canvas = Canvas {
+        rgba: &mut rgba,
+        w: i64::from(width),
+        h: i64::from(height),
+    };
+    // The inset's region outlined on its slice, where the affine puts its voxels.
+    if let Some((x0, camera, r)) = &outline {
+        let c = inset::corners(field, dims, r).map(|p| {
+            let [x, y] = inset::to_pixel(camera, p);
+            [x + f64::from(*x0), y]
+        });
+        for k in 0..4 {
+            canvas.line(c[k], c[(k + 1) % 4], 2.0, OUTLINE);
+        }
+    }
+    let x_inset = tiles * tile;
+    let mut inset_info = None;
+    if let Some(r) = region {
+        let d = draw_inset(field, set, dims, &r, window, backend, progress)?;
+        let (px_per_voxel, glyphs_drawn) = match &d {
+            Some(d) => {
+                blit(canvas.rgba, width, &d.frame, x_inset);
+                (
+                    inset::px_per_voxel(field, dims, axis, &d.camera),
+                    d.glyphs_drawn,
+                )
+            }
+            None => (f64::NAN, 0),
         };
+        let (x, s) = (i64::from(x_inset), i64::from(inset_side));
+        for (x, y, w, h) in [
+            (x, 0, s, 2),
+            (x, s - 2, s, 2),
+            (x, 0, 2, s),
+            (x + s - 2, 0, 2, s),
+        ] {
+            canvas.rect(x, y, w, h, OUTLINE);
+        }
+        if let (Some(pen), Some(d)) = (&pen, &d) {
+            // The region's voxels and world range are the page's caption: short lines here,
+            // clear of the edge letters.
+            let top = format!("inset {}={}", ["i", "j", "k"][axis], r.slice());
+            let bottom = format!("{px_per_voxel:.1} px/voxel");
+            label_tile(
+                &mut canvas,
+                pen,
+                (x_inset, inset_side),
+                (d.camera.forward(), d.camera.up),
+                anatomical,
+                [top.as_str(), bottom.as_str()],
+            );
+        }
+        inset_info = Some(InsetInfo {
+            region: r,
+            by_fa: options.zoom.is_none(),
+            world: inset::world_range(field, dims, &r),
+            px_per_voxel,
+            glyphs_drawn,
+            x0: x_inset,
+            side: inset_side,
+        });
+    }
+    if let Some(pen) = &pen {
         legend(
             &mut canvas,
             pen,
-            tiles * TILE,
+            (x_inset + inset_side, height),
             orientation,
             anatomical,
             window,
+            overview_px_per_voxel,
+            inset_info.is_some(),
         );
     }
     Ok(Mosaic {
         width,
         height,
+        tile,
         rgba,
         lattice_axis: axis,
         slices,
         glyphs_drawn: drawn,
+        overview_px_per_voxel,
+        inset: inset_info,
         ms: staging::ms(t),
         underlay_missing,
     })
@@ -322,18 +540,16 @@ fn slice_place(
     index: usize,
     orientation: Orientation,
     anatomical: bool,
-) -> String {
+) -> [String; 2] {
     let mut c = [0; 3];
     c[axis] = index;
     let p = field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])];
     let w = orientation.world_axis;
     let unit = if anatomical { " mm" } else { "" };
-    format!(
-        "{}={index}  {}={:.1}{unit}",
-        ["i", "j", "k"][axis],
-        ["x", "y", "z"][w],
-        p[w]
-    )
+    [
+        format!("{}={index}", ["i", "j", "k"][axis]),
+        format!("{}={:.1}{unit}", ["x", "y", "z"][w], p[w]),
+    ]
 }
 
 /// White text with a black rim, readable on glyphs and on the underlay.
@@ -344,25 +560,27 @@ fn text(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, s: &str, c: [f64
     pen.draw(canvas, x, y, s, c);
 }
 
+/// The labels of the square tile at `x0` of side `side`: the world directions at its edges
+/// (for a camera looking along `forward` with `up`) and `place`'s two lines at its top and
+/// bottom left.
 fn label_tile(
     canvas: &mut Canvas<'_>,
     pen: &Pen<'_>,
-    x0: u32,
-    forward: DVec3,
-    up: DVec3,
+    (x0, side): (u32, u32),
+    (forward, up): (DVec3, DVec3),
     anatomical: bool,
-    place: &str,
+    place: [&str; 2],
 ) {
     let [left, right, top, bottom] = edge_labels(forward, up, anatomical);
-    let (x0, side) = (f64::from(x0), f64::from(TILE));
+    let (x0, side_px) = (f64::from(x0), f64::from(side));
     let lh = pen.line_height();
     let yellow = [1.0, 0.9, 0.3];
-    let mid = (side - lh) / 2.0;
+    let mid = (side_px - lh) / 2.0;
     text(canvas, pen, x0 + 3.0, mid, left, yellow);
     text(
         canvas,
         pen,
-        x0 + side - pen.width(right) - 3.0,
+        x0 + side_px - pen.width(right) - 3.0,
         mid,
         right,
         yellow,
@@ -370,50 +588,51 @@ fn label_tile(
     text(
         canvas,
         pen,
-        x0 + (side - pen.width(top)) / 2.0,
+        x0 + (side_px - pen.width(top)) / 2.0,
         2.0,
         top,
         yellow,
     );
-    let bottom_y = side - lh - 2.0;
+    let bottom_y = side_px - lh - 2.0;
     text(
         canvas,
         pen,
-        x0 + (side - pen.width(bottom)) / 2.0,
+        x0 + (side_px - pen.width(bottom)) / 2.0,
         bottom_y,
         bottom,
         yellow,
     );
-    text(
-        canvas,
-        pen,
-        x0 + 3.0,
-        2.0,
-        place.split("  ").next().unwrap_or(place),
-        [1.0; 3],
-    );
-    if let Some(world) = place.split("  ").nth(1) {
-        text(canvas, pen, x0 + 3.0, bottom_y, world, [1.0; 3]);
-    }
+    text(canvas, pen, x0 + 3.0, 2.0, place[0], [1.0; 3]);
+    text(canvas, pen, x0 + 3.0, bottom_y, place[1], [1.0; 3]);
     // A thin rule between tiles.
-    canvas.rect(x0 as i64 + TILE as i64 - 1, 0, 1, TILE as i64, [0.25; 3]);
+    canvas.rect(
+        x0 as i64 + i64::from(side) - 1,
+        0,
+        1,
+        i64::from(side),
+        [0.25; 3],
+    );
 }
 
-/// The legend panel at `x0`: the row's name, the DEC key and the underlay's grey scale.
+/// The legend panel at `x0`, `height` tall: the row's name, the DEC key, the underlay's grey
+/// scale and the overview's pixels per voxel.
+#[allow(clippy::too_many_arguments)]
 fn legend(
     canvas: &mut Canvas<'_>,
     pen: &Pen<'_>,
-    x0: u32,
+    (x0, height): (u32, u32),
     orientation: Orientation,
     anatomical: bool,
     window: Option<[f32; 2]>,
+    px_per_voxel: f64,
+    inset: bool,
 ) {
     let (x, w) = (f64::from(x0) + 10.0, f64::from(LEGEND_WIDTH) - 20.0);
     canvas.rect(
         i64::from(x0),
         0,
         i64::from(LEGEND_WIDTH),
-        i64::from(TILE),
+        i64::from(height),
         [0.12; 3],
     );
     let lh = pen.line_height();
@@ -455,6 +674,22 @@ fn legend(
     let (a, b) = (format!("{lo:.2}"), format!("{hi:.2}"));
     pen.draw(canvas, x, y, &a, ink);
     pen.draw(canvas, x + w - pen.width(&b), y, &b, ink);
+    y += lh * 1.3;
+    if px_per_voxel.is_finite() {
+        let line = format!("tiles: {px_per_voxel:.1} px/voxel");
+        pen.draw(canvas, x, y, &line, ink);
+        y += lh;
+    }
+    if inset {
+        canvas.rect(
+            x as i64,
+            (y + (lh - bar_h) / 2.0) as i64,
+            bar_h as i64,
+            bar_h as i64,
+            OUTLINE,
+        );
+        pen.draw(canvas, x + bar_h + 6.0, y, "the inset's region", ink);
+    }
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 
 use base64::Engine as _;
 
+use super::mosaic::InsetInfo;
 use super::stats::Summary;
 use super::{MapReport, RunInfo};
 
@@ -37,6 +38,46 @@ fn md_summary(s: &Option<Summary>) -> String {
             f(s.max)
         )
     })
+}
+
+/// How many pixels a voxel gets in the overview tiles, and how much of a voxel a pixel spans.
+fn overview_scale(px_per_voxel: f64) -> String {
+    if !px_per_voxel.is_finite() {
+        return String::new();
+    }
+    format!(
+        "overview tiles {px_per_voxel:.1} px per voxel (one pixel spans {:.2} voxel)",
+        1.0 / px_per_voxel
+    )
+}
+
+/// The inset's caption: its voxels, where they are in the world, its scale and glyphs.
+fn inset(i: &InsetInfo, anatomical: bool) -> String {
+    let unit = if anatomical { " mm" } else { "" };
+    let world: Vec<String> = ["x", "y", "z"]
+        .iter()
+        .zip(i.world)
+        .map(|(name, [lo, hi])| {
+            if (hi - lo).abs() < 0.05 {
+                format!("{name} {lo:.1}")
+            } else {
+                format!("{name} {lo:.1} to {hi:.1}")
+            }
+        })
+        .collect();
+    let why = if i.by_fa {
+        "where FA is highest on the middle slice"
+    } else {
+        "as asked (zoom region)"
+    };
+    format!(
+        "; inset (cyan outline): voxels {} ({}{unit}), {why}, {:.1} px per voxel, {} glyphs \
+         drawn",
+        i.region.describe(),
+        world.join(", "),
+        i.px_per_voxel,
+        i.glyphs_drawn
+    )
 }
 
 fn section(page: &mut String, map: &MapReport) {
@@ -105,13 +146,18 @@ fn section(page: &mut String, map: &MapReport) {
             page,
             "<figure><img alt=\"{o}\" width=\"{w}\" height=\"{h}\" \
              src=\"data:image/png;base64,{b64}\"><figcaption>{o}: slices {axis} = {s}; {n} \
-             glyphs drawn{underlay}</figcaption></figure>",
+             glyphs drawn{underlay}; {scale}{inset}</figcaption></figure>",
             o = f.orientation,
             w = f.width,
             h = f.height,
             b64 = base64::engine::general_purpose::STANDARD.encode(&f.png),
             s = slices.join(", "),
             n = f.glyphs_drawn,
+            scale = overview_scale(f.overview_px_per_voxel),
+            inset = f
+                .inset
+                .as_ref()
+                .map_or(String::new(), |i| inset(i, map.anatomical)),
         );
     }
 }

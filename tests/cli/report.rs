@@ -1,8 +1,10 @@
 //! `tensorglyph report` on the BEP016 derivatives of tests/data/bids (DIPY's and MRtrix's fits
 //! of DIPY's DWI sets): every good participant's mosaics and page, the broken one named, exit
 //! status 1; pages that need nothing but themselves, whose FA and MD are numpy's
-//! (tests/data/bids/expected.json); nothing left of a report that failed; the files form; and
-//! the anatomical labels of a field whose affine flips an axis.
+//! (tests/data/bids/expected.json); nothing left of a report that failed; the files form; the
+//! anatomical labels of a field whose affine flips an axis; the inset's outline where the affine
+//! puts its region, and its sides, with and without the flip; bad `--zoom-region` and
+//! `--tile-size` values.
 
 use std::path::Path;
 
@@ -76,8 +78,8 @@ fn every_good_participant_is_written_and_the_broken_one_is_named() {
             html.contains("fsl (from the BEP016 sidecar)"),
             "sub-{label}"
         );
-        // The figures on disk are the images on the page: rows of 256-pixel tiles and the
-        // legend.
+        // The figures on disk are the images on the page: rows of 256-pixel tiles, the inset
+        // (at least 400 px) and the legend.
         let images = embedded(&html);
         let mut files: Vec<_> = std::fs::read_dir(out.path().join(format!("sub-{label}/figures")))
             .unwrap()
@@ -89,9 +91,10 @@ fn every_good_participant_is_written_and_the_broken_one_is_named() {
             let png = std::fs::read(f).unwrap();
             assert!(images.contains(&png), "{} not on the page", f.display());
             let img = image::load_from_memory(&png).unwrap();
-            assert_eq!(img.height(), 256);
-            assert_eq!((img.width() - 200) % 256, 0, "{}", f.display());
-            assert!(img.width() >= 200 + 256, "{}", f.display());
+            let side = img.height();
+            assert!(side >= 400, "{}", f.display());
+            assert_eq!((img.width() - 200 - side) % 256, 0, "{}", f.display());
+            assert!(img.width() >= 200 + 256 + side, "{}", f.display());
         }
         for (k, (path, truth)) in expected().iter().enumerate() {
             if !path.starts_with(&format!("sub-{label}/")) {
@@ -530,4 +533,236 @@ fn without_a_vulkan_driver_the_cpu_reference_draws_the_same_figures() {
             assert!(share <= 1e-3, "{}: {share}", f.display());
         }
     }
+}
+
+/// A NRRD volume of `n`³ voxels, 2 mm, whose i axis runs along `sign` × the world's x:
+/// tensors prolate along x (red in DEC) where i < `red`, along y (green) elsewhere; their FA
+/// in ten steps along a diagonal, so that the FA underlay's window (its 2nd to 98th
+/// percentiles) leaves most voxels grey, not black.
+fn split_volume(path: &Path, n: usize, red: usize, sign: f64) {
+    let mut bytes = format!(
+        "NRRD0004\ntype: float\ndimension: 4\nsizes: 7 {n} {n} {n}\n\
+         kinds: 3D-masked-symmetric-matrix space space space\n\
+         space: right-anterior-superior\n\
+         space directions: none ({},0,0) (0,2,0) (0,0,2)\nspace origin: (0,0,0)\n\
+         measurement frame: (1,0,0) (0,1,0) (0,0,1)\nencoding: raw\nendian: little\n\n",
+        2.0 * sign
+    )
+    .into_bytes();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let minor = 0.3e-3 + 0.2e-3 * ((i + 3 * j + 7 * k) % 10) as f32 / 10.0;
+                let t: [f32; 7] = if i < red {
+                    [1.0, 1.7e-3, 0.0, 0.0, minor, 0.0, minor]
+                } else {
+                    [1.0, minor, 0.0, 0.0, 1.7e-3, 0.0, minor]
+                };
+                for v in t {
+                    bytes.extend_from_slice(&v.to_le_bytes());
+                }
+            }
+        }
+    }
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// The bounding box `[x0, y0, x1, y1]` (pixel centres) of the pixels of `img` in columns `xs`
+/// and rows `ys` that `keep` accepts.
+fn bbox(
+    img: &image::RgbaImage,
+    xs: std::ops::Range<u32>,
+    ys: std::ops::Range<u32>,
+    keep: impl Fn([u8; 4]) -> bool,
+) -> Option<[f64; 4]> {
+    let mut b: Option<[f64; 4]> = None;
+    for y in ys {
+        for x in xs.clone() {
+            if keep(img.get_pixel(x, y).0) {
+                let (x, y) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+                b = Some(match b {
+                    None => [x, y, x, y],
+                    Some([a, c, d, e]) => [a.min(x), c.min(y), d.max(x), e.max(y)],
+                });
+            }
+        }
+    }
+    b
+}
+
+fn is_red(p: [u8; 4]) -> bool {
+    p[0] > 60 && u32::from(p[0]) > 2 * u32::from(p[1].max(p[2])) + 10
+}
+
+fn is_outline(p: [u8; 4]) -> bool {
+    p[0] == 0 && p[1] == 255 && p[2] == 255
+}
+
+#[test]
+fn the_inset_is_outlined_where_the_affine_puts_its_voxels_and_keeps_its_sides() {
+    // 24³ voxels of 2 mm; the inset's region is voxels i 4–11, j 8–15 of slice k = 12 (the
+    // voxel 8,12,12 and 8 voxels around it): its cells span i 3.5–11.5, j 7.5–15.5. The world
+    // x of voxel i is 2i (plain) or −2i (flipped), y is 2j: the expected outline is worked out
+    // from that alone, placed in the tile by where the slice is drawn (its FA underlay and
+    // glyphs, cells i and j −0.5–23.5: x −1–47 mm or −47–1 mm, y −1–47 mm), +x to the right
+    // and +y up as the neurological convention puts them.
+    let dir = tempfile::tempdir().unwrap();
+    let tile = 320u32;
+    for (name, sign) in [("plain", 1.0), ("flipped", -1.0)] {
+        let file = dir.path().join(format!("{name}.nrrd"));
+        split_volume(&file, 24, 8, sign);
+        let out = dir.path().join(format!("out-{name}"));
+        let o = tg(&[
+            "report",
+            file.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--zoom-region",
+            "8,12,12:8",
+            "--tile-size",
+            &tile.to_string(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let html = std::fs::read_to_string(out.join(format!("{name}.html"))).unwrap();
+        let axial = html
+            .split("<figcaption>axial: ")
+            .nth(1)
+            .unwrap()
+            .split("</figcaption>")
+            .next()
+            .unwrap();
+        // The slice of the region is among the overview's.
+        let slices: Vec<u32> = axial["slices k = ".len()..axial.find(';').unwrap()]
+            .split(", ")
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let n = slices.iter().position(|&s| s == 12).expect(axial) as u32;
+        let (x_range, lattice_x, region_x) = if sign > 0.0 {
+            ("x 8.0 to 22.0", [-1.0, 47.0], [7.0, 23.0])
+        } else {
+            ("x -22.0 to -8.0", [-47.0, 1.0], [-23.0, -7.0])
+        };
+        assert!(
+            axial.contains(&format!(
+                "voxels i 4–11, j 8–15, k = 12 ({x_range}, y 16.0 to 30.0, z 24.0 mm), as asked"
+            )),
+            "{axial}"
+        );
+        let img = image::open(out.join(format!("{name}/figures/{name}_axial.png")))
+            .unwrap()
+            .to_rgba8();
+        let side = img.width() - 200 - slices.len() as u32 * tile;
+        assert!(side >= 400, "{}", img.width());
+        assert_eq!(img.height(), tile.max(side));
+        // The slice, away from the labels at the tile's edges.
+        let (x0, margin) = (n * tile, 30);
+        let drawn = bbox(
+            &img,
+            x0 + margin..x0 + tile - margin,
+            margin..tile - margin,
+            |p| !is_outline(p) && p[0].max(p[1]).max(p[2]) > 24,
+        )
+        .unwrap();
+        let px_x = |x: f64| {
+            let (left, right) = (drawn[0] - 0.5, drawn[2] + 0.5);
+            left + (x - lattice_x[0]) / (lattice_x[1] - lattice_x[0]) * (right - left)
+        };
+        let px_y = |y: f64| {
+            let (top, bottom) = (drawn[1] - 0.5, drawn[3] + 0.5);
+            bottom - (y + 1.0) / 48.0 * (bottom - top)
+        };
+        let want = [px_x(region_x[0]), px_y(31.0), px_x(region_x[1]), px_y(15.0)];
+        let got = bbox(&img, x0..x0 + tile, 0..tile, is_outline)
+            .expect("no outline on the region's slice");
+        // The outline is 2 px wide, centred on the region's edge.
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                (g - w).abs() <= 2.0,
+                "{name}: outline {got:?}, from the affine {want:?} (slice drawn at {drawn:?})"
+            );
+        }
+        // No outline on the other tiles.
+        for m in (0..slices.len() as u32).filter(|&m| m != n) {
+            assert!(bbox(&img, m * tile..(m + 1) * tile, 0..tile, is_outline).is_none());
+        }
+        // The inset: the red voxels (i 4–7) at small x, on the subject's left, shown on the
+        // left (neurological, as the overview); flipped, at the larger x, on the right.
+        let x0 = slices.len() as u32 * tile;
+        let count = |xs: std::ops::Range<u32>| {
+            let mut c = 0;
+            for y in 0..side {
+                for x in xs.clone() {
+                    c += usize::from(is_red(img.get_pixel(x, y).0));
+                }
+            }
+            c
+        };
+        let (left, right) = (count(x0..x0 + side / 2), count(x0 + side / 2..x0 + side));
+        if sign > 0.0 {
+            assert!(left > 1000 && right < left / 20, "{name}: {left} {right}");
+        } else {
+            assert!(right > 1000 && left < right / 20, "{name}: {left} {right}");
+        }
+    }
+}
+
+#[test]
+fn bad_zoom_regions_and_tile_sizes_are_one_line_each() {
+    let file = crate::data::path("dti/nrrd_masked.nrrd");
+    let out = tempfile::tempdir().unwrap();
+    let o_dir = out.path().join("q");
+    for (option, value, want) in [
+        ("--zoom-region", "4,4:8", "is not I,J,K:SIZE"),
+        ("--zoom-region", "4,4,4,4:8", "is not I,J,K:SIZE"),
+        ("--zoom-region", "a,4,4:8", "is not I,J,K:SIZE"),
+        (
+            "--zoom-region",
+            "4,4,4:1",
+            "the side must be 2 to 128 voxels",
+        ),
+        (
+            "--zoom-region",
+            "4,4,4:500",
+            "the side must be 2 to 128 voxels",
+        ),
+        (
+            "--tile-size",
+            "64",
+            "the tile side must be 128 to 1024 pixels",
+        ),
+        ("--tile-size", "wide", "is not a whole number of pixels"),
+    ] {
+        let o = tg(&[
+            "report",
+            file.to_str().unwrap(),
+            "-o",
+            o_dir.to_str().unwrap(),
+            option,
+            value,
+        ]);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{option} {value}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(option) && err.contains(want), "{err}");
+        assert!(!o_dir.exists());
+    }
+    // A voxel outside the volume: that report fails, naming the region and the lattice.
+    let o = tg(&[
+        "report",
+        file.to_str().unwrap(),
+        "-o",
+        o_dir.to_str().unwrap(),
+        "--zoom-region",
+        "4,4,999:8",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with(
+            "error: nrrd_masked: zoom region 4,4,999:8: voxel 4,4,999 is outside the lattice"
+        ),
+        "{err}"
+    );
+    assert!(!o_dir.join("nrrd_masked.html").exists());
 }
