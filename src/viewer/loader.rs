@@ -325,6 +325,7 @@ mod tests {
         let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         let pick = |n: &[&str]| main_file(&names(n)).map(str::to_string);
         assert_eq!(pick(&["d.raw", "d.nhdr"]).as_deref(), Some("d.nhdr"));
+        assert_eq!(pick(&["d.dat", "d.mih"]).as_deref(), Some("d.mih"));
         assert_eq!(
             pick(&["p_0.vti", "p.pvti", "p_1.vti"]).as_deref(),
             Some("p.pvti")
