@@ -76,7 +76,7 @@ fn matching(ours: &[[f64; 3]], truth: &[Value]) -> Vec<usize> {
 fn every_layout_datatype_and_scaling_reads_what_mrtrix_reads() {
     let exp = expected();
     let files = exp.as_object().unwrap();
-    assert_eq!(files.len(), 15);
+    assert_eq!(files.len(), 19);
     for (name, t) in files {
         let v = read_mif_volumes_from(&Inputs::file_system(), &mif(name))
             .unwrap_or_else(|e| panic!("{e}"));

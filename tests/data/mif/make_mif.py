@@ -122,6 +122,10 @@ def main():
         "scalar_uint32be.mif": (dwi, b0 + ["-datatype", "uint32be"]),
         "scalar_float32le.mif": (dwi, b0 + ["-datatype", "float32le"]),
         "scalar_float64be.mif": (dwi, b0 + ["-datatype", "float64be", "-strides", "2,-3,1"]),
+        "scalar_float64le.mif": (dwi, b0 + ["-datatype", "float64le"]),
+        "scalar_int16le.mif": (dwi, b0 + ["-datatype", "int16le", "-strides", "-3,1,2"]),
+        "scalar_uint64le.mif": (dwi, b0 + ["-datatype", "uint64le"]),
+        "scalar_int64be.mif": (dwi, b0 + ["-datatype", "int64be"]),
     }
     for name, (source, opts) in scalars.items():
         mrconvert(source, out(name), *opts)
