@@ -505,6 +505,20 @@ fn bad_headers_and_data_fail_with_one_line_naming_the_key() {
         &gz(&remake(&lines, &data, Some("file: x.dat 0"))),
         "a .mif.gz holds its own data",
     );
+    // A header of 17 MiB of empty lines, raw and compressed: looked through once, to 16 MiB.
+    let endless = [&b"mrtrix image\n"[..], &vec![b'\n'; 17 << 20]].concat();
+    refused(
+        d,
+        "endless.mif",
+        &endless,
+        "none in the first 16777216 bytes",
+    );
+    refused(
+        d,
+        "endless.mif.gz",
+        &gz(&endless),
+        "none in the first 16777216 bytes",
+    );
     let e = read_scalar_volume(&mif("tensor_oblique.mif"))
         .unwrap_err()
         .to_string();

@@ -136,8 +136,9 @@ pub(super) fn read_header(input: &Input) -> Res<Header> {
         let mut g = input.gunzip(0, "the header")?;
         let mut b = Vec::new();
         let mut chunk = vec![0u8; 1 << 14];
+        let mut from = 0;
         loop {
-            if let Some(end) = header_end(&b) {
+            if let Some(end) = header_end(&b, &mut from) {
                 b.truncate(end);
                 break;
             }
@@ -153,9 +154,10 @@ pub(super) fn read_header(input: &Input) -> Res<Header> {
         Cow::Owned(b)
     } else {
         let mut n: u64 = 1 << 14;
+        let mut from = 0;
         loop {
             let b = input.read_at(0, n.min(MAX_HEADER))?;
-            if let Some(end) = header_end(&b) {
+            if let Some(end) = header_end(&b, &mut from) {
                 break match b {
                     Cow::Borrowed(s) => Cow::Borrowed(&s[..end]),
                     Cow::Owned(mut v) => {
@@ -195,13 +197,15 @@ fn no_end(b: &[u8]) -> LoadErrorKind {
     ))
 }
 
-/// Where the header ends: just after its `END` line, `None` if there is none. A file that
-/// does not begin with the magic ends at once (it is refused by [`parse`]).
-fn header_end(b: &[u8]) -> Option<usize> {
+/// Where the header ends: just after its `END` line, `None` if there is none yet. Lines are
+/// looked at from `from` on, which is left at the first line not yet whole, so that a header
+/// read in growing pieces is scanned once. A file that does not begin with the magic ends at
+/// once (it is refused by [`parse`]).
+fn header_end(b: &[u8], from: &mut usize) -> Option<usize> {
     if !MAGIC.starts_with(&b[..b.len().min(MAGIC.len())]) {
         return Some(0);
     }
-    let mut pos = 0;
+    let mut pos = (*from).min(b.len());
     while let Some(e) = b[pos..].iter().position(|&c| c == b'\n') {
         let line = &b[pos..pos + e];
         if strip(comment_free(line)) == b"END" {
@@ -209,6 +213,7 @@ fn header_end(b: &[u8]) -> Option<usize> {
         }
         pos += e + 1;
     }
+    *from = pos;
     None
 }
 
@@ -697,8 +702,15 @@ mod tests {
     #[test]
     fn the_header_ends_at_its_end_line() {
         let text = b"mrtrix image\ndim: 1\n  END  \r\n\x00\x01binary";
-        assert_eq!(header_end(text), Some(text.len() - 8));
-        assert_eq!(header_end(b"mrtrix image\ndim: 1\n"), None);
-        assert_eq!(header_end(b"NRRD0004\n"), Some(0));
+        assert_eq!(header_end(text, &mut 0), Some(text.len() - 8));
+        // Read in pieces: each line looked at once, the last whole one remembered.
+        let mut from = 0;
+        assert_eq!(header_end(b"mrtrix image\ndim: 1\nEN", &mut from), None);
+        assert_eq!(from, 20);
+        assert_eq!(
+            header_end(b"mrtrix image\ndim: 1\nEND\n", &mut from),
+            Some(24)
+        );
+        assert_eq!(header_end(b"NRRD0004\n", &mut 0), Some(0));
     }
 }
