@@ -5,7 +5,7 @@
 //! tensors are mostly indefinite, in von Mises stress: [`ColorScheme::Auto`]).
 //! (The table of them for users: docs/book/src/user-guide/dti.md, "Defaults for DTI files".)
 //!
-//! The kind is told by the file format, not guessed from the tensors: NIfTI and NRRD are the
+//! The kind is told by the file format, not guessed from the tensors: NIfTI, NRRD and MRtrix are the
 //! formats diffusion tools write; VTK files, where stress and DTI fields both occur, keep the
 //! general defaults. A field handed over in memory says which it is (the Python package: a
 //! lattice of tensors, a DIPY fit or a nibabel image is diffusion data, tensors at points are
@@ -17,7 +17,8 @@ use crate::staging::Source;
 /// What kind of data a source holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DataKind {
-    /// Diffusion tensors: NIfTI (`.nii`, `.nii.gz`) and NRRD (`.nrrd`, `.nhdr`) files.
+    /// Diffusion tensors: NIfTI (`.nii`, `.nii.gz`), NRRD (`.nrrd`, `.nhdr`) and MRtrix
+    /// (`.mif`, `.mif.gz`, `.mih`) files.
     Diffusion,
     /// VTK files and the built-in demo.
     General,
@@ -40,7 +41,9 @@ impl DataKind {
     pub fn of(source: &Source) -> Self {
         match source {
             Source::File(p)
-                if crate::field::nifti::is_nifti_path(p) || crate::field::nrrd::is_nrrd_path(p) =>
+                if crate::field::nifti::is_nifti_path(p)
+                    || crate::field::nrrd::is_nrrd_path(p)
+                    || crate::field::mif::is_mif_path(p) =>
             {
                 DataKind::Diffusion
             }

@@ -35,13 +35,14 @@ pub struct SceneArgs {
     #[arg(long)]
     pub array: Option<String>,
     /// Component order of 6-component arrays where the file does not say (default: vtk for VTK
-    /// files; fsl for NIfTI, where 5-D files with intent SYMMATRIX say nifti themselves).
+    /// files; fsl for NIfTI, where 5-D files with intent SYMMATRIX say nifti themselves; mrtrix
+    /// for MRtrix .mif).
     #[arg(long, value_parser = one_of::<ComponentOrder>(ComponentOrder::NAMES))]
     pub order: Option<ComponentOrder>,
-    /// The axes the file's tensors are in (default: voxel for NIfTI, world for NRRD; VTK image
-    /// tensors are rotated by the image's Direction): voxel (rotated into world by the
-    /// voxel-to-world matrix), fsl (voxel, with FSL's x-flip for positive-determinant matrices)
-    /// or world.
+    /// The axes the file's tensors are in (default: voxel for NIfTI, world for NRRD and MRtrix
+    /// .mif; VTK image tensors are rotated by the image's Direction): voxel (rotated into world
+    /// by the voxel-to-world matrix), fsl (voxel, with FSL's x-flip for positive-determinant
+    /// matrices) or world.
     #[arg(long, value_parser = one_of::<TensorFrame>(TensorFrame::NAMES))]
     pub tensor_frame: Option<TensorFrame>,
     /// Colour scheme: shape classes, dec (direction), a scalar through a colour bar (fa, md;

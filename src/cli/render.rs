@@ -85,7 +85,8 @@ pub struct FrameArgs {
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     /// A tensor file: VTK (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti), NIfTI-1 (.nii, .nii.gz),
-    /// NRRD (.nrrd, .nhdr) or an FSL eigen set (PREFIX_L1.nii.gz … or PREFIX).
+    /// NRRD (.nrrd, .nhdr), MRtrix (.mif, .mif.gz, .mih) or an FSL eigen set (PREFIX_L1.nii.gz …
+    /// or PREFIX).
     pub file: Option<PathBuf>,
     /// A built-in field instead of a file: grid40 or grid:N.
     #[arg(long)]

@@ -13,8 +13,8 @@ use crate::viewer::{self, Options, state::Settings};
 #[derive(Args, Debug)]
 pub struct ViewArgs {
     /// A tensor file: VTK (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti), NIfTI-1 (.nii, .nii.gz),
-    /// NRRD (.nrrd, .nhdr) or an FSL eigen set (PREFIX_L1.nii.gz … or PREFIX); or drop one on
-    /// the window.
+    /// NRRD (.nrrd, .nhdr), MRtrix (.mif, .mif.gz, .mih) or an FSL eigen set (PREFIX_L1.nii.gz …
+    /// or PREFIX); or drop one on the window.
     pub file: Option<PathBuf>,
     /// A built-in field instead of a file: grid40 or grid:N.
     #[arg(long)]

@@ -2,7 +2,7 @@
 //! order, with what is known about where they came from.
 //!
 //! Imports go one way. This module is the top: [`read_field`] and [`read_scalar_volume`] pick
-//! the reader by the file's name. The readers (`vtk`, `nifti`, `nrrd`, `fsl_eigen`) are below
+//! the reader by the file's name. The readers (`vtk`, `nifti`, `nrrd`, `mif`, `fsl_eigen`) are below
 //! it, and below them what they share: the [`TensorField`] they make, the [`ScalarVolume`]
 //! (`scalar`), [`ReadOptions`], `frame`, `order`, `number`, [`Inputs`] (where every reader
 //! gets its bytes, and the record of what it read) and `guard`. `synthetic`
@@ -15,6 +15,7 @@ pub mod fsl_eigen;
 mod guard;
 pub mod gzip;
 pub mod inputs;
+pub mod mif;
 pub mod nifti;
 pub mod nrrd;
 pub(crate) mod number;
@@ -38,7 +39,8 @@ use crate::error::LoadError;
 
 /// Read a tensor field from a file, the reader picked by the name: FSL's eigen set
 /// (`PREFIX_L1.nii.gz` .. `PREFIX_V3.nii.gz`, or `PREFIX`), `.nii` and `.nii.gz` NIfTI-1, `.nrrd`
-/// and `.nhdr` NRRD, anything else VTK (whose format is then told by the content).
+/// and `.nhdr` NRRD, `.mif`, `.mif.gz` and `.mih` MRtrix, anything else VTK (whose format is
+/// then told by the content).
 pub fn read_field(path: &Path, opts: &ReadOptions) -> Result<TensorField, LoadError> {
     read_field_from(&Inputs::file_system(), path, opts)
 }
@@ -56,6 +58,8 @@ pub fn read_field_from(
         guard::guarded(path, || read_nifti(inputs, path, opts))
     } else if nrrd::is_nrrd_path(path) {
         guard::guarded(path, || nrrd::read(inputs, path, opts))
+    } else if mif::is_mif_path(path) {
+        guard::guarded(path, || mif::read(inputs, path, opts))
     } else {
         vtk::read_field_from(inputs, path, opts)
     }
@@ -100,7 +104,8 @@ fn read_nifti(
 /// Read a 3-D scalar image (or a 4-D one holding a single volume), the reader picked by the
 /// extension as for tensors: `.nii`/`.nii.gz` NIfTI-1 (uint8, int8, int16, uint16, int32,
 /// uint32, int64, uint64, float32, float64; `scl_slope` and `scl_inter` applied), `.nrrd`/`.nhdr`
-/// NRRD (the same types; `dimension: 3`), anything else VTK image data (`.vti`, or legacy
+/// NRRD (the same types; `dimension: 3`), `.mif`/`.mif.gz`/`.mih` MRtrix (the same types, any
+/// `layout`; `scaling` applied), anything else VTK image data (`.vti`, or legacy
 /// `STRUCTURED_POINTS`) with a one-component point-data array, the first one if there are
 /// several.
 ///
@@ -119,8 +124,17 @@ pub fn read_scalar_volume_from(inputs: &Inputs, path: &Path) -> Result<ScalarVol
             nifti::read_scalar(&inputs.open(path)?)
         } else if nrrd::is_nrrd_path(path) {
             nrrd::read_scalar(inputs, path)
+        } else if mif::is_mif_path(path) {
+            mif::read_scalar(inputs, path)
         } else {
             vtk::parse_scalar_bytes(&inputs.read(path)?)
         }
     })
+}
+
+/// Every value of an MRtrix image (`.mif`, `.mif.gz`, `.mih`) whatever its number of values per
+/// voxel ([`mif::read_volumes`]: spherical-harmonic coefficients, a DWI series), with the
+/// readers' bounds, and a panic inside the reader as an error naming the file.
+pub fn read_mif_volumes_from(inputs: &Inputs, path: &Path) -> Result<mif::Volumes, LoadError> {
+    guard::guarded(path, || mif::read_volumes(inputs, path))
 }

@@ -208,7 +208,8 @@ fn file_stem(path: &Path) -> String {
         .unwrap_or_default();
     let name = name.strip_suffix(".gz").unwrap_or(&name);
     let known = [
-        ".nii", ".nrrd", ".nhdr", ".vtk", ".vti", ".vtr", ".vts", ".vtu", ".vtp", ".pvti",
+        ".nii", ".nrrd", ".nhdr", ".mif", ".mih", ".vtk", ".vti", ".vtr", ".vts", ".vtu", ".vtp",
+        ".pvti",
     ];
     let stem = known
         .iter()

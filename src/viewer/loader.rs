@@ -107,15 +107,19 @@ pub fn load_now_from(
 }
 
 /// Of files opened together (the page's file input or a drop), the one to read: the one that
-/// names the others. A `.nhdr` names its data file and a `.pvti` its pieces; any member of an
+/// names the others. A `.nhdr` or `.mih` names its data file and a `.pvti` its pieces; any member of an
 /// FSL eigen set names the set; a NIfTI file comes with its BEP016 sidecar (`.json`). So a
 /// `.nhdr` or `.pvti` first, else the first that is not a data file, piece or sidecar.
 pub fn main_file(names: &[String]) -> Option<&str> {
     let lower = |n: &str| n.to_ascii_lowercase();
-    let names_others = |n: &&String| [".nhdr", ".pvti"].iter().any(|e| lower(n).ends_with(e));
+    let names_others = |n: &&String| {
+        [".nhdr", ".mih", ".pvti"]
+            .iter()
+            .any(|e| lower(n).ends_with(e))
+    };
     let companion = |n: &&String| {
         let n = lower(n);
-        [".raw", ".raw.gz", ".json", ".bval", ".bvec", ".vti"]
+        [".raw", ".raw.gz", ".dat", ".json", ".bval", ".bvec", ".vti"]
             .iter()
             .any(|e| n.ends_with(e))
     };
@@ -321,6 +325,7 @@ mod tests {
         let names = |n: &[&str]| n.iter().map(|s| s.to_string()).collect::<Vec<_>>();
         let pick = |n: &[&str]| main_file(&names(n)).map(str::to_string);
         assert_eq!(pick(&["d.raw", "d.nhdr"]).as_deref(), Some("d.nhdr"));
+        assert_eq!(pick(&["d.dat", "d.mih"]).as_deref(), Some("d.mih"));
         assert_eq!(
             pick(&["p_0.vti", "p.pvti", "p_1.vti"]).as_deref(),
             Some("p.pvti")

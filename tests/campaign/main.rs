@@ -10,8 +10,9 @@
 //! fields by name (data files pointed at devices, FIFOs, folders), detached NRRD data, and each
 //! file of an FSL eigen set read with the other five (by its own name and by the prefix). The
 //! BEP016 maps and sidecars, the scalar volumes of `--underlay`/`--mask`, gzip framing and
-//! decompression bombs are mutated in `pipeline.rs`. Each case is read once, sequentially, and
-//! must:
+//! decompression bombs are mutated in `pipeline.rs`; the MRtrix images of `tests/data/mif`
+//! (header keys, data, a `.mih`'s detached data, bombs) in `mif.rs`. Each case is read once,
+//! sequentially, and must:
 //! - return a consistent field (as many positions as tensors, as the location's count, as the
 //!   dimensions say; 6, 7 or 9 components), which must then go through `derive_glyphs` (no
 //!   glyph with a non-finite eigenvalue) and the `info` report; or a consistent scalar volume
@@ -114,6 +115,7 @@ fn peak_reset() -> usize {
 #[path = "../common/data.rs"]
 mod data;
 mod dti;
+mod mif;
 mod mutate;
 mod pipeline;
 
@@ -133,6 +135,8 @@ enum Read {
     Tensors(ReadOptions),
     Scalar,
     Mask,
+    /// Every value of an MRtrix image, as a reader of SH coefficients takes them.
+    Volumes,
 }
 
 /// What a case read.
@@ -140,6 +144,7 @@ enum Got {
     Field(Box<tensorglyph::TensorField>),
     Volume(tensorglyph::field::ScalarVolume),
     Mask,
+    Volumes(tensorglyph::field::mif::Volumes),
 }
 
 struct Case {
@@ -181,6 +186,11 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
         Read::Tensors(opts) => read_field(&case.path, opts).map(|f| Got::Field(Box::new(f))),
         Read::Scalar => read_scalar_volume(&case.path).map(Got::Volume),
         Read::Mask => tensorglyph::select::Mask::read(&case.path).map(|_| Got::Mask),
+        Read::Volumes => tensorglyph::field::read_mif_volumes_from(
+            &tensorglyph::field::Inputs::file_system(),
+            &case.path,
+        )
+        .map(Got::Volumes),
     };
     let elapsed = t0.elapsed();
     let peak = PEAK.load(Relaxed).saturating_sub(base);
@@ -207,6 +217,22 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
     match res {
         Ok(Got::Mask) => {
             tally.ok += 1;
+            Ok(())
+        }
+        Ok(Got::Volumes(v)) => {
+            tally.ok += 1;
+            let n = v.dims.iter().try_fold(v.volumes, |a, &x| a.checked_mul(x));
+            if n != Some(v.values.len())
+                || v.voxel_to_world.iter().flatten().any(|x| !x.is_finite())
+            {
+                return Err(format!(
+                    "{label}: inconsistent volumes: dims {:?} × {}, {} values, voxel to world {:?}",
+                    v.dims,
+                    v.volumes,
+                    v.values.len(),
+                    v.voxel_to_world
+                ));
+            }
             Ok(())
         }
         Ok(Got::Volume(v)) => {
@@ -658,6 +684,21 @@ fn mutation_campaign() {
             go = go && run(c, &mut tally);
             go
         });
+        if !go {
+            return;
+        }
+        // MRtrix images: headers, data, detached data, bombs.
+        mif::run_all(
+            &data::path("mif"),
+            &dir,
+            seed,
+            per_file,
+            fifo.as_deref(),
+            &mut |c| {
+                go = go && run(c, &mut tally);
+                go
+            },
+        );
         if !go {
             return;
         }

@@ -358,10 +358,11 @@ fn gzip_stream(gz: &[u8], k: usize, rng: &mut Rng) -> (Vec<u8>, String) {
     (b, what)
 }
 
-/// A NIfTI-1 `header` (352 bytes, uncompressed) whose data are `data_bytes` of zeros, as gzip
+/// A `header` (a NIfTI-1 one of 352 bytes, or an MRtrix one, uncompressed) whose data are
+/// `data_bytes` of zeros, as gzip
 /// made cheaply: one deflated MiB of zeros ending on a full flush (byte-aligned, restartable)
 /// repeated, then a final empty block. The trailer's CRC and size are right.
-fn bomb(header: &[u8], data_bytes: u64) -> Vec<u8> {
+pub fn bomb(header: &[u8], data_bytes: u64) -> Vec<u8> {
     const CHUNK: usize = 1 << 20;
     let zeros = vec![0u8; CHUNK];
     let mut c = flate2::Compress::new(flate2::Compression::best(), false);

@@ -670,3 +670,63 @@ fn an_underlay_of_tiny_voxels_is_resampled_no_finer_than_the_image() {
     assert_eq!(side(Some(160)), 160);
     assert_eq!(side(None), 4096);
 }
+
+// Issue 39 (an outside campaign of the NRRD reader): `line skip` looked for line ends through
+// the whole detached data file, so a sparse 64 GB file of zeros kept `info` busy past 30 s.
+
+/// A 64 GB sparse file: no block of it is written, every byte reads as zero.
+fn sparse_zeros(path: &Path) {
+    std::fs::File::create(path)
+        .unwrap()
+        .set_len(64 << 30)
+        .unwrap();
+}
+
+#[test]
+fn line_skip_through_a_sparse_64_gb_data_file_is_refused_after_16_mib() {
+    let dir = tempfile::tempdir().unwrap();
+    let nhdr = copy(&dti("teem_skip_bigendian.nhdr"), dir.path());
+    sparse_zeros(&dir.path().join("teem_skip_bigendian.raw"));
+    let o = tg(&["info", "--quiet", nhdr.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("teem_skip_bigendian.nhdr"), "{err}");
+    assert!(
+        err.contains(
+            "field 'line skip': 2 lines not found in the first 16777216 bytes of the data"
+        ),
+        "{err}"
+    );
+    // The skip still finds its lines in the real file.
+    copy(&dti("teem_skip_bigendian.raw"), dir.path());
+    let o = tg(&["info", "--quiet", nhdr.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn ascii_data_far_longer_than_its_values_is_refused_unread() {
+    let dir = tempfile::tempdir().unwrap();
+    let nhdr = dir.path().join("ascii.nhdr");
+    std::fs::write(
+        &nhdr,
+        "NRRD0004\ntype: float\ndimension: 4\nsizes: 6 5 4 3\n\
+         kinds: 3D-symmetric-matrix space space space\nencoding: ascii\n\
+         data file: ascii.txt\n",
+    )
+    .unwrap();
+    sparse_zeros(&dir.path().join("ascii.txt"));
+    let o = tg(&["info", "--quiet", nhdr.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    // 360 values: at most 360 × 128 bytes and 1 MiB.
+    assert!(
+        err.contains(&format!(
+            "field 'sizes': 360 values as ascii take at most {} bytes, the data holds {}: not read",
+            360 * 128 + (1 << 20),
+            64u64 << 30
+        )),
+        "{err}"
+    );
+}

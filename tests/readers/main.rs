@@ -13,6 +13,7 @@ mod corrupted;
 mod defects;
 mod dipy;
 mod dti;
+mod mif;
 mod regressions;
 mod scalars;
 mod tensor_vectors;

@@ -137,8 +137,18 @@ pub(super) enum Start {
     AtEnd,
 }
 
+/// Lines skipped before the values are text (another format's header, a preamble): they may
+/// span this many bytes. Past it the skip is refused instead of read on through a data file of
+/// any size (a sparse file of 64 GB of zeros has no line end to stop at).
+pub(super) const LINE_SKIP_MAX: u64 = 16 << 20;
+
+/// ASCII data may hold this many bytes per value (a float in full precision and separators
+/// take 25) and [`ASCII_SLACK`] more: a larger file is refused rather than read whole.
+const ASCII_BYTES_PER_VALUE: u64 = 128;
+const ASCII_SLACK: u64 = 1 << 20;
+
 /// The region after `line skip` lines and, unless it is compressed, `byte skip` bytes. Lines
-/// are counted as the bytes go by, never held.
+/// are counted as the bytes go by, never held, and no further than [`LINE_SKIP_MAX`] bytes.
 pub(super) fn skip<'a>(
     h: &Header,
     mut region: Region<'a>,
@@ -147,14 +157,30 @@ pub(super) fn skip<'a>(
     if let Some(n) = h.get("line skip") {
         let n: usize = number("line skip", n)?;
         if n > 0 {
-            let mut r =
-                std::io::BufReader::with_capacity(1 << 16, region.input.reader_at(region.start)?);
+            let mut r = std::io::BufReader::with_capacity(
+                1 << 16,
+                region.input.reader_at(region.start)?.take(LINE_SKIP_MAX),
+            );
             let mut left = n;
             let mut passed = 0u64;
             while left > 0 {
                 let buf = r.fill_buf().map_err(LoadErrorKind::Io)?;
                 if buf.is_empty() {
-                    return Err(field("line skip", "more lines than the data holds"));
+                    let left_unread = region
+                        .input
+                        .len()
+                        .saturating_sub(region.start.saturating_add(passed));
+                    return Err(field(
+                        "line skip",
+                        if left_unread > 0 {
+                            format!(
+                                "{n} lines not found in the first {LINE_SKIP_MAX} bytes of the \
+                                 data; skipped lines are text and are not looked for further"
+                            )
+                        } else {
+                            "more lines than the data holds".into()
+                        },
+                    ));
                 }
                 let mut used = buf.len();
                 for (i, _) in buf.iter().enumerate().filter(|(_, b)| **b == b'\n') {
@@ -228,9 +254,21 @@ pub(super) fn decode(
     };
     match enc {
         Encoding::Ascii => {
-            // Every value takes at least one byte and a separator.
+            // Every value takes at least one byte and a separator, and no value 128.
             if have < (count as u64).saturating_mul(2).saturating_sub(1) {
                 return Err(short(have, "ascii data"));
+            }
+            let most = (count as u64)
+                .saturating_mul(ASCII_BYTES_PER_VALUE)
+                .saturating_add(ASCII_SLACK);
+            if have > most {
+                return Err(field(
+                    "sizes",
+                    format!(
+                        "{count} values as ascii take at most {most} bytes, the data holds \
+                         {have}: not read"
+                    ),
+                ));
             }
             let data = region.input.read_at(region.start, have)?;
             let mut n = 0usize;

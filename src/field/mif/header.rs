@@ -1,0 +1,716 @@
+//! An MRtrix image header: the `mrtrix image` line, `key: value` lines up to `END`, and the
+//! image they describe (`dim`, `vox`, `layout`, `datatype`, `transform`, `scaling`, `file`).
+//!
+//! As MRtrix3 reads it (`core/formats/mrtrix_utils.h`, `core/file/key_value.cpp`): keys are
+//! matched in any case, text from `#` to the end of a line is a comment, a line without a colon
+//! is skipped, `transform` is given as several lines (the first three rows of 4 values are
+//! used), other keys are kept by MRtrix and ignored here. Unlike MRtrix, which takes the last of
+//! a repeated key, a repeated `dim`, `vox`, `layout`, `datatype`, `scaling` or `file` is refused:
+//! two answers to one question make a damaged header, not a choice.
+
+use std::borrow::Cow;
+
+use nalgebra::{Matrix3, Matrix4};
+
+use crate::error::{LoadErrorKind, escape_for_error};
+use crate::field::gzip::is_gzip;
+use crate::field::inputs::Input;
+use crate::field::number::Scalar;
+
+pub(super) type Res<T> = Result<T, LoadErrorKind>;
+
+/// The first line of every MRtrix image header.
+const MAGIC: &[u8] = b"mrtrix image";
+
+/// A header longer than this (with no `END` line in it) is refused: MRtrix's own headers, a
+/// gradient table of thousands of lines included, are a few hundred kilobytes at most.
+pub(super) const MAX_HEADER: u64 = 16 << 20;
+
+/// More axes than MRtrix itself allows (16) are refused before anything is counted.
+const MAX_AXES: usize = 16;
+
+pub(super) fn field(name: &str, message: impl Into<String>) -> LoadErrorKind {
+    LoadErrorKind::Field {
+        field: name.to_string(),
+        message: message.into(),
+    }
+}
+
+/// Where the values are.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum DataFile {
+    /// In the header's own file (`file: . OFFSET`), from this byte (of the inflated stream for
+    /// `.mif.gz`).
+    Same(u64),
+    /// In the file of this name next to the header, from this byte.
+    Detached(String, u64),
+}
+
+/// One axis of the image.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Axis {
+    pub(super) size: usize,
+    /// Its place in the order of storage (0: contiguous), from `layout`.
+    pub(super) rank: usize,
+    /// Stored from the last index to the first (`layout: -N`).
+    pub(super) reversed: bool,
+}
+
+/// The image a header describes.
+#[derive(Debug, Clone)]
+pub(super) struct Header {
+    /// At least three (MRtrix gives a 1- or 2-D image size-1 axes up to three).
+    pub(super) axes: Vec<Axis>,
+    /// Voxel sizes of the three spatial axes, finite and positive.
+    pub(super) vox: [f64; 3],
+    pub(super) ty: Scalar,
+    pub(super) big: bool,
+    /// The first three rows of the 4x4 transform, when given.
+    pub(super) transform: Option<[[f64; 4]; 3]>,
+    /// `value = offset + scale * stored`.
+    pub(super) scaling: (f64, f64),
+    pub(super) data: DataFile,
+    /// Whether the header's file is gzip-compressed (`.mif.gz`).
+    pub(super) gz: bool,
+}
+
+impl Header {
+    /// Voxels of the three spatial axes.
+    pub(super) fn dims(&self) -> [usize; 3] {
+        [self.axes[0].size, self.axes[1].size, self.axes[2].size]
+    }
+
+    /// Values per voxel: the product of the sizes past the third axis.
+    pub(super) fn per_voxel(&self) -> Res<usize> {
+        self.axes[3..]
+            .iter()
+            .try_fold(1usize, |a, x| a.checked_mul(x.size))
+            .ok_or_else(|| field("dim", "the dimensions overflow"))
+    }
+
+    /// The voxel-to-world matrix (scanner space, RAS as in NIfTI) and where it came from:
+    /// `transform` with the voxel sizes applied, as MRtrix applies them (its transform maps
+    /// millimetres along the image axes); without one, MRtrix's default, the identity centred
+    /// on the lattice.
+    pub(super) fn affine(&self) -> Res<(Matrix4<f64>, &'static str)> {
+        let mut a = Matrix4::identity();
+        let source = match &self.transform {
+            Some(t) => {
+                let linear = Matrix3::from_fn(|r, c| t[r][c]);
+                // MRtrix divides each column by its length (moving it into the voxel size):
+                // a column of length 0 has no direction.
+                if (0..3).any(|c| linear.column(c).norm() == 0.0) {
+                    return Err(field(
+                        "transform",
+                        "a column of the rotation is zero: the image axes have no direction",
+                    ));
+                }
+                for r in 0..3 {
+                    for c in 0..3 {
+                        a[(r, c)] = t[r][c] * self.vox[c];
+                    }
+                    a[(r, 3)] = t[r][3];
+                }
+                "transform"
+            }
+            None => {
+                for i in 0..3 {
+                    a[(i, i)] = self.vox[i];
+                    a[(i, 3)] = -0.5 * (self.axes[i].size as f64 - 1.0) * self.vox[i];
+                }
+                "no transform (MRtrix's default: centred)"
+            }
+        };
+        if !a.iter().all(|x| x.is_finite()) {
+            return Err(field("vox", "the voxel-to-world matrix is not finite"));
+        }
+        Ok((a, source))
+    }
+}
+
+/// Read and check the header of the MRtrix image `input` (`.mif`, `.mih` or `.mif.gz`): its
+/// text up to `END`, no further (nor past [`MAX_HEADER`] bytes).
+pub(super) fn read_header(input: &Input) -> Res<Header> {
+    let gz = is_gzip(&input.read_at(0, 2)?);
+    let text: Cow<[u8]> = if gz {
+        let mut g = input.gunzip(0, "the header")?;
+        let mut b = Vec::new();
+        let mut chunk = vec![0u8; 1 << 14];
+        let mut from = 0;
+        loop {
+            if let Some(end) = header_end(&b, &mut from) {
+                b.truncate(end);
+                break;
+            }
+            if b.len() as u64 >= MAX_HEADER {
+                return Err(no_end(&b));
+            }
+            let got = g.fill(&mut chunk)?;
+            if got == 0 {
+                return Err(no_end(&b));
+            }
+            b.extend_from_slice(&chunk[..got]);
+        }
+        Cow::Owned(b)
+    } else {
+        let mut n: u64 = 1 << 14;
+        let mut from = 0;
+        loop {
+            let b = input.read_at(0, n.min(MAX_HEADER))?;
+            if let Some(end) = header_end(&b, &mut from) {
+                break match b {
+                    Cow::Borrowed(s) => Cow::Borrowed(&s[..end]),
+                    Cow::Owned(mut v) => {
+                        v.truncate(end);
+                        Cow::Owned(v)
+                    }
+                };
+            }
+            if n >= MAX_HEADER {
+                return Err(no_end(&b));
+            }
+            if n >= input.len() {
+                // A `.mih` is all header: it may end where the file does.
+                if !b.starts_with(MAGIC) {
+                    return Err(not_mrtrix());
+                }
+                let h = parse(&b, false)?;
+                if let DataFile::Same(_) = h.data {
+                    return Err(no_end(&b));
+                }
+                return Ok(h);
+            }
+            n = n.saturating_mul(4);
+        }
+    };
+    parse(&text, gz)
+}
+
+/// The error for header text `b` in which no `END` line was found.
+fn no_end(b: &[u8]) -> LoadErrorKind {
+    if !b.starts_with(MAGIC) {
+        return not_mrtrix();
+    }
+    LoadErrorKind::Malformed(format!(
+        "an MRtrix header ends with a line 'END'; none in the first {} bytes",
+        MAX_HEADER
+    ))
+}
+
+/// Where the header ends: just after its `END` line, `None` if there is none yet. Lines are
+/// looked at from `from` on, which is left at the first line not yet whole, so that a header
+/// read in growing pieces is scanned once. A file that does not begin with the magic ends at
+/// once (it is refused by [`parse`]).
+fn header_end(b: &[u8], from: &mut usize) -> Option<usize> {
+    if !MAGIC.starts_with(&b[..b.len().min(MAGIC.len())]) {
+        return Some(0);
+    }
+    let mut pos = (*from).min(b.len());
+    while let Some(e) = b[pos..].iter().position(|&c| c == b'\n') {
+        let line = &b[pos..pos + e];
+        if strip(comment_free(line)) == b"END" {
+            return Some(pos + e + 1);
+        }
+        pos += e + 1;
+    }
+    *from = pos;
+    None
+}
+
+fn comment_free(line: &[u8]) -> &[u8] {
+    line.iter()
+        .position(|&c| c == b'#')
+        .map_or(line, |i| &line[..i])
+}
+
+fn strip(b: &[u8]) -> &[u8] {
+    let start = b.iter().position(|c| !c.is_ascii_whitespace());
+    let end = b.iter().rposition(|c| !c.is_ascii_whitespace());
+    match (start, end) {
+        (Some(s), Some(e)) => &b[s..=e],
+        _ => &[],
+    }
+}
+
+fn not_mrtrix() -> LoadErrorKind {
+    LoadErrorKind::Malformed("not an MRtrix image (its first line is not 'mrtrix image')".into())
+}
+
+/// The values of the keys the reader uses, as text.
+#[derive(Default)]
+struct Raw {
+    dim: Option<String>,
+    vox: Option<String>,
+    layout: Option<String>,
+    datatype: Option<String>,
+    scaling: Option<String>,
+    file: Option<String>,
+    transform: Vec<String>,
+}
+
+/// The header `text` (up to and including its `END` line) checked into a [`Header`].
+pub(super) fn parse(text: &[u8], gz: bool) -> Res<Header> {
+    let first = text.split(|&c| c == b'\n').next().unwrap_or_default();
+    if strip(first) != MAGIC {
+        return Err(not_mrtrix());
+    }
+    let mut raw = Raw::default();
+    for line in text.split(|&c| c == b'\n').skip(1) {
+        let line = strip(comment_free(line));
+        if line == b"END" {
+            break;
+        }
+        let Some(colon) = line.iter().position(|&c| c == b':') else {
+            continue;
+        };
+        let key = String::from_utf8_lossy(strip(&line[..colon])).to_ascii_lowercase();
+        let value = String::from_utf8_lossy(strip(&line[colon + 1..])).into_owned();
+        let slot = match key.as_str() {
+            "transform" => {
+                raw.transform.push(value);
+                continue;
+            }
+            "dim" => &mut raw.dim,
+            "vox" => &mut raw.vox,
+            "layout" => &mut raw.layout,
+            "datatype" => &mut raw.datatype,
+            "scaling" => &mut raw.scaling,
+            "file" => &mut raw.file,
+            _ => continue,
+        };
+        if slot.is_some() {
+            return Err(field(
+                &key,
+                if key == "file" {
+                    "given twice: only an image in one data file is read"
+                } else {
+                    "given twice"
+                },
+            ));
+        }
+        *slot = Some(value);
+    }
+    let need =
+        |v: Option<String>, key: &str| v.ok_or_else(|| field(key, "missing; it is required"));
+
+    let sizes = sizes(&need(raw.dim, "dim")?)?;
+    let (rank, reversed) = layout(&need(raw.layout, "layout")?, sizes.len())?;
+    let mut axes: Vec<Axis> = (0..sizes.len())
+        .map(|i| Axis {
+            size: sizes[i],
+            rank: rank[i],
+            reversed: reversed[i],
+        })
+        .collect();
+    // A 1- or 2-D image: size-1 axes stored last, as MRtrix pads it.
+    while axes.len() < 3 {
+        axes.push(Axis {
+            size: 1,
+            rank: axes.len(),
+            reversed: false,
+        });
+    }
+    let vox = voxel_sizes(&need(raw.vox, "vox")?, sizes.len())?;
+    let (ty, big) = datatype(&need(raw.datatype, "datatype")?)?;
+    let transform = if raw.transform.is_empty() {
+        None
+    } else {
+        Some(transform(&raw.transform)?)
+    };
+    let scaling = match raw.scaling {
+        None => (0.0, 1.0),
+        Some(s) => {
+            let v = floats("scaling", &s)?;
+            if v.len() != 2 || !v.iter().all(|x| x.is_finite()) {
+                return Err(field(
+                    "scaling",
+                    format!(
+                        "'{}' is not two finite numbers (offset,scale)",
+                        escape_for_error(&s)
+                    ),
+                ));
+            }
+            (v[0], v[1])
+        }
+    };
+    let data = data_file(&need(raw.file, "file")?, text.len() as u64, gz)?;
+    Ok(Header {
+        axes,
+        vox,
+        ty,
+        big,
+        transform,
+        scaling,
+        data,
+        gz,
+    })
+}
+
+fn floats(key: &str, s: &str) -> Res<Vec<f64>> {
+    s.split(',')
+        .map(|x| {
+            let x = x.trim();
+            // MRtrix writes the voxel size of a non-spatial axis as "nan" (or "?" in mrinfo).
+            x.parse::<f64>()
+                .map_err(|_| field(key, format!("'{}' is not a number", escape_for_error(x))))
+        })
+        .collect()
+}
+
+/// `dim`: 1 to 16 positive sizes.
+fn sizes(s: &str) -> Res<Vec<usize>> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() > MAX_AXES {
+        return Err(field(
+            "dim",
+            format!(
+                "{} axes; MRtrix images have at most {MAX_AXES}",
+                parts.len()
+            ),
+        ));
+    }
+    parts
+        .iter()
+        .map(|p| match p.parse::<usize>() {
+            Ok(0) => Err(field("dim", "a size is 0")),
+            Ok(n) => Ok(n),
+            Err(_) => Err(field(
+                "dim",
+                format!("'{}' is not a positive integer", escape_for_error(p)),
+            )),
+        })
+        .collect()
+}
+
+/// `layout`: per axis a sign and its rank in the order of storage, the ranks a permutation.
+fn layout(s: &str, n: usize) -> Res<(Vec<usize>, Vec<bool>)> {
+    let bad = |why: String| field("layout", format!("'{}': {why}", escape_for_error(s)));
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != n {
+        return Err(bad(format!("{} axes, dim has {n}", parts.len())));
+    }
+    let mut rank = Vec::with_capacity(n);
+    let mut reversed = Vec::with_capacity(n);
+    for p in &parts {
+        let (neg, digits) = match p.as_bytes().first() {
+            Some(b'-') => (true, &p[1..]),
+            Some(b'+') => (false, &p[1..]),
+            _ => (false, *p),
+        };
+        let r: usize = digits
+            .parse()
+            .ok()
+            .filter(|_| digits.bytes().all(|c| c.is_ascii_digit()))
+            .ok_or_else(|| bad("each axis is a sign and a rank (+0, -1, …)".into()))?;
+        if r >= n {
+            return Err(bad(format!("rank {r} for {n} axes")));
+        }
+        rank.push(r);
+        reversed.push(neg);
+    }
+    let mut seen = vec![false; n];
+    for &r in &rank {
+        if std::mem::replace(&mut seen[r], true) {
+            return Err(bad(format!("rank {r} given twice")));
+        }
+    }
+    Ok((rank, reversed))
+}
+
+/// `vox`: the voxel sizes; the first three (as many as there are axes) finite and positive.
+fn voxel_sizes(s: &str, n: usize) -> Res<[f64; 3]> {
+    let v = floats("vox", s)?;
+    let spatial = n.min(3);
+    if v.len() < spatial {
+        return Err(field(
+            "vox",
+            format!("{} sizes for {spatial} spatial axes", v.len()),
+        ));
+    }
+    let mut out = [1.0; 3];
+    for (i, x) in v.iter().take(spatial).enumerate() {
+        if !(x.is_finite() && *x > 0.0) {
+            return Err(field(
+                "vox",
+                format!("voxel size {x} on axis {i}; the spatial axes need finite positive sizes"),
+            ));
+        }
+        out[i] = *x;
+    }
+    Ok(out)
+}
+
+/// `datatype`: the element type and whether it is big-endian. MRtrix's names in any case;
+/// without `LE`/`BE` a multi-byte type is in the writer's native order, taken as
+/// little-endian (every machine MRtrix runs on).
+fn datatype(s: &str) -> Res<(Scalar, bool)> {
+    let l = s.to_ascii_lowercase();
+    let (base, big) = if let Some(b) = l.strip_suffix("le") {
+        (b, false)
+    } else if let Some(b) = l.strip_suffix("be") {
+        (b, true)
+    } else {
+        (l.as_str(), false)
+    };
+    let ty = match base {
+        "int8" => Scalar::I8,
+        "uint8" => Scalar::U8,
+        "int16" => Scalar::I16,
+        "uint16" => Scalar::U16,
+        "int32" => Scalar::I32,
+        "uint32" => Scalar::U32,
+        "int64" => Scalar::I64,
+        "uint64" => Scalar::U64,
+        "float32" => Scalar::F32,
+        "float64" => Scalar::F64,
+        _ => {
+            let why = if l == "bit" {
+                "one bit per value (a mask as MRtrix packs it) is not read; convert it with \
+                 mrconvert -datatype uint8"
+            } else if base.starts_with("cfloat") {
+                "complex values have no tensor or scalar meaning here; take their real part \
+                 or magnitude with mrcalc"
+            } else {
+                "not an MRtrix datatype (Int8 … Float64, with LE or BE)"
+            };
+            return Err(field(
+                "datatype",
+                format!("'{}': {why}", escape_for_error(s)),
+            ));
+        }
+    };
+    Ok((ty, big))
+}
+
+/// `transform`: at least three rows of four finite numbers; the first three are used.
+fn transform(rows: &[String]) -> Res<[[f64; 4]; 3]> {
+    if rows.len() < 3 {
+        return Err(field(
+            "transform",
+            format!(
+                "{} rows; the first three rows of the 4x4 matrix are needed",
+                rows.len()
+            ),
+        ));
+    }
+    let mut t = [[0.0; 4]; 3];
+    for (r, row) in rows.iter().take(3).enumerate() {
+        let v = floats("transform", row)?;
+        if v.len() != 4 || !v.iter().all(|x| x.is_finite()) {
+            return Err(field(
+                "transform",
+                format!(
+                    "row {r} '{}' is not four finite numbers",
+                    escape_for_error(row)
+                ),
+            ));
+        }
+        t[r].copy_from_slice(&v);
+    }
+    // The rotation's columns must stand for three independent directions.
+    let m = Matrix3::from_fn(|r, c| t[r][c]);
+    let scale = m.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    if scale == 0.0 || (m / scale).determinant() == 0.0 {
+        return Err(field(
+            "transform",
+            "its 3x3 part is singular: the image axes do not span space",
+        ));
+    }
+    Ok(t)
+}
+
+/// `file`: `. OFFSET` (the data after the header in this file) or `NAME [OFFSET]`.
+fn data_file(s: &str, header_len: u64, gz: bool) -> Res<DataFile> {
+    let mut words = s.split_whitespace();
+    let name = words.next().unwrap_or_default();
+    let offset = match words.next() {
+        None => 0,
+        Some(o) => o.parse::<u64>().map_err(|_| {
+            field(
+                "file",
+                format!("'{}' is not a byte offset", escape_for_error(o)),
+            )
+        })?,
+    };
+    if words.next().is_some() {
+        return Err(field(
+            "file",
+            format!("'{}' is not 'NAME OFFSET'", escape_for_error(s)),
+        ));
+    }
+    if name == "." {
+        if offset < header_len {
+            return Err(field(
+                "file",
+                format!("data offset {offset} is inside the header ({header_len} bytes up to END)"),
+            ));
+        }
+        return Ok(DataFile::Same(offset));
+    }
+    if gz {
+        return Err(field(
+            "file",
+            format!(
+                "'{}': a .mif.gz holds its own data ('file: . OFFSET')",
+                escape_for_error(name)
+            ),
+        ));
+    }
+    Ok(DataFile::Detached(name.to_string(), offset))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn head(lines: &str) -> Res<Header> {
+        let text = format!("mrtrix image\n{lines}END\n");
+        parse(text.as_bytes(), false)
+    }
+
+    const GOOD: &str = "dim: 4,3,2,6\nvox: 2,2.5,3,nan\nlayout: -0,+2,+1,+3\n\
+        datatype: Float32BE\nfile: . 1000\n";
+
+    #[test]
+    fn reads_mrtrix_keys_in_any_case_with_comments_and_stray_lines() {
+        let h = head(&format!(
+            "# a comment\nDim: 4,3,2,6 # trailing\nnot a key value line\n{}",
+            &GOOD[GOOD.find("vox").unwrap()..]
+        ))
+        .unwrap();
+        assert_eq!(h.dims(), [4, 3, 2]);
+        assert_eq!(h.per_voxel().unwrap(), 6);
+        assert_eq!(
+            h.axes
+                .iter()
+                .map(|a| (a.rank, a.reversed))
+                .collect::<Vec<_>>(),
+            [(0, true), (2, false), (1, false), (3, false)]
+        );
+        assert_eq!((h.ty, h.big), (Scalar::F32, true));
+        assert_eq!(h.data, DataFile::Same(1000));
+        // No transform: MRtrix's default, the identity centred on the lattice.
+        let (a, _) = h.affine().unwrap();
+        assert_eq!(a[(0, 0)], 2.0);
+        assert_eq!(a[(0, 3)], -3.0);
+        assert_eq!(a[(1, 3)], -2.5);
+        assert_eq!(a[(2, 3)], -1.5);
+    }
+
+    #[test]
+    fn applies_voxel_sizes_to_the_transform_columns() {
+        let h = head(&format!(
+            "{GOOD}transform: 0,-1,0,10\ntransform: 1,0,0,20\ntransform: 0,0,1,30\n"
+        ))
+        .unwrap();
+        let (a, source) = h.affine().unwrap();
+        assert_eq!(source, "transform");
+        assert_eq!(a[(0, 1)], -2.5);
+        assert_eq!(a[(1, 0)], 2.0);
+        assert_eq!(a[(2, 2)], 3.0);
+        assert_eq!(a[(1, 3)], 20.0);
+    }
+
+    #[test]
+    fn refuses_each_bad_key_with_its_name() {
+        let cases: [(&str, &str, &str); 12] = [
+            ("dim: 4,3,2,6", "dim: 4,0,2,6", "'dim': a size is 0"),
+            (
+                "dim: 4,3,2,6",
+                "dim: 4,x,2,6",
+                "'dim': 'x' is not a positive integer",
+            ),
+            (
+                "layout: -0,+2,+1,+3",
+                "layout: +0,+0,+1,+2",
+                "rank 0 given twice",
+            ),
+            (
+                "layout: -0,+2,+1,+3",
+                "layout: +0,+1,+2",
+                "3 axes, dim has 4",
+            ),
+            (
+                "layout: -0,+2,+1,+3",
+                "layout: +0,+1,+2,+9",
+                "rank 9 for 4 axes",
+            ),
+            (
+                "datatype: Float32BE",
+                "datatype: CFloat32LE",
+                "complex values",
+            ),
+            ("datatype: Float32BE", "datatype: Bit", "one bit per value"),
+            (
+                "datatype: Float32BE",
+                "datatype: Float16",
+                "not an MRtrix datatype",
+            ),
+            (
+                "vox: 2,2.5,3,nan",
+                "vox: 2,-1,3",
+                "'vox': voxel size -1 on axis 1",
+            ),
+            (
+                "vox: 2,2.5,3,nan",
+                "vox: 2",
+                "'vox': 1 sizes for 3 spatial axes",
+            ),
+            (
+                "file: . 1000",
+                "file: . 12",
+                "data offset 12 is inside the header",
+            ),
+            (
+                "file: . 1000",
+                "file: . 1000\nfile: . 2000",
+                "'file': given twice",
+            ),
+        ];
+        for (from, to, want) in cases {
+            let e = head(&GOOD.replace(from, to)).unwrap_err().to_string();
+            assert!(e.contains(want), "{to}: {e}");
+        }
+        for (lines, want) in [
+            (GOOD.replace("dim: 4,3,2,6\n", ""), "'dim': missing"),
+            (
+                format!("{GOOD}transform: 1,0,0,0\ntransform: 0,1,0,0\n"),
+                "2 rows",
+            ),
+            (
+                format!("{GOOD}transform: 1,0,0\ntransform: 0,1,0,0\ntransform: 0,0,1,0\n"),
+                "row 0 '1,0,0' is not four finite numbers",
+            ),
+            (
+                format!("{GOOD}transform: 1,0,0,0\ntransform: 1,0,0,0\ntransform: 0,0,1,0\n"),
+                "singular",
+            ),
+            (
+                GOOD.replace("Float32BE", "Float32BE\nscaling: 1"),
+                "'scaling'",
+            ),
+        ] {
+            let e = head(&lines).unwrap_err().to_string();
+            assert!(e.contains(want), "{lines}: {e}");
+        }
+        let e = parse(b"mrtrix imagine\nEND\n", false)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not an MRtrix image"), "{e}");
+    }
+
+    #[test]
+    fn the_header_ends_at_its_end_line() {
+        let text = b"mrtrix image\ndim: 1\n  END  \r\n\x00\x01binary";
+        assert_eq!(header_end(text, &mut 0), Some(text.len() - 8));
+        // Read in pieces: each line looked at once, the last whole one remembered.
+        let mut from = 0;
+        assert_eq!(header_end(b"mrtrix image\ndim: 1\nEN", &mut from), None);
+        assert_eq!(from, 20);
+        assert_eq!(
+            header_end(b"mrtrix image\ndim: 1\nEND\n", &mut from),
+            Some(24)
+        );
+        assert_eq!(header_end(b"NRRD0004\n", &mut 0), Some(0));
+    }
+}
