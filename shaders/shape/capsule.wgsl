@@ -89,10 +89,32 @@ fn shape_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {
     return capsule_contains(p, shape.x);
 }
 
+// Solved from the ray point nearest the axis (capsule_slide), as shape_cast does: Gumhold's rays
+// start on the bounding ellipsoid's quad or, orthographic, at the ray point nearest the centre,
+// up to h + 1 radii along the axis from where a needle's ray passes it (72° normal p99 on
+// k = 1e4 needles seen orthographically before).
 fn shape_entry(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> vec4<f32> {
     let h = shape.x;
-    let t = capsule_span(o, v, h).x;
-    return vec4<f32>(t, capsule_normal(o + t * v, h));
+    let s = capsule_slide(o, v, h);
+    let o2 = o + s * v;
+    let t = capsule_span(o2, v, h).x;
+    return vec4<f32>(s + t, capsule_normal(o2 + t * v, h));
+}
+
+// How far along v the ray point nearest the axis lies from o (β ≈ 0 for the side: there
+// |o~.yz|² − 1 keeps its 1 in f32), kept within the balls' reach (|x| ≤ h + 1); 0 for rays
+// along the axis.
+fn capsule_slide(o: vec3<f32>, v: vec3<f32>, h: f32) -> f32 {
+    let a = dot(v.yz, v.yz);
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    var s = -dot(o.yz, v.yz) / a;
+    let x = o.x + s * v.x;
+    if abs(x) > h + 1.0 && v.x != 0.0 {
+        s = (clamp(x, -h - 1.0, h + 1.0) - o.x) / v.x;
+    }
+    return s;
 }
 
 // The union of the two end balls' eq. 5 boxes, exact in front of the camera plane.
@@ -112,17 +134,10 @@ fn shape_box(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SiggBox {
 // reference does.
 fn shape_cast(r: ptr<function, ParamRay>, shape: vec4<f32>) -> vec4<f32> {
     let h = shape.x;
-    let a = dot((*r).v_t.yz, (*r).v_t.yz);
-    if a > 0.0 {
-        var s = -dot((*r).o_t.yz, (*r).v_t.yz) / a;
-        let x = (*r).o_t.x + s * (*r).v_t.x;
-        if abs(x) > h + 1.0 && (*r).v_t.x != 0.0 {
-            s = (clamp(x, -h - 1.0, h + 1.0) - (*r).o_t.x) / (*r).v_t.x;
-        }
-        (*r).off += s * (*r).d;
-        (*r).t0 += s;
-        (*r).o_t += s * (*r).v_t;
-    }
+    let s = capsule_slide((*r).o_t, (*r).v_t, h);
+    (*r).off += s * (*r).d;
+    (*r).t0 += s;
+    (*r).o_t += s * (*r).v_t;
     let span = capsule_span((*r).o_t, (*r).v_t, h);
     var t = span.x;
     if !((*r).t0 + t > 0.0) {

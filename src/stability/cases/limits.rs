@@ -13,8 +13,8 @@ pub fn documented_limit(row: &Row) -> Option<&'static str> {
         "3-grazing" | "3-grazing-persp" => Some(
             "pixel centres within f32 rounding of a silhouette or of a contact between glyphs are ties and may flip; at the rim the hit moves infinitely fast with the ray, so f32 rounding of q̃ shows in the depth p99 of small glyphs",
         ),
-        // Only up to the normal error the limit explains: Gumhold's orthographic capsules
-        // (8–14° at k = 1e4–1e5) are a defect, not this limit, and stay failures.
+        // Only up to the normal error the limit explains (2.5° measured): beyond it a row is a
+        // defect, as Gumhold's orthographic capsules were (8–14° before capsule_slide).
         c if is_anisotropy(c)
             && c.contains("cigar")
             && row.value >= 1e3
