@@ -102,17 +102,20 @@ fn shape_entry(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> vec4
 }
 
 // How far along v the ray point nearest the axis lies from o (β ≈ 0 for the side: there
-// |o~.yz|² − 1 keeps its 1 in f32), kept within the balls' reach (|x| ≤ h + 1); 0 for rays
-// along the axis.
+// |o~.yz|² − 1 keeps its 1 in f32); where that point lies beyond an end ball's reach
+// (|x| > h + 1), the point nearest that ball's centre instead (never far: clamping x along a
+// ray nearly across the axis would slide it by ~1/v.x, and Gumhold's quad, unlike Sigg's box,
+// has such rays beyond the ends); 0 for rays along the axis.
 fn capsule_slide(o: vec3<f32>, v: vec3<f32>, h: f32) -> f32 {
     let a = dot(v.yz, v.yz);
     if !(a > 0.0) {
         return 0.0;
     }
-    var s = -dot(o.yz, v.yz) / a;
+    let s = -dot(o.yz, v.yz) / a;
     let x = o.x + s * v.x;
-    if abs(x) > h + 1.0 && v.x != 0.0 {
-        s = (clamp(x, -h - 1.0, h + 1.0) - o.x) / v.x;
+    if abs(x) > h + 1.0 {
+        let end = vec3<f32>(select(-h, h, x > 0.0), 0.0, 0.0);
+        return -dot(o - end, v) / dot(v, v);
     }
     return s;
 }
@@ -134,10 +137,17 @@ fn shape_box(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SiggBox {
 // reference does.
 fn shape_cast(r: ptr<function, ParamRay>, shape: vec4<f32>) -> vec4<f32> {
     let h = shape.x;
-    let s = capsule_slide((*r).o_t, (*r).v_t, h);
-    (*r).off += s * (*r).d;
-    (*r).t0 += s;
-    (*r).o_t += s * (*r).v_t;
+    let a = dot((*r).v_t.yz, (*r).v_t.yz);
+    if a > 0.0 {
+        var s = -dot((*r).o_t.yz, (*r).v_t.yz) / a;
+        let x = (*r).o_t.x + s * (*r).v_t.x;
+        if abs(x) > h + 1.0 && (*r).v_t.x != 0.0 {
+            s = (clamp(x, -h - 1.0, h + 1.0) - (*r).o_t.x) / (*r).v_t.x;
+        }
+        (*r).off += s * (*r).d;
+        (*r).t0 += s;
+        (*r).o_t += s * (*r).v_t;
+    }
     let span = capsule_span((*r).o_t, (*r).v_t, h);
     var t = span.x;
     if !((*r).t0 + t > 0.0) {

@@ -120,17 +120,19 @@ pub fn span(o: DVec3, v: DVec3, h: f64) -> Option<(f64, f64)> {
     ))
 }
 
-/// `capsule_slide`: how far along v the ray point nearest the axis lies from o, kept within
-/// the balls' reach (|x| ≤ h + 1); 0 for rays along the axis.
+/// `capsule_slide`: how far along v the ray point nearest the axis lies from o, or, where that
+/// lies beyond an end ball's reach (|x| > h + 1), the point nearest that ball's centre; 0 for
+/// rays along the axis.
 pub fn slide(o: DVec3, v: DVec3, h: f64) -> f64 {
     let a = v.y * v.y + v.z * v.z;
     if a.is_nan() || a <= 0.0 {
         return 0.0;
     }
-    let mut s = -(o.y * v.y + o.z * v.z) / a;
+    let s = -(o.y * v.y + o.z * v.z) / a;
     let x = o.x + s * v.x;
-    if x.abs() > h + 1.0 && v.x != 0.0 {
-        s = (x.clamp(-h - 1.0, h + 1.0) - o.x) / v.x;
+    if x.abs() > h + 1.0 {
+        let end = DVec3::new(if x > 0.0 { h } else { -h }, 0.0, 0.0);
+        return -(o - end).dot(v) / v.length_squared();
     }
     s
 }
@@ -245,6 +247,20 @@ mod tests {
     }
 
     /// Span from inside (exit only forward), along the axis (no side root) and a miss.
+    /// A ray almost across the axis, beyond an end: the slide stays within the end ball's
+    /// distance (clamping x along it would slide it by ~1/v.x), and sliding changes no answer.
+    #[test]
+    fn slide_stays_near_the_glyph() {
+        let (v, h) = (DVec3::new(1e-9, 0.0, 1.0), 2.0);
+        let o = DVec3::new(5.0, 0.3, 0.0);
+        assert!(slide(o, v, h).abs() <= (o - DVec3::new(h, 0.0, 0.0)).length());
+        assert!(entry(o, v, h).is_none() && span(o, v, h).is_none());
+        let o = DVec3::new(2.5, 0.3, -4.0);
+        let (t, n) = entry(o, v, h).unwrap();
+        assert!((t - span(o, v, h).unwrap().0).abs() < 1e-12);
+        assert!((n.length() - 1.0).abs() < 1e-12);
+    }
+
     #[test]
     fn span_covers_rays_along_the_axis_and_misses() {
         // Along the axis from far away: enters the ball at −h, leaves the ball at +h.
