@@ -27,7 +27,8 @@ struct GlyphFrame {
     centre: vec3<f32>,
     // u~ = 1/E (perspective) or 1/|d~| (orthographic).
     u: f32,
-    // Columns of T = O diag(r) Oᵀ: world offsets from parameter space.
+    // Columns of T = O diag(r): world offsets from parameter space, the glyph's principal frame
+    // scaled per axis (see glyph_frame).
     t0: vec3<f32>,
     // CONSERVATIVE_DEPTH: the view distance the proxy moves to (0: it stays).
     move_to: f32,
@@ -44,7 +45,7 @@ struct GlyphFrame {
     tz_z: f32,
     // v~ = V~ + ray_t (perspective: ray_t = −e~) or v~ = ray_t = z^ (orthographic).
     ray_t: vec3<f32>,
-    // Columns of N = R_view T⁻¹.
+    // Columns of N = R_view O diag(1/r) (normals: T⁻ᵀ = O diag(1/r)).
     n0: vec3<f32>,
     n1: vec3<f32>,
     n2: vec3<f32>,
@@ -62,6 +63,11 @@ fn glyph_frame(ii: u32) -> FrameOrSkip {
     if !drawable(g.radii) || skip_glyph(g.centre, bounding_radius(g.radii)) {
         return out;
     }
+    // Parameter space is the principal frame scaled per axis, p~ = diag(1/r) Oᵀ (p − c), not the
+    // symmetric T⁻¹ = O diag(1/r) Oᵀ: rotating back to world axes would add the thin axis's
+    // ×k components to the others in f32 and lose where the eye lies across a thin glyph (discs
+    // at k = 1e5: depth p99 3e-3 of the radius). Here each component keeps its own relative
+    // precision and nothing is mixed after the scaling.
     let o = quat_to_mat3(g.rotation);
     let ot = transpose(o);
     let rinv = 1.0 / g.radii;
@@ -70,13 +76,13 @@ fn glyph_frame(ii: u32) -> FrameOrSkip {
     var m_t = vec3<f32>(0.0);
     var r_t = 1.0;
     if is_ortho() {
-        let d_t = o * ((ot * camera.forward.xyz) * rinv);
+        let d_t = (ot * camera.forward.xyz) * rinv;
         let len = length(d_t);
         z_hat = d_t / len;
         f.u = 1.0 / len;
         f.ray_t = z_hat;
     } else {
-        let e_t = o * ((ot * (camera.eye.xyz - g.centre)) * rinv);
+        let e_t = (ot * (camera.eye.xyz - g.centre)) * rinv;
         let e2 = dot(e_t, e_t);
         if !(e2 > EYE_INSIDE_E2) {
             return out;
@@ -93,7 +99,7 @@ fn glyph_frame(ii: u32) -> FrameOrSkip {
     f.m_t = m_t;
     f.x_t = r_t * xy[0];
     f.y_t = r_t * xy[1];
-    let t = o * mat3x3<f32>(ot[0] * g.radii, ot[1] * g.radii, ot[2] * g.radii);
+    let t = mat3x3<f32>(o[0] * g.radii.x, o[1] * g.radii.y, o[2] * g.radii.z);
     f.t0 = t[0];
     f.t1 = t[1];
     f.t2 = t[2];
@@ -115,12 +121,12 @@ fn glyph_frame(ii: u32) -> FrameOrSkip {
     f.id = ii + 1u;
     f.color = g.color;
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
-    let n = rv * o * mat3x3<f32>(ot[0] * rinv, ot[1] * rinv, ot[2] * rinv);
+    let n = rv * mat3x3<f32>(o[0] * rinv.x, o[1] * rinv.y, o[2] * rinv.z);
     f.n0 = n[0];
     f.n1 = n[1];
     f.n2 = n[2];
     let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
-    let tz = o * ((ot * r2) * g.radii);
+    let tz = (ot * r2) * g.radii;
     f.tz_x = tz.x;
     f.tz_y = tz.y;
     f.tz_z = tz.z;
@@ -359,7 +365,8 @@ struct PixelCast {
     u: f32,
     // The view z of the glyph's centre.
     cz: f32,
-    // N x~, N y~, N z^ (N = R_view T⁻¹): the view normal is their combination by cast_p.
+    // N x~, N y~, N z^ (N = R_view T⁻ᵀ = R_view O diag(1/r)): the view normal is their
+    // combination by cast_p.
     nx: vec3<f32>,
     ny: vec3<f32>,
     nz: vec3<f32>,
@@ -369,10 +376,9 @@ struct PixelCast {
 
 fn pixel_cast(f: GlyphFrame) -> PixelCast {
     var s: PixelCast;
-    let rv_t = transpose(mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz));
-    // Parameter space from view space: T⁻¹ R_viewᵀ = R_viewᵀ N R_viewᵀ.
+    // Parameter space from view space: T⁻¹ R_viewᵀ = diag(1/r) Oᵀ R_viewᵀ = Nᵀ.
     let n = mat3x3<f32>(f.n0, f.n1, f.n2);
-    let m = rv_t * (n * rv_t);
+    let m = transpose(n);
     let r2 = dot(f.x_t, f.x_t);
     s.ux = vec2<f32>(dot(m[0], f.x_t), dot(m[0], f.y_t)) / r2;
     s.uy = vec2<f32>(dot(m[1], f.x_t), dot(m[1], f.y_t)) / r2;

@@ -89,10 +89,35 @@ fn shape_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {
     return capsule_contains(p, shape.x);
 }
 
+// Solved from the ray point nearest the axis (capsule_slide), as shape_cast does: Gumhold's rays
+// start on the bounding ellipsoid's quad or, orthographic, at the ray point nearest the centre,
+// up to h + 1 radii along the axis from where a needle's ray passes it (72° normal p99 on
+// k = 1e4 needles seen orthographically before).
 fn shape_entry(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> vec4<f32> {
     let h = shape.x;
-    let t = capsule_span(o, v, h).x;
-    return vec4<f32>(t, capsule_normal(o + t * v, h));
+    let s = capsule_slide(o, v, h);
+    let o2 = o + s * v;
+    let t = capsule_span(o2, v, h).x;
+    return vec4<f32>(s + t, capsule_normal(o2 + t * v, h));
+}
+
+// How far along v the ray point nearest the axis lies from o (β ≈ 0 for the side: there
+// |o~.yz|² − 1 keeps its 1 in f32); where that point lies beyond an end ball's reach
+// (|x| > h + 1), the point nearest that ball's centre instead (never far: clamping x along a
+// ray nearly across the axis would slide it by ~1/v.x, and Gumhold's quad, unlike Sigg's box,
+// has such rays beyond the ends); 0 for rays along the axis.
+fn capsule_slide(o: vec3<f32>, v: vec3<f32>, h: f32) -> f32 {
+    let a = dot(v.yz, v.yz);
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    let s = -dot(o.yz, v.yz) / a;
+    let x = o.x + s * v.x;
+    if abs(x) > h + 1.0 {
+        let end = vec3<f32>(select(-h, h, x > 0.0), 0.0, 0.0);
+        return -dot(o - end, v) / dot(v, v);
+    }
+    return s;
 }
 
 // The union of the two end balls' eq. 5 boxes, exact in front of the camera plane.

@@ -25,6 +25,10 @@ pub struct StabilityArgs {
     /// Only these methods (repeatable; default every GPU method).
     #[arg(long = "method")]
     pub methods: Vec<Method>,
+    /// Only the cases whose key starts with PREFIX (repeatable, e.g. `--case 2-anisotropy`;
+    /// default every case).
+    #[arg(long = "case", value_name = "PREFIX")]
+    pub cases: Vec<String>,
     /// Only these glyphs (repeatable; default every glyph).
     #[arg(long = "glyph", value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
     pub glyphs: Vec<GlyphKind>,
@@ -38,6 +42,7 @@ pub fn run(args: StabilityArgs) -> Result<()> {
     let gpu = GpuRenderer::new(ctx)?;
     let mut opts = Options {
         quick: args.quick,
+        cases: args.cases.clone(),
         ..Options::default()
     };
     if let Some(m) = args.methods.iter().find(|m| **m == Method::Reference) {

@@ -132,6 +132,15 @@ pub struct Options {
     pub glyphs: Vec<GlyphKind>,
     /// Only the regression subset (a few parameter values per case).
     pub quick: bool,
+    /// Only the cases whose key starts with one of these (empty: every case).
+    pub cases: Vec<String>,
+}
+
+impl Options {
+    /// Whether case `key` is run.
+    pub fn wants(&self, key: &str) -> bool {
+        self.cases.is_empty() || self.cases.iter().any(|c| key.starts_with(c.as_str()))
+    }
 }
 
 impl Default for Options {
@@ -140,6 +149,7 @@ impl Default for Options {
             methods: Method::gpu_methods(),
             glyphs: GlyphKind::VALUES.to_vec(),
             quick: false,
+            cases: Vec::new(),
         }
     }
 }
@@ -350,7 +360,8 @@ pub fn judge(rows: &mut [Row]) {
 pub fn run(gpu: Option<&GpuRenderer>, opts: &Options, mut progress: impl FnMut(&str)) -> Vec<Row> {
     let mut rows = Vec::new();
     if let Some(gpu) = gpu {
-        let probes = cases::all(opts.quick);
+        let mut probes = cases::all(opts.quick);
+        probes.retain(|p| opts.wants(p.case));
         for (k, p) in probes.iter().enumerate() {
             progress(&format!(
                 "[{}/{}] {} {}={}",
@@ -365,8 +376,14 @@ pub fn run(gpu: Option<&GpuRenderer>, opts: &Options, mut progress: impl FnMut(&
         judge(&mut rows);
     }
     progress("CPU probes: µ form, degeneracy, eigensolver");
-    rows.extend(cpu::mu_form(opts.quick));
-    rows.extend(cpu::degeneracy(opts.quick));
-    rows.extend(cpu::eigensolver(opts.quick));
+    if opts.wants("1-distance-mu") {
+        rows.extend(cpu::mu_form(opts.quick));
+    }
+    if opts.wants("10-degeneracy-sweep") {
+        rows.extend(cpu::degeneracy(opts.quick));
+    }
+    if opts.wants("11-eigensolver") {
+        rows.extend(cpu::eigensolver(opts.quick));
+    }
     rows
 }

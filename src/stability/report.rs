@@ -5,6 +5,7 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::Path;
 
+use super::cases::is_anisotropy;
 use super::{Row, Status};
 use crate::bench::chart::{Axes, Series, line_chart_png};
 
@@ -97,9 +98,8 @@ pub fn json_lines(rows: &[Row]) -> String {
 /// Chart plan per case: which metric, log axes.
 fn chart_spec(case: &str) -> Option<(&'static str, &'static str, bool)> {
     Some(match case {
-        "1-distance" | "2-anisotropy-cigar" | "2-anisotropy-pancake" | "7-large-world" => {
-            ("normal_err_deg_p99", "normal error p99, degrees", true)
-        }
+        "1-distance" | "7-large-world" => ("normal_err_deg_p99", "normal error p99, degrees", true),
+        c if is_anisotropy(c) => ("normal_err_deg_p99", "normal error p99, degrees", true),
         "1-distance-mu" => (
             "normal_err_deg_p99",
             "normal error p99, degrees (f32 twin)",
@@ -130,12 +130,8 @@ fn chart_spec(case: &str) -> Option<(&'static str, &'static str, bool)> {
 /// x as charted: log scale for decade sweeps (|ẽ| − 1 for the eye approach).
 fn x_of(r: &Row) -> (f64, bool) {
     match r.case {
-        "1-distance"
-        | "1-distance-mu"
-        | "2-anisotropy-cigar"
-        | "2-anisotropy-pancake"
-        | "8-sub-pixel"
-        | "11-eigensolver" => (r.value, true),
+        "1-distance" | "1-distance-mu" | "8-sub-pixel" | "11-eigensolver" => (r.value, true),
+        c if is_anisotropy(c) => (r.value, true),
         "7-large-world" => (r.value.max(1.0), true),
         "4-eye-approach" => (
             (r.value - 1.0).abs().max(1e-9) * (r.value - 1.0).signum(),

@@ -120,6 +120,32 @@ pub fn span(o: DVec3, v: DVec3, h: f64) -> Option<(f64, f64)> {
     ))
 }
 
+/// `capsule_slide`: how far along v the ray point nearest the axis lies from o, or, where that
+/// lies beyond an end ball's reach (|x| > h + 1), the point nearest that ball's centre; 0 for
+/// rays along the axis.
+pub fn slide(o: DVec3, v: DVec3, h: f64) -> f64 {
+    let a = v.y * v.y + v.z * v.z;
+    if a.is_nan() || a <= 0.0 {
+        return 0.0;
+    }
+    let s = -(o.y * v.y + o.z * v.z) / a;
+    let x = o.x + s * v.x;
+    if x.abs() > h + 1.0 {
+        let end = DVec3::new(if x > 0.0 { h } else { -h }, 0.0, 0.0);
+        return -(o - end).dot(v) / v.length_squared();
+    }
+    s
+}
+
+/// `shape_entry`: the entry t along o + t v, solved from the slid origin, and the normal there
+/// (capsule space); `None` where the shader discards.
+pub fn entry(o: DVec3, v: DVec3, h: f64) -> Option<(f64, DVec3)> {
+    let s = slide(o, v, h);
+    let o2 = o + s * v;
+    let (t, _) = span(o2, v, h)?;
+    Some((s + t, normal(o2 + t * v, h)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -171,7 +197,12 @@ mod tests {
             let v = v_point - eye;
             let o_t = o.transpose() * (v_point - c) / r;
             let v_t = o.transpose() * v / r;
-            let (t, _) = span(o_t, v_t, h).expect(id);
+            let (t, n_t) = entry(o_t, v_t, h).expect(id);
+            assert_eq!(
+                span(o_t, v_t, h).map(|s| (s.0 - t).abs() <= 1e-9 * t.abs().max(1.0)),
+                Some(true),
+                "{id}: the slid origin's entry is the ray's"
+            );
             let want = e["bounding_ellipsoid"]["t_quad"].as_f64().unwrap();
             assert!(
                 (t - want).abs() <= 1e-9 * want.abs().max(1e-3),
@@ -182,7 +213,7 @@ mod tests {
                 (p - v3(&e["point"])).length() <= 1e-9 * size,
                 "{id}: point {p}"
             );
-            let n = (o * normal(o_t + t * v_t, h)).normalize();
+            let n = (o * n_t).normalize();
             assert!((n - v3(&e["normal"])).length() <= 1e-9, "{id}: normal {n}");
             // depth(p) = depth(V) − (t' / (1 + t')) P[2][3] / w_V.
             let vp = m4(&e["proj_cols"]) * m4(&e["view_cols"]);
@@ -216,6 +247,20 @@ mod tests {
     }
 
     /// Span from inside (exit only forward), along the axis (no side root) and a miss.
+    /// A ray almost across the axis, beyond an end: the slide stays within the end ball's
+    /// distance (clamping x along it would slide it by ~1/v.x), and sliding changes no answer.
+    #[test]
+    fn slide_stays_near_the_glyph() {
+        let (v, h) = (DVec3::new(1e-9, 0.0, 1.0), 2.0);
+        let o = DVec3::new(5.0, 0.3, 0.0);
+        assert!(slide(o, v, h).abs() <= (o - DVec3::new(h, 0.0, 0.0)).length());
+        assert!(entry(o, v, h).is_none() && span(o, v, h).is_none());
+        let o = DVec3::new(2.5, 0.3, -4.0);
+        let (t, n) = entry(o, v, h).unwrap();
+        assert!((t - span(o, v, h).unwrap().0).abs() < 1e-12);
+        assert!((n.length() - 1.0).abs() < 1e-12);
+    }
+
     #[test]
     fn span_covers_rays_along_the_axis_and_misses() {
         // Along the axis from far away: enters the ball at −h, leaves the ball at +h.

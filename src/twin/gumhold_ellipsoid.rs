@@ -7,7 +7,8 @@ use glam::{DMat3, DMat4, DVec2, DVec3};
 /// Per-glyph quad set-up (the vertex stage before the corner is chosen).
 #[derive(Debug, Clone, Copy)]
 pub struct QuadSetup {
-    /// Perspective: e~ = T⁻¹(e − c); orthographic: d~ = T⁻¹ d.
+    /// Perspective: e~ = T⁻¹(e − c); orthographic: d~ = T⁻¹ d (T: any matrix with
+    /// T Tᵀ = O diag(r²) Oᵀ; the shader's is O diag(r)).
     pub e_t: DVec3,
     /// E = |e~| (perspective) or |d~| (orthographic).
     pub e_norm: f64,
@@ -93,7 +94,7 @@ pub struct FragmentResult {
     pub p_t: DVec3,
     /// World hit point (perspective: V − κ v; orthographic: V + τ d).
     pub point: DVec3,
-    /// Unit world normal T⁻¹ p~.
+    /// Unit world normal T⁻ᵀ p~ (T⁻¹ p~ when T is symmetric).
     pub normal: DVec3,
     /// Standard-Z depth of the hit point.
     pub depth: f64,
@@ -143,7 +144,7 @@ pub fn fragment(
         kappa,
         p_t,
         point,
-        normal: (*t_inv * p_t).normalize(),
+        normal: (t_inv.transpose() * p_t).normalize(),
         depth: clip.z / clip.w,
     })
 }
@@ -311,19 +312,13 @@ pub fn proxy_shape(
             None => return ProxyShape::None,
         }
     };
-    // The ellipsoid shader works with the symmetric T; the solids' shader in the glyph's local
-    // frame (A = O diag(r), so its quad is a different, equally valid square).
-    let (t, t_inv) = if ellipsoid {
-        (
-            geo.frame * DMat3::from_diagonal(radii) * geo.frame.transpose(),
-            geo.frame * DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
-        )
-    } else {
-        (
-            geo.frame * DMat3::from_diagonal(radii),
-            DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
-        )
-    };
+    // Both shaders work in the glyph's principal frame scaled per axis, T = O diag(r) (not the
+    // symmetric O diag(r) Oᵀ, whose f32 rounding mixes a thin axis's ×k components into the
+    // others): the quad is the square of that frame.
+    let (t, t_inv) = (
+        geo.frame * DMat3::from_diagonal(radii),
+        DMat3::from_diagonal(radii.recip()) * geo.frame.transpose(),
+    );
     let setup = if camera.is_ortho() {
         setup_orthographic(&t_inv, camera.forward())
     } else {
@@ -505,6 +500,27 @@ mod tests {
                 "{id}: depth {} vs {depth}",
                 f.depth
             );
+            // The shader's frame, T = O diag(r) (a different quad): the same hit, normal, depth.
+            let g = &case["glyph"];
+            let rot = DMat3::from_axis_angle(
+                v3(&g["rotation_axis"]).normalize(),
+                g["rotation_angle_rad"].as_f64().unwrap(),
+            );
+            let r = v3(&g["radii"]);
+            let (tp, tp_inv) = (
+                rot * DMat3::from_diagonal(r),
+                DMat3::from_diagonal(r.recip()) * rot.transpose(),
+            );
+            let sp = if ortho {
+                setup_orthographic(&tp_inv, forward)
+            } else {
+                setup_perspective(&tp_inv, c, eye).expect(id)
+            };
+            let qp = sp.q_of_ray(tp_inv * (o - c), tp_inv * d);
+            let fp = fragment(&sp, &tp, &tp_inv, c, &k, qp).expect(id);
+            close(fp.point - c, v3(&e["point"]) - c, 1e-7 * size, id);
+            close(fp.normal, v3(&e["normal"]), 1e-7, id);
+            assert!((fp.depth - depth).abs() <= 1e-8, "{id}: principal depth");
             checked += 1;
         }
         assert_eq!(checked, 10, "every ellipsoid case");

@@ -14,6 +14,7 @@ mod check;
 mod scenes;
 
 mod effects;
+mod extremes;
 mod figures;
 mod gumhold;
 mod kinds;

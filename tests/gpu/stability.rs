@@ -26,6 +26,7 @@ fn quick_suite_has_no_failures() {
         methods: vec![Method::Gumhold, Method::Sigg, Method::Mesh(2), Method::Box],
         glyphs: GlyphKind::VALUES.to_vec(),
         quick: true,
+        cases: Vec::new(),
     };
     let rows = stability::run(Some(&gpu), &opts, |_| {});
     assert!(rows.len() > 100, "{} rows", rows.len());

@@ -16,7 +16,7 @@ pub use degenerate::{Eigen, degenerate, degenerate_tensors, glyph_from_tensor, s
 pub use limits::documented_limit;
 pub use probe::{H, Probe, W, oblique};
 pub use superquadric::{class_boundary, indefinite, indefinite_tensors, sharpness};
-pub use surface::{anisotropy, eye_approach, grazing, intersecting, sub_pixel};
+pub use surface::{anisotropy, eye_approach, grazing, intersecting, is_anisotropy, sub_pixel};
 pub use view::{camera_edges, distance, large_world, orthographic};
 
 /// Every GPU probe of the suite.

@@ -4,33 +4,93 @@
 
 use glam::{DQuat, DVec3};
 
-use super::probe::{H, Probe, fitted, look, oblique, probe, spec, sweep};
+use super::probe::{H, Probe, fitted, look, oblique, ortho, probe, spec, sweep};
 use crate::camera::Projection;
 use crate::scene::{GlyphSpec, Scene};
 
+/// Case 2's variants: (case, cigar, view, pair). The views: perspective from 4 radii (`close`),
+/// from 400 radii with the same image size of the glyph (`far`), orthographic; `pair`: a second
+/// glyph of the same shape, turned, passing through the first.
+const ANISOTROPY: [(&str, bool, AnisoView, bool); 10] = [
+    ("2-anisotropy-cigar", true, AnisoView::Close, false),
+    ("2-anisotropy-pancake", false, AnisoView::Close, false),
+    ("2-anisotropy-cigar-far", true, AnisoView::Far, false),
+    ("2-anisotropy-pancake-far", false, AnisoView::Far, false),
+    ("2-anisotropy-cigar-ortho", true, AnisoView::Ortho, false),
+    ("2-anisotropy-pancake-ortho", false, AnisoView::Ortho, false),
+    ("2-anisotropy-cigar-pair", true, AnisoView::Close, true),
+    ("2-anisotropy-pancake-pair", false, AnisoView::Close, true),
+    (
+        "2-anisotropy-cigar-pair-ortho",
+        true,
+        AnisoView::Ortho,
+        true,
+    ),
+    (
+        "2-anisotropy-pancake-pair-ortho",
+        false,
+        AnisoView::Ortho,
+        true,
+    ),
+];
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum AnisoView {
+    Close,
+    Far,
+    Ortho,
+}
+
+/// Whether `case` is one of case 2's anisotropy sweeps.
+pub fn is_anisotropy(case: &str) -> bool {
+    ANISOTROPY.iter().any(|a| a.0 == case)
+}
+
 /// Case 2: anisotropy with no min-radius clamp: cigars k:1:1 and pancakes 1:1:1/k (largest
-/// radius 1), oblique.
+/// radius 1), oblique; single and passing through a turned twin, in perspective from near and
+/// far and orthographic. k = 1e7 and 1e8 lie beyond 2²⁴ (the glyph is culled: thinner than
+/// f32 can place at its own scale).
 pub fn anisotropy(quick: bool) -> Vec<Probe> {
     let ks = sweep(
         quick,
         &[1.0, 10.0, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8],
         &[1.0, 1e6],
     );
+    let dir = DVec3::new(-1.0, 1.0, -1.0).normalize();
+    let turned = DQuat::from_axis_angle(DVec3::new(-0.6, 0.2, 0.7).normalize(), 0.9) * oblique();
     let mut out = Vec::new();
-    for (case, cigar) in [
-        ("2-anisotropy-cigar", true),
-        ("2-anisotropy-pancake", false),
-    ] {
+    for (case, cigar, view, pair) in ANISOTROPY {
+        if quick && (pair || view == AnisoView::Far) && case.contains("cigar") {
+            continue;
+        }
         for &k in &ks {
             let radii = if cigar {
                 DVec3::new(1.0, 1.0 / k, 1.0 / k)
             } else {
                 DVec3::new(1.0, 1.0, 1.0 / k)
             };
-            let scene =
-                Scene::from_specs(&[spec(DVec3::ZERO, oblique(), radii, [60, 200, 90, 255])]);
-            let dir = DVec3::new(-1.0, 1.0, -1.0).normalize();
-            let cam = look(&scene, -dir * 4.0, DVec3::ZERO, 40.0);
+            let mut specs = vec![spec(DVec3::ZERO, oblique(), radii, [60, 200, 90, 255])];
+            if pair {
+                specs.push(spec(
+                    DVec3::new(0.15, -0.1, 0.2),
+                    turned,
+                    radii,
+                    [220, 90, 60, 255],
+                ));
+            }
+            let scene = Scene::from_specs(&specs);
+            let cam = match view {
+                AnisoView::Close => look(&scene, -dir * 4.0, DVec3::ZERO, 40.0),
+                AnisoView::Far => look(
+                    &scene,
+                    -dir * 400.0,
+                    DVec3::ZERO,
+                    2.0 * (4.0f64 * 20f64.to_radians().tan() / 400.0)
+                        .atan()
+                        .to_degrees(),
+                ),
+                AnisoView::Ortho => ortho(&scene, dir, DVec3::Z, 3.0),
+            };
             out.push(probe(case, "anisotropy k", k, scene, cam));
         }
     }

@@ -1,0 +1,152 @@
+//! Thin discs and long needles (issue 37) as a user renders them: `render --reference-check`
+//! on tests/data/extremes (discs k = 1e5, needles k = 1e4, and a mix of both at k = 1e3 … 1e6,
+//! each glyph passing through its neighbours), ellipsoids with `--min-radius 0`, in the three
+//! views of the issue, held to the targets against the exact f64 reference: coverage ≤ 1e-3,
+//! id ≤ 1e-3, depth p99 ≤ 1e-4 of the largest radius, normal p99 ≤ 0.5° — where they are met
+//! (the rows and the reasons for the others: docs/book/src/results/accuracy.md).
+
+use crate::cli::{json, stderr, tg};
+
+/// The issue's three views.
+const VIEWS: [&[&str]; 3] = [
+    &[],
+    &["--zoom", "6", "--azimuth", "17", "--elevation", "-23"],
+    &["--ortho", "--view", "+x"],
+];
+
+/// A bound per metric, in `render --json`'s names.
+struct Bounds {
+    coverage: f64,
+    id: f64,
+    depth: f64,
+    normal_deg: f64,
+}
+
+/// The issue's targets.
+const TARGETS: Bounds = Bounds {
+    coverage: 1e-3,
+    id: 1e-3,
+    depth: 1e-4,
+    normal_deg: 0.5,
+};
+
+/// Needles: depth, id and coverage as [`TARGETS`]; normals bounded by 6°, not 0.5°. A needle of
+/// radius 8e-5 is thinner than a pixel (12 to 84 pixels in these views, so the p99 is the worst
+/// pixel, next to a rim), and f32 places the pixel's ray across it only to ~2⁻²⁴ of the eye's
+/// distance (1e-6 at 13 units, 1 % of its section): 2.8–5° measured, both ray casters.
+const NEEDLES: Bounds = Bounds {
+    normal_deg: 6.0,
+    ..TARGETS
+};
+
+/// `render` of `file` (tests/data/extremes) in view `view` with `method` (and `preset`), drawn
+/// as `glyph`, held to `b`.
+fn check(file: &str, view: &[&str], glyph: &str, method: &str, preset: Option<&str>, b: &Bounds) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let input = format!("tests/data/extremes/{file}");
+    let mut args = vec![
+        "render",
+        input.as_str(),
+        "--glyph",
+        glyph,
+        "--scale",
+        "0.8",
+        "--min-radius",
+        "0",
+        "--method",
+        method,
+        "--size",
+        "400x300",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+        "--reference-check",
+        "-q",
+    ];
+    if let Some(p) = preset {
+        args.extend_from_slice(&["--preset", p]);
+    }
+    args.extend_from_slice(view);
+    let r = tg(&args);
+    assert!(r.status.success(), "{args:?}: {}", stderr(&r));
+    let j = json(&r);
+    let name = format!("{file} {view:?} {glyph} {method} {preset:?}");
+    assert!(j["covered_pixels"].as_u64().unwrap() > 10, "{name}: {j}");
+    let v = |k: &str| j[k].as_f64().unwrap_or(f64::NAN);
+    eprintln!(
+        "{name}: coverage {:.2e} id {:.2e} depth p99 {:.2e} normal p99 {:.3}°",
+        v("coverage_mismatch"),
+        v("id_mismatch"),
+        v("depth_err_rel_p99"),
+        v("normal_err_deg_p99")
+    );
+    for (key, bound) in [
+        ("coverage_mismatch", b.coverage),
+        ("id_mismatch", b.id),
+        ("depth_err_rel_p99", b.depth),
+        ("normal_err_deg_p99", b.normal_deg),
+    ] {
+        assert!(v(key) <= bound, "{name}: {key} {} > {bound}", v(key));
+    }
+}
+
+/// Ellipsoid discs (k = 1e5) and the mixed field (k up to 1e6) in every view, by Gumhold's
+/// default path (splats from the prepass), every glyph drawn, and Sigg's: before the
+/// principal frame Gumhold's discs had depth p99 3e-3 and wrong glyphs 2e-3.
+#[test]
+fn ellipsoid_discs_meet_the_targets() {
+    if crate::check::gpu().is_none() {
+        return;
+    }
+    for file in ["discs.vtk", "mixed.vtk"] {
+        for view in VIEWS {
+            check(file, view, "ellipsoid", "gumhold", None, &TARGETS);
+            check(
+                file,
+                view,
+                "ellipsoid",
+                "gumhold",
+                Some("baseline"),
+                &TARGETS,
+            );
+            check(file, view, "ellipsoid", "sigg", None, &TARGETS);
+        }
+    }
+}
+
+/// The other kinds on the mixed field, both ray casters.
+#[test]
+fn other_kinds_meet_the_targets_on_the_mixed_field() {
+    if crate::check::gpu().is_none() {
+        return;
+    }
+    for glyph in ["cylinder", "capsule", "superquadric"] {
+        for view in VIEWS {
+            check("mixed.vtk", view, glyph, "gumhold", None, &TARGETS);
+            check("mixed.vtk", view, glyph, "sigg", None, &TARGETS);
+        }
+    }
+}
+
+/// Needles (k = 1e4) as ellipsoids: [`NEEDLES`]; and as Gumhold's capsules seen
+/// orthographically, whose ray solved from its point nearest the centre lost the needle's
+/// section in f32 (normal p99 72°, now 1.0° with capsule_slide, as Sigg's).
+#[test]
+fn needles_within_their_bounds() {
+    if crate::check::gpu().is_none() {
+        return;
+    }
+    for view in VIEWS {
+        check("needles.vtk", view, "ellipsoid", "gumhold", None, &NEEDLES);
+        check("needles.vtk", view, "ellipsoid", "sigg", None, &NEEDLES);
+    }
+    check(
+        "needles.vtk",
+        VIEWS[2],
+        "capsule",
+        "gumhold",
+        None,
+        &NEEDLES,
+    );
+}
