@@ -3,6 +3,10 @@
 // unlit), glyph id, aux (view normal) and depth. The f64 twins: src/effects/shade.rs (shading),
 // src/effects/outline.rs (the edge filter), the reference's shadow rays.
 // Keep `Effects` in sync with EffectsUniform in src/render/effects.rs.
+//
+// Composed after common.wgsl and the scene's shape files (src/render/effects.rs,
+// composite_source), whose group 0 (camera, glyphs) the pass binds as a glyph method does: in a
+// penumbra the pass casts the exact shadow ray against the glyphs the shadow map names there.
 
 struct Effects {
     // View space from the eye's clip space.
@@ -23,21 +27,27 @@ struct Effects {
     viewport: vec4<f32>,
     // x: outline reach in samples, y: shadow map side, z: PCF radius, w: flags (FLAG_*).
     params: vec4<u32>,
+    // World (relative to the scene origin) from the eye's view space.
+    view_to_world: mat4x4<f32>,
+    // xyz: unit direction towards the key light (world); w unused.
+    key_world: vec4<f32>,
 }
 
 const FLAG_ORTHO: u32 = 1u;
 const FLAG_ADAPTIVE: u32 = 2u;
 const FLAG_OUTLINES: u32 = 4u;
 const FLAG_SHADOWS: u32 = 8u;
+// The glyph group is bound with every glyph of the scene: penumbrae are re-tested exactly.
+const FLAG_EXACT: u32 = 16u;
 
-@group(0) @binding(0) var<uniform> fx: Effects;
-@group(0) @binding(1) var albedo: texture_2d<f32>;
-@group(0) @binding(2) var ids: texture_2d<u32>;
-@group(0) @binding(3) var aux: texture_2d<f32>;
-@group(0) @binding(4) var depth: texture_depth_2d;
-@group(0) @binding(5) var shadow_map: texture_depth_2d;
+@group(1) @binding(0) var<uniform> fx: Effects;
+@group(1) @binding(1) var albedo: texture_2d<f32>;
+@group(1) @binding(2) var ids: texture_2d<u32>;
+@group(1) @binding(3) var aux: texture_2d<f32>;
+@group(1) @binding(4) var depth: texture_depth_2d;
+@group(1) @binding(5) var shadow_map: texture_depth_2d;
 // The glyph (instance + 1) nearest the light in each texel.
-@group(0) @binding(6) var shadow_ids: texture_2d<u32>;
+@group(1) @binding(6) var shadow_ids: texture_2d<u32>;
 
 @vertex
 fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -96,20 +106,46 @@ fn is_outline(px: vec2<i32>, id: u32, distance: f32) -> bool {
     return g_n > fx.edges.x || g_d > fx.edges.y;
 }
 
-// 1 where the shadow map sees the point (offset along its normal), or sees the point's own
-// glyph there: a convex glyph shadows itself only where it faces away from the light, which the
-// caller decides exactly, so its own texels never shadow it (no acne at any slope).
-fn tap(texel: vec2<i32>, offset: vec2<i32>, z: f32, own: u32) -> f32 {
+// The glyph (instance + 1) whose texel shadows a point at light depth z, or 0: the map sees the
+// point there, or sees the point's own glyph (a convex glyph shadows itself only where it faces
+// away from the light, which the caller decides exactly, so its own texels never shadow it: no
+// acne at any slope).
+fn tap(texel: vec2<i32>, offset: vec2<i32>, z: f32, own: u32) -> u32 {
     let size = i32(fx.params.y);
     let q = clamp(texel + offset, vec2<i32>(0), vec2<i32>(size - 1));
-    let lit = z <= textureLoad(shadow_map, q, 0) || textureLoad(shadow_ids, q, 0).r == own;
-    return select(0.0, 1.0, lit);
+    let caster = textureLoad(shadow_ids, q, 0).r;
+    if z <= textureLoad(shadow_map, q, 0) || caster == own {
+        return 0u;
+    }
+    return caster;
+}
+
+fn lit_tap(texel: vec2<i32>, offset: vec2<i32>, z: f32, own: u32) -> f32 {
+    return select(0.0, 1.0, tap(texel, offset, z, own) == 0u);
+}
+
+// Set where the shape code (composed before this file) would discard: a missed shadow ray.
+var<private> shadow_missed: bool;
+
+// Whether glyph `instance` lies on the ray from `p` (world, relative to the scene origin)
+// towards the light `l`: the shape's own entry (shape_entry, as Gumhold's solids cast it) in its
+// parameter space.
+fn blocks_light(instance: u32, p: vec3<f32>, l: vec3<f32>) -> bool {
+    shadow_missed = false;
+    let g = load_glyph(instance);
+    let o = quat_to_mat3(g.rotation);
+    let solid = shape_of(g, instance);
+    let ot = transpose(o);
+    let e = shape_entry((ot * (p - g.centre)) / solid.scale, (ot * l) / solid.scale, solid.shape, 0.0);
+    return !shadow_missed && e.x > 0.0;
 }
 
 // How lit the key light leaves a point: percentage-closer filtering over (2r+1)² texels placed
 // at the point's exact position in the map (the kernel's edge texels weighted by their
 // overlap, bilinearly), or, with the adaptive test, over the kernel's corners and centre where
-// those agree.
+// those agree. In a penumbra the map knows the shadow's edge only to a texel; the exact shadow
+// ray against the casters the kernel saw decides which side of one half the point falls, and
+// the filter keeps its softness on that side.
 fn lit_fraction(p_view: vec3<f32>, nk: f32, own: u32) -> f32 {
     let q = fx.view_to_light * vec4<f32>(p_view, 1.0);
     let c = q.xyz / q.w;
@@ -126,23 +162,59 @@ fn lit_fraction(p_view: vec3<f32>, nk: f32, own: u32) -> f32 {
     let tan_theta = min(sqrt(max(1.0 - nk * nk, 0.0)) / max(nk, 1e-6), 8.0);
     let z = c.z - fx.edges.w * (1.0 + f32(r + 1) * tan_theta);
     if has(FLAG_ADAPTIVE) {
-        let probe = tap(texel, vec2<i32>(-r, -r), z, own) + tap(texel, vec2<i32>(r + 1, -r), z, own)
-            + tap(texel, vec2<i32>(-r, r + 1), z, own) + tap(texel, vec2<i32>(r + 1, r + 1), z, own)
-            + tap(texel, vec2<i32>(0, 0), z, own);
-        if probe == 0.0 || probe == 5.0 {
+        let probe = lit_tap(texel, vec2<i32>(-r, -r), z, own) + lit_tap(texel, vec2<i32>(r + 1, -r), z, own)
+            + lit_tap(texel, vec2<i32>(-r, r + 1), z, own) + lit_tap(texel, vec2<i32>(r + 1, r + 1), z, own)
+            + lit_tap(texel, vec2<i32>(0, 0), z, own);
+        // Wholly lit by the probe: done. Wholly shadowed: done if the centre's caster does
+        // shadow the point exactly; else the point may lie in a gap narrower than a texel,
+        // which the whole kernel and its casters decide below.
+        if probe == 5.0 || (probe == 0.0 && !has(FLAG_EXACT)) {
             return probe / 5.0;
+        }
+        if probe == 0.0 {
+            let p = (fx.view_to_world * vec4<f32>(p_view, 1.0)).xyz;
+            if blocks_light(tap(texel, vec2<i32>(0, 0), z, own) - 1u, p, fx.key_world.xyz) {
+                return 0.0;
+            }
         }
     }
     var sum = 0.0;
+    var weight = 0.0;
+    // The casters the kernel saw, a few distinct ones (neighbouring texels mostly repeat one).
+    var casters = array<u32, 8>(0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    var found = 0u;
     for (var j = -r; j <= r + 1; j++) {
         let wy = select(select(1.0, t.y, j == r + 1), 1.0 - t.y, j == -r);
         for (var i = -r; i <= r + 1; i++) {
             let wx = select(select(1.0, t.x, i == r + 1), 1.0 - t.x, i == -r);
-            sum += wx * wy * tap(texel, vec2<i32>(i, j), z, own);
+            let caster = tap(texel, vec2<i32>(i, j), z, own);
+            if caster == 0u {
+                sum += wx * wy;
+            } else if found < 8u {
+                var seen = false;
+                for (var k = 0u; k < found; k++) {
+                    seen = seen || casters[k] == caster;
+                }
+                if !seen {
+                    casters[found] = caster;
+                    found++;
+                }
+            }
+            weight += wx * wy;
         }
     }
-    let side = f32(2 * r + 1);
-    return sum / (side * side);
+    let soft = sum / weight;
+    if !has(FLAG_EXACT) || found == 0u {
+        return soft;
+    }
+    let p = (fx.view_to_world * vec4<f32>(p_view, 1.0)).xyz;
+    // Kept a little off one half, which the 8-bit effects target would round either way.
+    for (var k = 0u; k < found; k++) {
+        if blocks_light(casters[k] - 1u, p, fx.key_world.xyz) {
+            return min(soft, 0.45);
+        }
+    }
+    return max(soft, 0.55);
 }
 
 struct Out {

@@ -554,8 +554,8 @@ pub struct EffectArgs {
     /// viewer); default above-left of the camera, -0.5,0.8,0.35.
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_light)]
     pub light: Option<[f64; 3]>,
-    /// Shadow map side in texels (default: the power of two at or above twice the image's
-    /// longer side in samples, 1024 to 4096).
+    /// Shadow map side in texels; the map is fitted to the part of the field the view shows
+    /// (default: as many texels as the image has samples, at least 512²).
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(64..=8192))]
     pub shadow_map: Option<u32>,

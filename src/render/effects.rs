@@ -7,11 +7,14 @@
 //! 2. the colour target is copied out as the base colour;
 //! 3. one full-screen pass (`shaders/composite.wgsl`) shades every covered pixel once, with the
 //!    outline filter and percentage-closer filtered shadows, and writes each pixel's lit
-//!    fraction and outline state to a small target the accuracy check reads back.
+//!    fraction and outline state to a small target the accuracy check reads back. In a
+//!    penumbra it casts the exact shadow ray against the glyphs the map names there, with the
+//!    scene's own shape code: the pass is composed per glyph kind and binds the glyph group.
 //!
 //! The per-size textures are kept between frames (the viewer draws many at one size).
 
-use std::sync::{Arc, Mutex, OnceLock};
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 use bytemuck::{Pod, Zeroable};
 
@@ -21,10 +24,24 @@ use crate::error::RenderError;
 use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording};
 use crate::render::scene_buffers::SceneBuffers;
+use crate::render::shaders::{COMMON, SCREEN_BOX};
 use crate::render::targets::{COLOR_FORMAT, TargetViews, Targets};
-use crate::request::{FrameRequest, UnderlayView};
+use crate::request::{FrameRequest, GlyphKind, UnderlayView};
 
 pub const SHADER: &str = include_str!("../../shaders/effects/composite.wgsl");
+
+/// The composite pass for glyphs of `kind`: common.wgsl, the screen box and the kind's shape
+/// files, then composite.wgsl. WGSL has no exceptions, so the shape code's `discard`s (a
+/// glyph method's miss ends the fragment) become `shadow_missed = true` here: a miss ends one
+/// shadow ray, not the pixel, and the ray is cast by the very code that draws the glyph.
+pub fn composite_source(kind: GlyphKind) -> String {
+    let mut shape = vec![COMMON, SCREEN_BOX];
+    shape.extend(kind.shape().wgsl());
+    let shape = shape
+        .join("\n")
+        .replace("discard;", "shadow_missed = true;");
+    format!("{shape}\n{SHADER}")
+}
 
 /// Each pixel's lit fraction (r) and outline state (g).
 pub const EFFECTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
@@ -41,15 +58,18 @@ pub struct EffectsUniform {
     pub edges: [f32; 4],
     pub viewport: [f32; 4],
     pub params: [u32; 4],
+    pub view_to_world: [[f32; 4]; 4],
+    pub key_world: [f32; 4],
 }
 
-pub const EFFECTS_UNIFORM_SIZE: usize = 224;
+pub const EFFECTS_UNIFORM_SIZE: usize = 304;
 const _: () = assert!(std::mem::size_of::<EffectsUniform>() == EFFECTS_UNIFORM_SIZE);
 
 const FLAG_ORTHO: u32 = 1;
 const FLAG_ADAPTIVE: u32 = 2;
 const FLAG_OUTLINES: u32 = 4;
 const FLAG_SHADOWS: u32 = 8;
+const FLAG_EXACT: u32 = 16;
 
 /// Shadow lookups compare one texel's depth nearer (more where the surface slopes away from the
 /// light, see composite.wgsl), for glyphs that touch. A glyph's own texels never shadow it (the
@@ -58,12 +78,14 @@ const FLAG_SHADOWS: u32 = 8;
 const DEPTH_BIAS_TEXELS: f64 = 1.0;
 
 impl EffectsUniform {
-    /// The uniform of a frame of `camera` (and the key light's `light` camera, with shadows).
+    /// The uniform of a frame of `camera` (and the key light's `light` camera, with shadows;
+    /// `exact`: the pass binds every glyph, so penumbrae are re-tested by exact shadow rays).
     pub fn new(
         camera: &Camera,
         light: Option<&Camera>,
         origin: glam::DVec3,
         req: &FrameRequest,
+        exact: bool,
     ) -> Self {
         let fx = &req.effects;
         let m = |m: glam::DMat4| m.as_mat4().to_cols_array_2d();
@@ -80,8 +102,14 @@ impl EffectsUniform {
         ];
         let mut params = [0, 1, 0, 0];
         let mut view_to_light = [[0.0; 4]; 4];
+        let mut key_world = [0.0; 4];
         if let (Some(s), Some(light)) = (&fx.shadows, light) {
             flags |= FLAG_SHADOWS;
+            if exact {
+                flags |= FLAG_EXACT;
+            }
+            let w = light::world_direction(camera, s);
+            key_world = [w.x as f32, w.y as f32, w.z as f32, 0.0];
             if s.adaptive {
                 flags |= FLAG_ADAPTIVE;
             }
@@ -124,6 +152,8 @@ impl EffectsUniform {
                 1.0 / camera.height as f32,
             ],
             params,
+            view_to_world: m(camera.view(origin).inverse()),
+            key_world,
         }
     }
 }
@@ -141,10 +171,12 @@ pub(crate) struct EffectsTextures {
     uniform: wgpu::Buffer,
 }
 
-/// The composite pipeline and the textures of the last size drawn; long-lived in the renderer.
+/// The composite pipelines (one per glyph kind, built on first use) and the textures of the
+/// last size drawn; long-lived in the renderer.
 pub struct EffectsPipeline {
     layout: wgpu::BindGroupLayout,
-    pipeline: OnceLock<wgpu::RenderPipeline>,
+    glyph_group: wgpu::BindGroupLayout,
+    pipelines: Mutex<HashMap<GlyphKind, wgpu::RenderPipeline>>,
     textures: Mutex<Option<Arc<EffectsTextures>>>,
 }
 
@@ -162,7 +194,8 @@ fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::Bi
 }
 
 impl EffectsPipeline {
-    pub fn new(ctx: &GpuContext) -> Self {
+    /// `glyph_group`: the glyph methods' group 0, which the pass binds for its shadow rays.
+    pub fn new(ctx: &GpuContext, glyph_group: &wgpu::BindGroupLayout) -> Self {
         use wgpu::TextureSampleType as T;
         let layout = ctx
             .device
@@ -184,45 +217,49 @@ impl EffectsPipeline {
             });
         Self {
             layout,
-            pipeline: OnceLock::new(),
+            glyph_group: glyph_group.clone(),
+            pipelines: Mutex::new(HashMap::new()),
             textures: Mutex::new(None),
         }
     }
 
-    fn pipeline(&self, ctx: &GpuContext) -> &wgpu::RenderPipeline {
-        self.pipeline.get_or_init(|| {
-            let device = &ctx.device;
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("composite.wgsl"),
-                source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-            });
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("composite"),
-                bind_group_layouts: &[Some(&self.layout)],
-                immediate_size: 0,
-            });
-            ctx.pipelines.render(&wgpu::RenderPipelineDescriptor {
-                label: Some("composite"),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs_full"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
-                depth_stencil: None,
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some("fs_composite"),
-                    compilation_options: Default::default(),
-                    targets: &[Some(COLOR_FORMAT.into()), Some(EFFECTS_FORMAT.into())],
-                }),
-                multiview_mask: None,
-                cache: None,
+    fn pipeline(&self, ctx: &GpuContext, kind: GlyphKind) -> wgpu::RenderPipeline {
+        let mut map = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
+        map.entry(kind)
+            .or_insert_with(|| {
+                let device = &ctx.device;
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("composite.wgsl"),
+                    source: wgpu::ShaderSource::Wgsl(composite_source(kind).into()),
+                });
+                let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("composite"),
+                    bind_group_layouts: &[Some(&self.glyph_group), Some(&self.layout)],
+                    immediate_size: 0,
+                });
+                ctx.pipelines.render(&wgpu::RenderPipelineDescriptor {
+                    label: Some("composite"),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_full"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: Default::default(),
+                    depth_stencil: None,
+                    multisample: Default::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("fs_composite"),
+                        compilation_options: Default::default(),
+                        targets: &[Some(COLOR_FORMAT.into()), Some(EFFECTS_FORMAT.into())],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
             })
-        })
+            .clone()
     }
 
     /// The textures for `size` and `map_size`, made anew when either changed.
@@ -341,7 +378,10 @@ impl EffectsPipeline {
                 encoder,
             );
         }
-        let uniform = EffectsUniform::new(camera, light.as_ref(), buffers.origin(), req);
+        // One chunk holds every glyph the map can name; a scene split into chunks keeps the
+        // filter's answer.
+        let exact = buffers.chunks.len() == 1;
+        let uniform = EffectsUniform::new(camera, light.as_ref(), buffers.origin(), req, exact);
         ctx.queue
             .write_buffer(&textures.uniform, 0, bytemuck::bytes_of(&uniform));
         let (w, h) = views.size;
@@ -409,8 +449,9 @@ impl EffectsPipeline {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(self.pipeline(ctx));
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_pipeline(&self.pipeline(ctx, buffers.kind));
+        pass.set_bind_group(0, &buffers.chunks[0].bind_group, &[]);
+        pass.set_bind_group(1, &group, &[]);
         pass.draw(0..3, 0..1);
         drop(pass);
         Ok(textures)
@@ -423,10 +464,13 @@ mod tests {
 
     #[test]
     fn the_shader_validates_and_its_uniform_matches() {
-        if let Err(e) = crate::render::shaders::validate(SHADER) {
-            panic!("composite.wgsl does not validate:\n{e}");
+        for &kind in GlyphKind::VALUES {
+            if let Err(e) = crate::render::shaders::validate(&composite_source(kind)) {
+                panic!("composite.wgsl for {kind} does not validate:\n{e}");
+            }
         }
-        let module = crate::render::shaders::parse(SHADER).expect("parses");
+        let module =
+            crate::render::shaders::parse(&composite_source(GlyphKind::Ellipsoid)).expect("parses");
         let (_, ty) = module
             .types
             .iter()
@@ -445,6 +489,8 @@ mod tests {
             ("edges", offset_of!(EffectsUniform, edges)),
             ("viewport", offset_of!(EffectsUniform, viewport)),
             ("params", offset_of!(EffectsUniform, params)),
+            ("view_to_world", offset_of!(EffectsUniform, view_to_world)),
+            ("key_world", offset_of!(EffectsUniform, key_world)),
         ];
         let wgsl: Vec<(String, usize)> = members
             .iter()

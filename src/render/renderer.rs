@@ -41,7 +41,7 @@ impl GpuRenderer {
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let layouts = GlyphLayouts::new(&ctx);
         let underlay = UnderlayPipeline::new(&ctx);
-        let effects = EffectsPipeline::new(&ctx);
+        let effects = EffectsPipeline::new(&ctx, &layouts.group);
         if let Some(e) = ctx.scope_error(scope, "creating the pipeline layout") {
             return Err(RenderError::Gpu(e));
         }

@@ -14,7 +14,7 @@ use crate::shape::GlyphKind;
 
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 const OUTPUTS: &str = include_str!("../../shaders/outputs.wgsl");
-const SCREEN_BOX: &str = include_str!("../../shaders/shape/screen_box.wgsl");
+pub(crate) const SCREEN_BOX: &str = include_str!("../../shaders/shape/screen_box.wgsl");
 const GUMHOLD_ELLIPSOID: &str = include_str!("../../shaders/method/gumhold_ellipsoid.wgsl");
 const GUMHOLD_SOLID: &str = include_str!("../../shaders/method/gumhold_solid.wgsl");
 const SIGG: &str = include_str!("../../shaders/method/sigg.wgsl");

@@ -224,7 +224,7 @@ fn the_command_line_renders_beyond_the_texture_limit() {
 }
 
 /// Outlines and shadows run on across tile seams: each tile draws the same shadow map (the
-/// light frames the whole scene) and filters outlines within its margin.
+/// light frames what the whole image sees) and filters outlines within its margin.
 #[test]
 fn tiled_effects_equal_whole_effects() {
     use tensorglyph::effects::{Effects, Outlines, Shadows};
