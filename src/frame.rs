@@ -15,8 +15,9 @@ pub struct Frame {
     /// (where `ids` is non-zero).
     pub aux: Option<Vec<[f32; 4]>>,
     /// With effects and aux: per pixel how lit it is by the key light (1 lit, 0 in shadow; 1
-    /// without shadows) and its outline state (1 on an outline), for the accuracy check.
-    pub effects: Option<Vec<[f32; 2]>>,
+    /// without shadows), its outline state (1 on an outline) and its open fraction of the sky
+    /// (ambient occlusion; 1 without it), for the accuracy check.
+    pub effects: Option<Vec<[f32; 3]>>,
     /// Wall-clock time of each frame, submit to completion.
     pub frame_ms: Vec<f64>,
     /// Fragment-shader invocations of one frame (pipeline statistics), where available.

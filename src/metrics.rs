@@ -34,6 +34,12 @@ pub struct Accuracy {
     /// exact hard shadow by more than 0.5 (a penumbra's softness is not counted as error).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shadow_mismatch: Option<f64>,
+    /// With ambient occlusion: the mean and the 95th percentile of |open fraction − the exact
+    /// one| on pixels covered in both (the GPU's is an estimate, [`crate::effects::ao`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ao_error_mean: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ao_error_p95: Option<f64>,
 }
 
 /// Compare `frame` with `reference` (same size; both need aux data for depth and normal).
@@ -103,6 +109,8 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         same_glyph_pixels: same,
         outline_mismatch: None,
         shadow_mismatch: None,
+        ao_error_mean: None,
+        ao_error_p95: None,
     }
 }
 
@@ -114,7 +122,7 @@ impl Accuracy {
             return self;
         };
         let n = a.len().min(b.len());
-        let outlined = |e: &[f32; 2]| e[1] > 0.5;
+        let outlined = |e: &[f32; 3]| e[1] > 0.5;
         let outline = (0..n)
             .filter(|&k| outlined(&a[k]) != outlined(&b[k]))
             .count();
@@ -125,9 +133,21 @@ impl Accuracy {
             .iter()
             .filter(|&&k| (a[k][0] - b[k][0]).abs() > 0.5)
             .count();
+        let mut ao: Vec<f64> = covered
+            .iter()
+            .map(|&k| f64::from((a[k][2] - b[k][2]).abs()))
+            .collect();
+        ao.sort_by(f64::total_cmp);
+        let mean = ao.iter().sum::<f64>() / ao.len().max(1) as f64;
+        let p95 = ao
+            .get((ao.len() * 95).div_ceil(100).saturating_sub(1))
+            .copied()
+            .unwrap_or(0.0);
         Self {
             outline_mismatch: effects.outlines.map(|_| ratio(outline, n)),
             shadow_mismatch: effects.shadows.map(|_| ratio(shadow, covered.len())),
+            ao_error_mean: effects.ao.map(|_| mean),
+            ao_error_p95: effects.ao.map(|_| p95),
             ..self
         }
     }

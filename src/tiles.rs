@@ -188,7 +188,9 @@ impl Tiling {
                 }
             }
             if let Some(e) = &part.effects {
-                let effects = out.effects.get_or_insert_with(|| vec![[1.0, 0.0]; pixels]);
+                let effects = out
+                    .effects
+                    .get_or_insert_with(|| vec![[1.0, 0.0, 1.0]; pixels]);
                 for (dst, src) in rows {
                     effects[dst..dst + cw].copy_from_slice(&e[src..src + cw]);
                 }

@@ -140,3 +140,19 @@ def test_a_saved_image_is_the_clis_png_byte_for_byte(tmp_path):
     t = tg.render(demo="grid:6", size=(120, 90), transparent=True)
     assert t.array.shape == (90, 120, 4) and t.array[0, 0, 3] == 0
     assert (read_png(tmp_path / "py.png")[..., 3] == 255).all()
+
+
+def test_ambient_occlusion_is_the_clis_and_darkens(tmp_path):
+    from conftest import run_cli
+
+    image = tg.render(demo="grid:6", size=(120, 90), ao=True, ao_reach=6)
+    image.save(tmp_path / "py.png")
+    run_cli("render", "--demo", "grid:6", "--size", "120x90", "--ao", "--ao-reach", "6",
+            "-o", tmp_path / "cli.png", "-q")
+    assert (tmp_path / "py.png").read_bytes() == (tmp_path / "cli.png").read_bytes()
+    plain = tg.render(demo="grid:6", size=(120, 90)).array.astype(int)
+    # Occlusion only darkens: never a brighter pixel, and some darker.
+    assert (image.array.astype(int) <= plain + 1).all()
+    assert (image.array.astype(int) < plain - 2).any()
+    with pytest.raises(ValueError, match="ao"):
+        tg.render(demo="grid:6", size=(120, 90), ao=2)

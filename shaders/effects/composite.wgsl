@@ -31,6 +31,13 @@ struct Effects {
     view_to_world: mat4x4<f32>,
     // xyz: unit direction towards the key light (world); w unused.
     key_world: vec4<f32>,
+    // Ambient occlusion (src/effects/ao.rs): x strength, y reach R (world), z R in the
+    // volume's unit (mean largest radii), w the volume's last mip level.
+    ao: vec4<f32>,
+    // xyz: the volume's low corner (world, relative to the scene origin); w: its smallest cell.
+    volume_lo: vec4<f32>,
+    // xyz: 1 / the volume's size (world to texture coordinates); w unused.
+    volume_scale: vec4<f32>,
 }
 
 const FLAG_ORTHO: u32 = 1u;
@@ -39,6 +46,7 @@ const FLAG_OUTLINES: u32 = 4u;
 const FLAG_SHADOWS: u32 = 8u;
 // The glyph group is bound with every glyph of the scene: penumbrae are re-tested exactly.
 const FLAG_EXACT: u32 = 16u;
+const FLAG_AO: u32 = 32u;
 
 @group(1) @binding(0) var<uniform> fx: Effects;
 @group(1) @binding(1) var albedo: texture_2d<f32>;
@@ -48,6 +56,9 @@ const FLAG_EXACT: u32 = 16u;
 @group(1) @binding(5) var shadow_map: texture_depth_2d;
 // The glyph (instance + 1) nearest the light in each texel.
 @group(1) @binding(6) var shadow_ids: texture_2d<u32>;
+// σ·(mean largest radius) of the glyphs, cell-centred over the scene's box, with its mips.
+@group(1) @binding(7) var volume: texture_3d<f32>;
+@group(1) @binding(8) var volume_sampler: sampler;
 
 @vertex
 fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
@@ -217,6 +228,46 @@ fn lit_fraction(p_view: vec3<f32>, nk: f32, own: u32) -> f32 {
     return max(soft, 0.55);
 }
 
+// The cones of src/effects/ao.rs (hemisphere(AO_CONES), about +z): a Fibonacci spiral on the
+// disc lifted to the hemisphere, cosine-weighted.
+const AO_CONES: u32 = 4u;
+const AO_STEPS: u32 = 3u;
+// The mip level's cell over the distance marched: below the cones' own width (four cones share
+// the hemisphere's 2π sr, about 0.87), so that a level's blur, which reaches about one of its
+// cells, does not reach back to the surface the cone leaves (a large glyph would otherwise
+// occlude itself).
+const AO_CONE_SLOPE: f32 = 0.3;
+
+// The open fraction of the sky at p (world, relative to the scene origin) about the unit normal
+// n: each cone sees exp(−∫σ) along its axis, σ read from the mip level as wide as the cone.
+fn open_fraction(p: vec3<f32>, n: vec3<f32>) -> f32 {
+    // Frisvad's frame with Duff et al.'s sign (src/effects/ao.rs frame).
+    let s = select(-1.0, 1.0, n.z >= 0.0);
+    let a = -1.0 / (s + n.z);
+    let b = n.x * n.y * a;
+    let tx = vec3<f32>(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+    let ty = vec3<f32>(b, s + n.y * n.y * a, -n.y);
+    let reach = fx.ao.y;
+    let dt = 1.0 / f32(AO_STEPS);
+    var open = 0.0;
+    for (var k = 0u; k < AO_CONES; k++) {
+        let r = sqrt((f32(k) + 0.5) / f32(AO_CONES));
+        let phi = 2.3999632 * f32(k);
+        let d = tx * (r * cos(phi)) + ty * (r * sin(phi)) + n * sqrt(max(1.0 - r * r, 0.0));
+        var tau = 0.0;
+        for (var i = 0u; i < AO_STEPS; i++) {
+            let t = (f32(i) + 0.5) * dt * reach;
+            let uvw = (p + d * t - fx.volume_lo.xyz) * fx.volume_scale.xyz;
+            if all(uvw >= vec3<f32>(0.0)) && all(uvw <= vec3<f32>(1.0)) {
+                let level = clamp(log2(max(AO_CONE_SLOPE * t / fx.volume_lo.w, 1.0)), 0.0, fx.ao.w);
+                tau += textureSampleLevel(volume, volume_sampler, uvw, level).r * fx.ao.z * dt;
+            }
+        }
+        open += exp(-tau);
+    }
+    return open / f32(AO_CONES);
+}
+
 struct Out {
     @location(0) color: vec4<f32>,
     // r: lit fraction, g: outline state (read back for the accuracy check).
@@ -239,15 +290,24 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> Out {
     }
     let nl = max(dot(n, l), 0.0);
     var lit = 1.0;
-    var diffuse = nl;
+    // Ambient occlusion scales the ambient and headlight terms, not the key light's.
+    var open = 1.0;
+    var occlusion = 1.0;
+    if has(FLAG_AO) {
+        let p_world = (fx.view_to_world * vec4<f32>(p, 1.0)).xyz;
+        let n_world = normalize((fx.view_to_world * vec4<f32>(n, 0.0)).xyz);
+        open = open_fraction(p_world, n_world);
+        occlusion = 1.0 - fx.ao.x * (1.0 - open);
+    }
+    var diffuse = nl * occlusion;
     if has(FLAG_SHADOWS) {
         let nk = max(dot(n, fx.key.xyz), 0.0);
         // A surface facing away from the light is in its own (attached) shadow.
         lit = select(0.0, lit_fraction(p, nk, id), nk > 0.0);
-        diffuse = (1.0 - fx.key.w) * nl + fx.key.w * lit * nk;
+        diffuse = (1.0 - fx.key.w) * nl * occlusion + fx.key.w * lit * nk;
     }
     let spec = pow(nl, fx.lighting.w);
-    var c = clamp(base.rgb * (fx.lighting.x + fx.lighting.y * diffuse) + vec3<f32>(fx.lighting.z * spec), vec3<f32>(0.0), vec3<f32>(1.0));
+    var c = clamp(base.rgb * (fx.lighting.x * occlusion + fx.lighting.y * diffuse) + vec3<f32>(fx.lighting.z * spec), vec3<f32>(0.0), vec3<f32>(1.0));
     var edge = false;
     if has(FLAG_OUTLINES) {
         edge = is_outline(px, id, -p.z);
@@ -255,5 +315,5 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> Out {
             c = mix(c, fx.outline.rgb, fx.outline.a);
         }
     }
-    return Out(vec4<f32>(c, base.a), vec4<f32>(lit, select(0.0, 1.0, edge), 0.0, 1.0));
+    return Out(vec4<f32>(c, base.a), vec4<f32>(lit, select(0.0, 1.0, edge), open, 1.0));
 }

@@ -1,12 +1,14 @@
 //! What the figure effects cost, measured as Sigg et al. (2006) did in their Table 1: the same
 //! frames shaded directly and deferred, then with outlines, hard shadows (one shadow map texel),
-//! soft shadows, both, and both without the adaptive PCF test; each stage's share is the difference it makes to the frame time. The
+//! soft shadows, both, both without the adaptive PCF test, ambient occlusion, and all three;
+//! each stage's share is the difference it makes to the frame time. The
 //! accuracy of the effects (outline and shadow mismatch against the exact reference) is
 //! measured once per view with both on.
 
 use std::fmt::Write as _;
 
 use crate::bench::View;
+use crate::effects::ao::AmbientOcclusion;
 use crate::effects::{Effects, Outlines, Shading, Shadows};
 use crate::error::RenderError;
 use crate::metrics::compare;
@@ -25,6 +27,8 @@ pub struct EffectsRow {
     pub vs_direct: f64,
     pub outline_mismatch: Option<f64>,
     pub shadow_mismatch: Option<f64>,
+    /// Mean |open fraction − the exact one| ([`crate::metrics::Accuracy::ao_error_mean`]).
+    pub ao_error_mean: Option<f64>,
 }
 
 /// The configurations of the table, in its order, for an image of `size` samples.
@@ -84,6 +88,22 @@ pub fn configs(size: (u32, u32)) -> Vec<(&'static str, Effects)> {
                 ..deferred
             },
         ),
+        (
+            "+ao",
+            Effects {
+                ao: Some(AmbientOcclusion::default()),
+                ..deferred
+            },
+        ),
+        (
+            "all effects",
+            Effects {
+                outlines,
+                shadows: Some(shadows),
+                ao: Some(AmbientOcclusion::default()),
+                ..deferred
+            },
+        ),
     ]
 }
 
@@ -117,11 +137,11 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
                 t[t.len() / 2]
             })
             .collect();
-        // Both effects against the exact reference.
+        // Every effect against the exact reference.
         let both_at = configs
             .iter()
-            .position(|(n, _)| *n == "+both")
-            .expect("the +both configuration");
+            .position(|(n, _)| *n == "all effects")
+            .expect("the configuration of all effects");
         let both = configs[both_at].1;
         let req = FrameRequest {
             effects: both,
@@ -141,6 +161,7 @@ pub fn run(gpu: &GpuRenderer, views: &[View], frames: u32) -> Result<Vec<Effects
                 vs_direct: medians[k] / medians[0],
                 outline_mismatch: accuracy.outline_mismatch.filter(|_| measured),
                 shadow_mismatch: accuracy.shadow_mismatch.filter(|_| measured),
+                ao_error_mean: accuracy.ao_error_mean.filter(|_| measured),
             });
         }
     }
@@ -161,22 +182,26 @@ pub fn stage_shares(rows: &[EffectsRow]) -> Vec<(&'static str, f64)> {
         ("shadow map", ms("+shadows, hard") - ms("deferred")),
         ("PCF", ms("+shadows") - ms("+shadows, hard")),
         ("adaptive PCF saves", ms("+both, full PCF") - ms("+both")),
+        ("ambient occlusion", ms("+ao") - ms("deferred")),
     ]
 }
 
 pub fn csv(rows: &[EffectsRow]) -> String {
-    let mut s = String::from("view,config,median_ms,vs_direct,outline_mismatch,shadow_mismatch\n");
+    let mut s = String::from(
+        "view,config,median_ms,vs_direct,outline_mismatch,shadow_mismatch,ao_error_mean\n",
+    );
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.5}"));
     for r in rows {
         let _ = writeln!(
             s,
-            "{},\"{}\",{:.3},{:.3},{},{}",
+            "{},\"{}\",{:.3},{:.3},{},{},{}",
             r.view,
             r.config,
             r.median_ms,
             r.vs_direct,
             opt(r.outline_mismatch),
-            opt(r.shadow_mismatch)
+            opt(r.shadow_mismatch),
+            opt(r.ao_error_mean)
         );
     }
     s
@@ -184,20 +209,21 @@ pub fn csv(rows: &[EffectsRow]) -> String {
 
 pub fn markdown(rows: &[EffectsRow]) -> String {
     let mut md = String::from(
-        "| view | configuration | ms/frame | × direct | outline mismatch | shadow mismatch |\n\
-         |---|---|---:|---:|---:|---:|\n",
+        "| view | configuration | ms/frame | × direct | outline mismatch | shadow mismatch | AO error (mean) |\n\
+         |---|---|---:|---:|---:|---:|---:|\n",
     );
     let pct = |v: Option<f64>| v.map_or(String::new(), |v| format!("{:.2} %", v * 100.0));
     for r in rows {
         let _ = writeln!(
             md,
-            "| {} | {} | {:.1} | {:.2} | {} | {} |",
+            "| {} | {} | {:.1} | {:.2} | {} | {} | {} |",
             r.view,
             r.config,
             r.median_ms,
             r.vs_direct,
             pct(r.outline_mismatch),
-            pct(r.shadow_mismatch)
+            pct(r.shadow_mismatch),
+            r.ao_error_mean.map_or(String::new(), |v| format!("{v:.3}"))
         );
     }
     let mut views: Vec<&str> = rows.iter().map(|r| r.view.as_str()).collect();

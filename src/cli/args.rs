@@ -11,6 +11,7 @@ use clap::builder::{PossibleValuesParser, TypedValueParser};
 
 use crate::camera::{Framing, ViewPreset};
 use crate::defaults::Defaults;
+use crate::effects::ao::AmbientOcclusion;
 use crate::effects::{Effects, Outlines, Shading, Shadows, light};
 use crate::field::{ComponentOrder, ReadOptions, TensorFrame};
 pub use crate::frame::parse_size;
@@ -530,7 +531,8 @@ pub fn parse_color(s: &str) -> Result<[f64; 4], String> {
     Ok([rgb[0], rgb[1], rgb[2], 1.0])
 }
 
-/// Figure effects (`render`, `demo`, `view`): deferred shading, outlines and shadows.
+/// Figure effects (`render`, `demo`, `view`): deferred shading, outlines, shadows and ambient
+/// occlusion.
 #[derive(Args, Debug, Clone, Default)]
 pub struct EffectArgs {
     /// Where glyphs are lit: in each method's shaders (direct), or once per pixel after all
@@ -564,6 +566,15 @@ pub struct EffectArgs {
     #[arg(long, value_name = "R", default_value_t = Shadows::default().pcf_radius,
           value_parser = clap::value_parser!(u32).range(0..=8))]
     pub pcf_radius: u32,
+    /// Ambient occlusion: darken where glyphs crowd each other's sky (a density volume of the
+    /// glyphs, marched by four cones per pixel); STRENGTH in [0, 1] is how far (default 0.8).
+    #[arg(long, value_name = "STRENGTH", num_args = 0..=1,
+          default_missing_value = "0.8")]
+    pub ao: Option<f32>,
+    /// With --ao: how far occlusion reaches, in mean largest glyph radii (default 4: two
+    /// lattice steps of a field at --scale auto).
+    #[arg(long, value_name = "RADII")]
+    pub ao_reach: Option<f32>,
 }
 
 impl EffectArgs {
@@ -578,6 +589,22 @@ impl EffectArgs {
         }
         if self.light.is_some() && !self.shadows {
             bail!("--light places the shadows' key light: add --shadows");
+        }
+        if let Some(s) = self.ao {
+            ensure!(
+                s.is_finite() && (0.0..=1.0).contains(&s),
+                "--ao takes a strength between 0 and 1, got {s}"
+            );
+        }
+        match self.ao_reach {
+            Some(_) if self.ao.is_none() => {
+                bail!("--ao-reach sets ambient occlusion's reach: add --ao")
+            }
+            Some(r) => ensure!(
+                r.is_finite() && r > 0.0 && r <= 100.0,
+                "--ao-reach takes a number of radii above 0 and at most 100, got {r}"
+            ),
+            None => {}
         }
         let effects = Effects {
             shading: self.shading.unwrap_or_default(),
@@ -594,10 +621,14 @@ impl EffectArgs {
                 pcf_radius: self.pcf_radius,
                 ..Shadows::default()
             }),
+            ao: self.ao.map(|strength| AmbientOcclusion {
+                strength,
+                reach: self.ao_reach.unwrap_or(AmbientOcclusion::DEFAULT_REACH),
+            }),
         };
         if self.shading == Some(Shading::Direct) && effects.any() {
             bail!(
-                "--outlines and --shadows are drawn with deferred shading: drop --shading direct"
+                "--outlines, --shadows and --ao are drawn with deferred shading: drop --shading direct"
             );
         }
         Ok(effects.resolved().supersampled(ssaa))

@@ -1,11 +1,12 @@
 //! Figure effects after Sigg et al. (2006, §4): deferred shading, silhouette and crease outlines,
-//! and soft shadows from a key light. The options a [`crate::request::FrameRequest`] carries,
+//! soft shadows from a key light, and ambient occlusion ([`ao`]: Grottel et al. 2012). The options a [`crate::request::FrameRequest`] carries,
 //! and what both back ends apply the same way: the outline filter ([`outline`]) and the key light's
 //! direction and shadow camera ([`light`]); the shading that combines them has its f64 twin in
 //! [`crate::twin::composite`]. The
 //! GPU runs them in one full-screen pass over its geometry buffer (`shaders/composite.wgsl`); the
 //! reference over its exact f64 buffers, with exact shadow rays.
 
+pub mod ao;
 pub mod light;
 pub mod outline;
 
@@ -107,17 +108,18 @@ pub struct Effects {
     pub shading: Shading,
     pub outlines: Option<Outlines>,
     pub shadows: Option<Shadows>,
+    pub ao: Option<ao::AmbientOcclusion>,
 }
 
 impl Effects {
     /// Whether the frame is shaded in the full-screen pass.
     pub fn deferred(&self) -> bool {
-        self.shading == Shading::Deferred || self.outlines.is_some() || self.shadows.is_some()
+        self.shading == Shading::Deferred || self.any()
     }
 
     /// Whether an effect is on (beyond deferred shading itself).
     pub fn any(&self) -> bool {
-        self.outlines.is_some() || self.shadows.is_some()
+        self.outlines.is_some() || self.shadows.is_some() || self.ao.is_some()
     }
 
     /// `self` with deferred shading wherever an effect needs it.
@@ -154,6 +156,9 @@ impl fmt::Display for Effects {
         }
         if self.shadows.is_some() {
             s.push_str("+shadows");
+        }
+        if self.ao.is_some() {
+            s.push_str("+ao");
         }
         f.pad(&s)
     }

@@ -13,8 +13,8 @@ use glam::{DMat4, DVec3};
 use rayon::prelude::*;
 
 use crate::camera::Camera;
-use crate::effects::light;
 use crate::effects::outline::{Sample, outline_mask};
+use crate::effects::{ao, light};
 use crate::frame::Frame;
 use crate::request::FrameRequest;
 use crate::scene::underlay::grey;
@@ -280,7 +280,8 @@ impl<'a> ReferenceScene<'a> {
     }
 
     /// Deferred shading of a rendered frame from its exact geometry: the outline filter over
-    /// the f64 buffers, hard shadows from exact shadow rays, and the shading of
+    /// the f64 buffers, hard shadows from exact shadow rays, ambient occlusion from exact
+    /// hemisphere rays ([`crate::effects::ao`]), and the shading of
     /// [`crate::twin::composite::composite`]. Pixels without a surface (background, underlay)
     /// keep their colour.
     fn apply_effects(&self, req: &FrameRequest, surfaces: &[Option<Surface>], frame: &mut Frame) {
@@ -306,19 +307,30 @@ impl<'a> ReferenceScene<'a> {
                 .collect();
             (o, outline_mask(&samples, w, h, o.width))
         });
+        let ao = fx.ao.map(|a| {
+            let r = ao::reach(self.scene, &a);
+            (a, r, ao::hemisphere(ao::REFERENCE_DIRECTIONS))
+        });
         let key = fx.shadows.map(|s| {
             (
                 light::view_direction(s.light).unwrap_or(DVec3::Z),
                 light::world_direction(&self.camera, &s),
             )
         });
-        let shaded: Vec<([u8; 4], [f32; 2])> = surfaces
+        let shaded: Vec<([u8; 4], [f32; 3])> = surfaces
             .par_iter()
             .enumerate()
             .map(|(k, s)| {
                 let old = &frame.color[4 * k..4 * k + 4];
                 let Some(s) = s else {
-                    return ([old[0], old[1], old[2], old[3]], [1.0, 0.0]);
+                    return ([old[0], old[1], old[2], old[3]], [1.0, 0.0, 1.0]);
+                };
+                let open = ao
+                    .as_ref()
+                    .map(|(_, reach, dirs)| self.open_fraction(s.point, s.normal, *reach, dirs));
+                let factor = match (&ao, open) {
+                    (Some((a, _, _)), Some(open)) => a.factor(open),
+                    _ => 1.0,
                 };
                 // A surface facing away from the light is in its own (attached) shadow.
                 let lit = key.map(|(l_view, l_world)| Key {
@@ -332,12 +344,22 @@ impl<'a> ReferenceScene<'a> {
                     },
                 });
                 let edge = outlines.as_ref().filter(|(_, m)| m[k]).map(|(o, _)| o);
-                let c = composite(&req.lighting, ortho, s.base, s.n_view, s.p_view, lit, edge);
+                let c = composite(
+                    &req.lighting,
+                    ortho,
+                    s.base,
+                    s.n_view,
+                    s.p_view,
+                    lit,
+                    factor,
+                    edge,
+                );
                 (
                     [to_unorm8(c.x), to_unorm8(c.y), to_unorm8(c.z), 255],
                     [
                         lit.map_or(1.0, |k| k.lit as f32),
                         if edge.is_some() { 1.0 } else { 0.0 },
+                        open.map_or(1.0, |o| o as f32),
                     ],
                 )
             })
@@ -348,6 +370,38 @@ impl<'a> ReferenceScene<'a> {
             effects.push(e);
         }
         frame.effects = (req.aux && fx.any()).then_some(effects);
+    }
+
+    /// The exact open fraction of the sky at `point` (normal `normal`, both relative to the
+    /// scene origin): the share of `dirs` (about +z, turned to the normal) whose ray meets no
+    /// glyph within `reach`.
+    fn open_fraction(&self, point: DVec3, normal: DVec3, reach: f64, dirs: &[DVec3]) -> f64 {
+        let scale = point.abs().max_element().max(self.scene.radius).max(1e-300);
+        let origin = point + normal * (scale * 1e-9);
+        let [a, b, n] = ao::frame(normal);
+        let open = dirs
+            .iter()
+            .filter(|d| {
+                let dir = a * d.x + b * d.y + n * d.z;
+                let mut hit = false;
+                self.bvh.traverse(origin, dir, |i| {
+                    if hit {
+                        return Some(0.0);
+                    }
+                    let g = &self.glyphs[i as usize];
+                    if !g.casts {
+                        return None;
+                    }
+                    let t = g.shape.intersect(origin, dir)?.t;
+                    (t > 0.0 && t < reach).then(|| {
+                        hit = true;
+                        0.0
+                    })
+                });
+                !hit
+            })
+            .count();
+        open as f64 / dirs.len().max(1) as f64
     }
 
     /// Whether a glyph lies between the surface point `point` (normal `normal`, both relative to

@@ -19,6 +19,7 @@ use std::sync::{Arc, Mutex};
 use bytemuck::{Pod, Zeroable};
 
 use crate::camera::{Camera, Projection};
+use crate::effects::ao::{AmbientOcclusion, DensityVolume};
 use crate::effects::{Effects, KEY_SHARE, light, outline};
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
@@ -27,6 +28,7 @@ use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{COMMON, SCREEN_BOX};
 use crate::render::targets::{COLOR_FORMAT, TargetViews, Targets};
 use crate::request::{FrameRequest, GlyphKind, UnderlayView};
+use crate::scene::Scene;
 
 pub const SHADER: &str = include_str!("../../shaders/effects/composite.wgsl");
 
@@ -60,9 +62,12 @@ pub struct EffectsUniform {
     pub params: [u32; 4],
     pub view_to_world: [[f32; 4]; 4],
     pub key_world: [f32; 4],
+    pub ao: [f32; 4],
+    pub volume_lo: [f32; 4],
+    pub volume_scale: [f32; 4],
 }
 
-pub const EFFECTS_UNIFORM_SIZE: usize = 304;
+pub const EFFECTS_UNIFORM_SIZE: usize = 352;
 const _: () = assert!(std::mem::size_of::<EffectsUniform>() == EFFECTS_UNIFORM_SIZE);
 
 const FLAG_ORTHO: u32 = 1;
@@ -70,6 +75,7 @@ const FLAG_ADAPTIVE: u32 = 2;
 const FLAG_OUTLINES: u32 = 4;
 const FLAG_SHADOWS: u32 = 8;
 const FLAG_EXACT: u32 = 16;
+const FLAG_AO: u32 = 32;
 
 /// Shadow lookups compare one texel's depth nearer (more where the surface slopes away from the
 /// light, see composite.wgsl), for glyphs that touch. A glyph's own texels never shadow it (the
@@ -79,13 +85,16 @@ const DEPTH_BIAS_TEXELS: f64 = 1.0;
 
 impl EffectsUniform {
     /// The uniform of a frame of `camera` (and the key light's `light` camera, with shadows;
-    /// `exact`: the pass binds every glyph, so penumbrae are re-tested by exact shadow rays).
+    /// `exact`: the pass binds every glyph, so penumbrae are re-tested by exact shadow rays;
+    /// `volume`: the scene's ambient-occlusion volume, its mip levels and its unit, the mean
+    /// largest radius).
     pub fn new(
         camera: &Camera,
         light: Option<&Camera>,
         origin: glam::DVec3,
         req: &FrameRequest,
         exact: bool,
+        volume: (&DensityVolume, f64),
     ) -> Self {
         let fx = &req.effects;
         let m = |m: glam::DMat4| m.as_mat4().to_cols_array_2d();
@@ -136,6 +145,20 @@ impl EffectsUniform {
             ];
             params[0] = o.width.max(1);
         }
+        let (v, unit) = volume;
+        let mut ao = [0.0; 4];
+        if let Some(a) = &fx.ao {
+            flags |= FLAG_AO;
+            let reach = f64::from(a.reach) * unit;
+            ao = [
+                a.strength.clamp(0.0, 1.0),
+                reach as f32,
+                a.reach,
+                (v.levels.len().max(1) - 1) as f32,
+            ];
+        }
+        let size = v.cell * glam::UVec3::from_array(v.dims).as_dvec3();
+        let scale = size.recip();
         params[3] = flags;
         let l = &req.lighting;
         Self {
@@ -154,6 +177,88 @@ impl EffectsUniform {
             params,
             view_to_world: m(camera.view(origin).inverse()),
             key_world,
+            ao,
+            volume_lo: [
+                v.lo.x as f32,
+                v.lo.y as f32,
+                v.lo.z as f32,
+                v.cell.min_element() as f32,
+            ],
+            volume_scale: [scale.x as f32, scale.y as f32, scale.z as f32, 0.0],
+        }
+    }
+}
+
+/// A scene's ambient-occlusion volume on the GPU: built when the scene is uploaded (one pass
+/// over the glyphs; at most 64³ cells of 2 bytes and their mips), whether or not a frame asks
+/// for occlusion, so turning `--ao` on in the viewer costs nothing.
+pub(crate) struct AoVolume {
+    pub(crate) volume: DensityVolume,
+    /// The volume's unit: the scene's mean largest glyph radius.
+    pub(crate) unit: f64,
+    _texture: wgpu::Texture,
+    pub(crate) view: wgpu::TextureView,
+}
+
+impl AoVolume {
+    pub(crate) fn upload(ctx: &GpuContext, scene: &Scene) -> Self {
+        let unit = crate::effects::ao::reach(
+            scene,
+            &AmbientOcclusion {
+                reach: 1.0,
+                ..AmbientOcclusion::default()
+            },
+        );
+        let mut volume = DensityVolume::build(scene, unit);
+        let [w, h, d] = volume.dims;
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("ambient occlusion volume"),
+            size: wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: d,
+            },
+            mip_level_count: volume.levels.len() as u32,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: wgpu::TextureFormat::R16Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let mut dims = [w, h, d];
+        for (level, values) in volume.levels.iter().enumerate() {
+            let bits: Vec<u16> = values
+                .iter()
+                .map(|&v| half::f16::from_f32(v).to_bits())
+                .collect();
+            ctx.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &texture,
+                    mip_level: level as u32,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                bytemuck::cast_slice(&bits),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(2 * dims[0]),
+                    rows_per_image: Some(dims[1]),
+                },
+                wgpu::Extent3d {
+                    width: dims[0],
+                    height: dims[1],
+                    depth_or_array_layers: dims[2],
+                },
+            );
+            dims = dims.map(|x| (x / 2).max(1));
+        }
+        // The texture holds the values; the uniform needs only the levels' count.
+        volume.levels.iter_mut().for_each(Vec::clear);
+        Self {
+            volume,
+            unit,
+            view: texture.create_view(&Default::default()),
+            _texture: texture,
         }
     }
 }
@@ -176,6 +281,7 @@ pub(crate) struct EffectsTextures {
 pub struct EffectsPipeline {
     layout: wgpu::BindGroupLayout,
     glyph_group: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
     pipelines: Mutex<HashMap<GlyphKind, wgpu::RenderPipeline>>,
     textures: Mutex<Option<Arc<EffectsTextures>>>,
 }
@@ -213,11 +319,35 @@ impl EffectsPipeline {
                     texture_entry(4, T::Depth),
                     texture_entry(5, T::Depth),
                     texture_entry(6, T::Uint),
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 7,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Texture {
+                            sample_type: T::Float { filterable: true },
+                            view_dimension: wgpu::TextureViewDimension::D3,
+                            multisampled: false,
+                        },
+                        count: None,
+                    },
+                    wgpu::BindGroupLayoutEntry {
+                        binding: 8,
+                        visibility: wgpu::ShaderStages::FRAGMENT,
+                        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                        count: None,
+                    },
                 ],
             });
+        let sampler = ctx.device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("ambient occlusion volume"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            mipmap_filter: wgpu::MipmapFilterMode::Linear,
+            ..Default::default()
+        });
         Self {
             layout,
             glyph_group: glyph_group.clone(),
+            sampler,
             pipelines: Mutex::new(HashMap::new()),
             textures: Mutex::new(None),
         }
@@ -381,7 +511,14 @@ impl EffectsPipeline {
         // One chunk holds every glyph the map can name; a scene split into chunks keeps the
         // filter's answer.
         let exact = buffers.chunks.len() == 1;
-        let uniform = EffectsUniform::new(camera, light.as_ref(), buffers.origin(), req, exact);
+        let uniform = EffectsUniform::new(
+            camera,
+            light.as_ref(),
+            buffers.origin(),
+            req,
+            exact,
+            (&buffers.ao_volume.volume, buffers.ao_volume.unit),
+        );
         ctx.queue
             .write_buffer(&textures.uniform, 0, bytemuck::bytes_of(&uniform));
         let (w, h) = views.size;
@@ -417,6 +554,11 @@ impl EffectsPipeline {
                 entry(4, &views.depth),
                 entry(5, shadow_depth),
                 entry(6, shadow_ids),
+                entry(7, &buffers.ao_volume.view),
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: wgpu::BindingResource::Sampler(&self.sampler),
+                },
             ],
         });
         let attach = |view, load| {
@@ -439,7 +581,7 @@ impl EffectsPipeline {
                     wgpu::LoadOp::Clear(wgpu::Color {
                         r: 1.0,
                         g: 0.0,
-                        b: 0.0,
+                        b: 1.0,
                         a: 0.0,
                     }),
                 ),
@@ -491,6 +633,9 @@ mod tests {
             ("params", offset_of!(EffectsUniform, params)),
             ("view_to_world", offset_of!(EffectsUniform, view_to_world)),
             ("key_world", offset_of!(EffectsUniform, key_world)),
+            ("ao", offset_of!(EffectsUniform, ao)),
+            ("volume_lo", offset_of!(EffectsUniform, volume_lo)),
+            ("volume_scale", offset_of!(EffectsUniform, volume_scale)),
         ];
         let wgsl: Vec<(String, usize)> = members
             .iter()

@@ -366,7 +366,13 @@ impl GpuRenderer {
                 rb.read_async(ctx)
                     .await?
                     .chunks_exact(4)
-                    .map(|p| [f32::from(p[0]) / 255.0, f32::from(p[1]) / 255.0])
+                    .map(|p| {
+                        [
+                            f32::from(p[0]) / 255.0,
+                            f32::from(p[1]) / 255.0,
+                            f32::from(p[2]) / 255.0,
+                        ]
+                    })
                     .collect(),
             ),
             None => None,

@@ -10,6 +10,7 @@ use std::sync::{Arc, Mutex};
 use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
+use crate::render::effects::AoVolume;
 use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGlyph};
 use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
 use crate::request::FrameRequest;
@@ -29,6 +30,8 @@ pub struct SceneBuffers {
     pub(crate) chunks: Vec<ChunkBuffers>,
     /// The scene's underlay images, if it has any.
     pub(crate) underlay: Option<UnderlayBuffers>,
+    /// What ambient occlusion marches (the composite pass binds it).
+    pub(crate) ao_volume: AoVolume,
     /// What methods keep per scene, made on the first frame that needs it.
     method_state: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
 }
@@ -104,6 +107,7 @@ impl SceneBuffers {
             Some(u) => Some(UnderlayBuffers::upload(ctx, underlay, u)?),
             None => None,
         };
+        let ao_volume = AoVolume::upload(ctx, scene);
         let what = format!("uploading {} glyph instances", scene.instances.len());
         let oom = ctx.scope_error(oom, &what);
         if let Some(e) = oom.or(ctx.scope_error(scope, &what)) {
@@ -118,6 +122,7 @@ impl SceneBuffers {
             light_buffer,
             chunks,
             underlay,
+            ao_volume,
             method_state: Mutex::new(HashMap::new()),
         })
     }

@@ -21,7 +21,9 @@ pub struct Key {
 
 /// The colour of a pixel showing base colour `base` with unit view normal `n_view` at view
 /// position `p_view`, lit by the headlight and `key`, and darkened towards the outline colour
-/// when `outline` is given (the pixel is on an outline).
+/// when `outline` is given (the pixel is on an outline). `ao` scales the ambient and headlight
+/// terms (1: no occlusion; [`crate::effects::ao::AmbientOcclusion::factor`]).
+#[allow(clippy::too_many_arguments)]
 pub fn composite(
     lighting: &Lighting,
     ortho: bool,
@@ -29,21 +31,27 @@ pub fn composite(
     n_view: DVec3,
     p_view: DVec3,
     key: Option<Key>,
+    ao: f64,
     outline: Option<&Outlines>,
 ) -> DVec3 {
     let c = match key {
-        None => headlight(lighting, ortho, base, n_view, p_view),
-        Some(k) => {
+        None if ao == 1.0 => headlight(lighting, ortho, base, n_view, p_view),
+        _ => {
             let l = if ortho {
                 DVec3::Z
             } else {
                 (-p_view).normalize()
             };
             let nl = n_view.dot(l).max(0.0);
-            let nk = n_view.dot(k.light).max(0.0);
-            let diffuse = (1.0 - KEY_SHARE) * nl + KEY_SHARE * k.lit * nk;
+            let diffuse = match key {
+                Some(k) => {
+                    let nk = n_view.dot(k.light).max(0.0);
+                    (1.0 - KEY_SHARE) * nl * ao + KEY_SHARE * k.lit * nk
+                }
+                None => nl * ao,
+            };
             let spec = nl.powf(f64::from(lighting.shininess));
-            (base * (f64::from(lighting.ambient) + f64::from(lighting.diffuse) * diffuse)
+            (base * (f64::from(lighting.ambient) * ao + f64::from(lighting.diffuse) * diffuse)
                 + DVec3::splat(f64::from(lighting.specular) * spec))
             .clamp(DVec3::ZERO, DVec3::ONE)
         }

@@ -1,9 +1,10 @@
-//! The figure section: anti-aliasing of the view, deferred shading, outlines, and shadows with
-//! the key light's direction, as `render --ssaa/--shading/--outlines/--shadows/--light` take
-//! them; "Save figure" (the screenshot section) renders through `render`'s path with them.
+//! The figure section: anti-aliasing of the view, deferred shading, outlines, shadows with
+//! the key light's direction, and ambient occlusion, as `render
+//! --ssaa/--shading/--outlines/--shadows/--light/--ao/--ao-reach` take them; "Save figure" (the screenshot section) renders through `render`'s path with them.
 
 use egui::Ui;
 
+use crate::effects::ao::AmbientOcclusion;
 use crate::effects::{Outlines, Shading, Shadows};
 use crate::viewer::state::Settings;
 
@@ -35,10 +36,13 @@ pub(super) fn figure_section(ui: &mut Ui, settings: &mut Settings) {
     let fx = &mut settings.effects;
     let mut outlines = fx.outlines.is_some();
     let mut shadows = fx.shadows.is_some();
-    let mut deferred = fx.shading == Shading::Deferred || outlines || shadows;
-    ui.add_enabled_ui(!(outlines || shadows), |ui| {
+    let mut ao = fx.ao.is_some();
+    let mut deferred = fx.shading == Shading::Deferred || fx.any();
+    ui.add_enabled_ui(!fx.any(), |ui| {
         ui.checkbox(&mut deferred, "deferred shading")
-            .on_disabled_hover_text("outlines and shadows are drawn with deferred shading");
+            .on_disabled_hover_text(
+                "outlines, shadows and ambient occlusion are drawn with deferred shading",
+            );
     });
     fx.shading = if deferred {
         Shading::Deferred
@@ -67,6 +71,13 @@ pub(super) fn figure_section(ui: &mut Ui, settings: &mut Settings) {
             s.light = light_from_angles(az, el);
         }
         ui.checkbox(&mut s.adaptive, "adaptive PCF");
+    }
+    if ui.checkbox(&mut ao, "ambient occlusion").changed() {
+        fx.ao = ao.then(AmbientOcclusion::default);
+    }
+    if let Some(a) = &mut fx.ao {
+        ui.add(egui::Slider::new(&mut a.strength, 0.0..=1.0).text("strength"));
+        ui.add(egui::Slider::new(&mut a.reach, 1.0..=12.0).text("reach (radii)"));
     }
 }
 
