@@ -44,7 +44,7 @@ pub enum ShError {
 
 /// How many coefficients the even orders 0, 2, …, `lmax` hold.
 pub fn count_of_lmax(lmax: u32) -> Result<usize, ShError> {
-    if lmax % 2 != 0 || lmax > MAX_LMAX {
+    if !lmax.is_multiple_of(2) || lmax > MAX_LMAX {
         return Err(ShError::Lmax { lmax });
     }
     let l = lmax as usize;

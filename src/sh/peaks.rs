@@ -23,7 +23,8 @@ pub const SAME_PEAK_DEG: f64 = 0.01;
 pub struct PeakOptions {
     /// Keep a maximum only if its value is at least this fraction of the largest (DIPY's
     /// `relative_peak_threshold`, 0.5 in `peaks_from_model`'s examples; 0 keeps every
-    /// maximum, as MRtrix's `sh2peaks` does without `-threshold`).
+    /// maximum of positive value; −∞ every maximum, negative ones too, as MRtrix's `sh2peaks`
+    /// does without `-threshold`).
     pub relative_threshold: f64,
     /// Drop a maximum within this angle (degrees, either way along the axis) of a larger one
     /// (DIPY's `min_separation_angle`, 25).

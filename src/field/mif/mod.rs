@@ -21,7 +21,7 @@
 //! of many values per voxel ([`read_volumes`]: spherical-harmonic coefficients, a DWI series)
 //! share the header, data and placement code, so they land in the same world as tensors.
 //!
-//! SH coefficients ([`read_sh`]: `dwi2fod`) are read into an [`ShField`] in MRtrix's basis,
+//! SH coefficients (`read_sh`: `dwi2fod`) are read into an [`ShField`] in MRtrix's basis,
 //! tournier07, their directions in scanner axes.
 //!
 //! Layout: `header` (the text and the image it describes), `data` (the values: where they

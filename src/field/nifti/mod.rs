@@ -26,7 +26,7 @@
 //! header, data and affine code (`read_header`, `Header::voxels`), so they land in the
 //! same world as tensors.
 //!
-//! SH coefficient volumes ([`read_sh`]: DIPY's `shm_coeff`, MRtrix's `dwi2fod` converted) share
+//! SH coefficient volumes (`read_sh`: DIPY's `shm_coeff`, MRtrix's `dwi2fod` converted) share
 //! them too; `descrip` tells MRtrix's files from the others (`field::sh_field`).
 //!
 //! Layout: `header` (the header: lattice, values per voxel, data type, voxel-to-world matrix),
