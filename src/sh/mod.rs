@@ -74,14 +74,17 @@
 //!
 //! # 4. Peaks and range
 //!
-//! f is sampled on a geodesic sphere (the icosahedron subdivided 4 times: 2562 vertices, ≤ 4.3°
+//! f is sampled on a geodesic sphere (the icosahedron subdivided 5 times: 10242 vertices, ≤ 2.4°
 //! apart); each vertex (of the z ≥ 0 half: f is even) not below its neighbours seeds a Newton
 //! ascent in the tangent plane (the tangent Hessian from central differences of the exact
 //! gradient; gradient steps where it is not negative definite; a trust radius), which stops
 //! when a step is under 1e-10 rad. Maxima within [`SAME_PEAK_DEG`] along either direction of
 //! the axis are one. Then, as DIPY's `peak_directions_nl` does: largest first, a maximum below
 //! `relative_threshold` × the largest is dropped, and one within `min_separation_deg` of a kept
-//! one. The range (min, max) for min–max normalisation is found the same way on ±f.
+//! one. The range (min, max) for min–max normalisation is found the same way on ±f. A maximum
+//! whose basin falls between seeds is missed: fibre lobes are far wider than the seed spacing,
+//! but the ringing of a truncated series can have maxima of a few thousandths of the largest
+//! whose basins are narrower than a degree.
 
 mod basis;
 mod eval;
