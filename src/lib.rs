@@ -45,6 +45,7 @@ pub mod field;
 pub mod glyph;
 pub mod scene;
 pub mod select;
+pub mod sh;
 pub mod staging;
 pub mod tensor;
 
@@ -68,6 +69,7 @@ pub mod legend;
 pub mod mem;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod report;
+pub mod sh_info;
 
 // Front ends in the library; `cli` is the command line (arguments, dispatch and output
 // formatting), which the binary and the Python package's console script run. The viewer is

@@ -20,6 +20,7 @@ use crate::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use crate::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
 use crate::scene::UnderlaySource;
 use crate::select::{Mask, Plane, Selection, Slicing, parse_roi};
+use crate::sh::ShBasis;
 use crate::staging::{Demo, Recipe, Source};
 
 /// A value parser for one of `names` (clap lists them in `--help` and in its error).
@@ -46,6 +47,12 @@ pub struct SceneArgs {
     /// matrices) or world.
     #[arg(long, value_parser = one_of::<TensorFrame>(TensorFrame::NAMES))]
     pub tensor_frame: Option<TensorFrame>,
+    /// The basis of a NIfTI or MRtrix file of SH coefficients (fibre ODFs): tournier07
+    /// (MRtrix3), descoteaux07 or descoteaux07-legacy (DIPY's default). Default: tournier07 for
+    /// files MRtrix wrote, descoteaux07-legacy for other NIfTI files. Given, it also reads a
+    /// file of 6 volumes as SH (lmax 2) rather than tensors.
+    #[arg(long, value_parser = one_of::<ShBasis>(ShBasis::NAMES))]
+    pub sh_basis: Option<ShBasis>,
     /// Colour scheme: shape classes, dec (direction), a scalar through a colour bar (fa, md;
     /// the stress measures von-mises, tresca, sigma1, sigma2, sigma3, mean, triaxiality), sign
     /// (tension red, compression blue) or solid. Default: auto (von-mises for stress fields,
@@ -104,6 +111,7 @@ impl SceneArgs {
             array: self.array.clone(),
             order: self.order,
             tensor_frame: self.tensor_frame,
+            sh_basis: self.sh_basis,
         }
     }
 

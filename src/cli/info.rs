@@ -1,4 +1,4 @@
-//! `tensorglyph info`: what is in a tensor file.
+//! `tensorglyph info`: what is in a tensor file, or in a file of SH coefficients.
 
 use std::path::PathBuf;
 
@@ -11,7 +11,7 @@ use crate::staging::{self, Demo};
 
 #[derive(Args, Debug)]
 pub struct InfoArgs {
-    /// A tensor file: VTK (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti), NIfTI-1 (.nii, .nii.gz),
+    /// A tensor file or a file of SH coefficients (NIfTI, MRtrix): VTK (.vtk, .vti, .vtr, .vts, .vtu, .vtp, .pvti), NIfTI-1 (.nii, .nii.gz),
     /// NRRD (.nrrd, .nhdr), MRtrix (.mif, .mif.gz, .mih) or an FSL eigen set (PREFIX_L1.nii.gz …
     /// or PREFIX).
     pub file: Option<PathBuf>,
@@ -21,7 +21,8 @@ pub struct InfoArgs {
     /// One JSON object on stdout.
     #[arg(long)]
     pub json: bool,
-    /// Also report tensor I (file order, points or cells); repeatable.
+    /// Also report tensor I (file order, points or cells), or SH voxel I (x fastest) with its
+    /// peaks; repeatable.
     #[arg(long = "sample", value_name = "I")]
     pub samples: Vec<usize>,
     #[command(flatten)]
@@ -29,6 +30,19 @@ pub struct InfoArgs {
 }
 
 pub fn run(args: InfoArgs) -> Result<()> {
+    let opts = args.scene.read_options();
+    if let Some(path) = &args.file
+        && crate::field::holds_sh(path, &opts)
+    {
+        let field = crate::field::read_sh_field(path, &opts)?;
+        let report = crate::sh_info::report(&field, &args.samples).map_err(anyhow::Error::msg)?;
+        super::stdout::print(&if args.json {
+            format!("{}\n", serde_json::to_string(&report)?)
+        } else {
+            crate::sh_info::human_summary(&report)
+        })?;
+        return Ok(());
+    }
     let src = source(args.file, args.demo)?;
     let progress = Terminal::new(args.scene.quiet);
     let field = staging::read(&src, &args.scene.read_options(), &progress)?;

@@ -7,6 +7,8 @@
 //! (`scalar`), [`ReadOptions`], `frame`, `order`, `number`, [`Inputs`] (where every reader
 //! gets its bytes, and the record of what it read) and `guard`. `synthetic`
 //! makes fields in code, `array` of numbers handed over in memory (as the NIfTI reader would).
+//! [`read_sh_field`] reads spherical-harmonic coefficients (fibre ODFs) from NIfTI and MRtrix
+//! images into an [`ShField`] (`sh_field`), and [`holds_sh`] tells such a file from tensors.
 
 pub mod array;
 pub mod bep016;
@@ -22,6 +24,7 @@ pub(crate) mod number;
 mod options;
 pub mod order;
 pub mod scalar;
+pub mod sh_field;
 pub mod synthetic;
 mod tensor_field;
 pub mod vtk;
@@ -31,6 +34,7 @@ pub use inputs::Inputs;
 pub use options::ReadOptions;
 pub use order::ComponentOrder;
 pub use scalar::ScalarVolume;
+pub use sh_field::{Coefficients, ShField, ShLayout};
 pub use tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField, rotate_tensor};
 
 use std::path::Path;
@@ -137,4 +141,60 @@ pub fn read_scalar_volume_from(inputs: &Inputs, path: &Path) -> Result<ScalarVol
 /// readers' bounds, and a panic inside the reader as an error naming the file.
 pub fn read_mif_volumes_from(inputs: &Inputs, path: &Path) -> Result<mif::Volumes, LoadError> {
     guard::guarded(path, || mif::read_volumes(inputs, path))
+}
+
+/// Whether `path` is read as SH coefficients rather than tensors (`field::sh_field` gives the
+/// rule): a NIfTI-1 or MRtrix image of an SH count of volumes other than 6, or any NIfTI or
+/// MRtrix image when `opts.sh_basis` is given. Only the header is read; a file whose header
+/// cannot be read is not SH, and the tensor reader then says what is wrong with it.
+pub fn holds_sh(path: &Path, opts: &ReadOptions) -> bool {
+    holds_sh_from(&Inputs::file_system(), path, opts)
+}
+
+/// [`holds_sh`] of the file `path` among `inputs`.
+pub fn holds_sh_from(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> bool {
+    let nifti = nifti::is_nifti_path(path);
+    if !(nifti || mif::is_mif_path(path)) || fsl_eigen::EigenSet::named_by(path, inputs).is_some() {
+        return false;
+    }
+    if opts.sh_basis.is_some() {
+        return true;
+    }
+    let probe = || -> Result<bool, crate::error::LoadErrorKind> {
+        Ok(if nifti {
+            sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?)
+        } else {
+            let (count, dwi) = mif::sh_probe(inputs, path)?;
+            !dwi && sh_field::is_sh_count(count)
+        })
+    };
+    guard::guarded(path, probe).unwrap_or(false)
+}
+
+/// Read a volume of SH coefficients (a fibre ODF per voxel) from a NIfTI-1 file (`.nii`,
+/// `.nii.gz`: DIPY's `shm_coeff`, MRtrix's) or an MRtrix image (`.mif`, `.mif.gz`, `.mih`:
+/// `dwi2fod`). The count of values per voxel must be an SH count; the basis is
+/// `opts.sh_basis`, else the writer's (`field::sh_field`). Errors name the file: a count that
+/// is no SH count, data shorter than the header, a coefficient that is not finite.
+pub fn read_sh_field(path: &Path, opts: &ReadOptions) -> Result<ShField, LoadError> {
+    read_sh_field_from(&Inputs::file_system(), path, opts)
+}
+
+/// [`read_sh_field`] of the file `path` among `inputs`.
+pub fn read_sh_field_from(
+    inputs: &Inputs,
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<ShField, LoadError> {
+    guard::guarded(path, || {
+        if nifti::is_nifti_path(path) {
+            nifti::read_sh(&inputs.open(path)?, opts)
+        } else if mif::is_mif_path(path) {
+            mif::read_sh(inputs, path, opts)
+        } else {
+            Err(crate::error::LoadErrorKind::Other(
+                "SH coefficients are read from NIfTI-1 (.nii, .nii.gz) and MRtrix images (.mif, .mif.gz, .mih)".into(),
+            ))
+        }
+    })
 }

@@ -1,8 +1,9 @@
-//! What a caller may tell the tensor readers (VTK, NIfTI, NRRD, FSL's eigen sets) that the
-//! file does not say.
+//! What a caller may tell the tensor readers (VTK, NIfTI, NRRD, FSL's eigen sets) and the SH
+//! readers (NIfTI, MRtrix) that the file does not say.
 
 use super::frame::TensorFrame;
 use super::order::ComponentOrder;
+use crate::sh::ShBasis;
 
 /// How to read a tensor file (VTK, NIfTI).
 #[derive(Debug, Clone, Default)]
@@ -16,4 +17,7 @@ pub struct ReadOptions {
     /// The axes the stored tensors are in; `None`: the format's default (NIfTI: `voxel`).
     /// VTK files are read as before: image data tensors rotated by the image's `Direction`.
     pub tensor_frame: Option<TensorFrame>,
+    /// The basis of SH coefficients (`--sh-basis`); given, it also makes a file of any SH count
+    /// (6 included) SH rather than tensors. `None`: the writer's (`field::sh_field`).
+    pub sh_basis: Option<ShBasis>,
 }

@@ -11,7 +11,9 @@
 //! file of an FSL eigen set read with the other five (by its own name and by the prefix). The
 //! BEP016 maps and sidecars, the scalar volumes of `--underlay`/`--mask`, gzip framing and
 //! decompression bombs are mutated in `pipeline.rs`; the MRtrix images of `tests/data/mif`
-//! (header keys, data, a `.mih`'s detached data, bombs) in `mif.rs`. Each case is read once,
+//! (header keys, data, a `.mih`'s detached data, bombs) in `mif.rs`; the SH coefficient files of
+//! `tests/data/sh` (NIfTI and MRtrix) with the same mutations, read as `info` reads them (SH or
+//! tensors, then the field, its report and a voxel's peaks). Each case is read once,
 //! sequentially, and must:
 //! - return a consistent field (as many positions as tensors, as the location's count, as the
 //!   dimensions say; 6, 7 or 9 components), which must then go through `derive_glyphs` (no
@@ -137,6 +139,9 @@ enum Read {
     Mask,
     /// Every value of an MRtrix image, as a reader of SH coefficients takes them.
     Volumes,
+    /// SH coefficients (`info` on an SH file): whether the file holds SH, then the field,
+    /// its `info` report and a voxel's peaks.
+    Sh(ReadOptions),
 }
 
 /// What a case read.
@@ -145,6 +150,7 @@ enum Got {
     Volume(tensorglyph::field::ScalarVolume),
     Mask,
     Volumes(tensorglyph::field::mif::Volumes),
+    Sh(Box<tensorglyph::field::ShField>),
 }
 
 struct Case {
@@ -191,6 +197,14 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
             &case.path,
         )
         .map(Got::Volumes),
+        Read::Sh(opts) => {
+            // The decision reads the header; the tensor reader takes what is not SH.
+            if tensorglyph::field::holds_sh(&case.path, opts) {
+                tensorglyph::field::read_sh_field(&case.path, opts).map(|f| Got::Sh(Box::new(f)))
+            } else {
+                read_field(&case.path, opts).map(|f| Got::Field(Box::new(f)))
+            }
+        }
     };
     let elapsed = t0.elapsed();
     let peak = PEAK.load(Relaxed).saturating_sub(base);
@@ -233,6 +247,34 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
                     v.voxel_to_world
                 ));
             }
+            Ok(())
+        }
+        Ok(Got::Sh(f)) => {
+            tally.ok += 1;
+            let l = &f.layout;
+            let n = f.dims.iter().try_fold(l.count, |a, &x| a.checked_mul(x));
+            if n != Some(f.coefficients.len())
+                || tensorglyph::sh::count_of_lmax(l.lmax) != Ok(l.count)
+                || f.frame
+                    .voxel_to_world
+                    .iter()
+                    .flatten()
+                    .flatten()
+                    .any(|x| !x.is_finite())
+            {
+                return Err(format!(
+                    "{label}: inconsistent SH field: dims {:?}, lmax {}, count {}, {} values",
+                    f.dims,
+                    l.lmax,
+                    l.count,
+                    f.coefficients.len()
+                ));
+            }
+            let v = f.voxels();
+            let samples: Vec<usize> = if v == 0 { vec![] } else { vec![0, v - 1] };
+            let report = tensorglyph::sh_info::report(&f, &samples)
+                .map_err(|e| format!("{label}: SH info report failed: {e}"))?;
+            serde_json::to_string(&report).map_err(|e| format!("{label}: JSON: {e}"))?;
             Ok(())
         }
         Ok(Got::Volume(v)) => {
@@ -701,6 +743,41 @@ fn mutation_campaign() {
         );
         if !go {
             return;
+        }
+        // SH coefficients (tests/data/sh): NIfTI and MRtrix images mutated as above, read as
+        // `info` reads them, now and then with --sh-basis (which makes any count SH) or
+        // --tensor-frame.
+        for (fi, f) in data_files(&data::path("sh")).iter().enumerate() {
+            let name = f.file_name().unwrap().to_string_lossy().into_owned();
+            let mut rng = Rng(seed ^ (0x9E37_79B9_7F4A_7C15_u64.wrapping_mul(fi as u64 + 1)));
+            let orig = std::fs::read(f).unwrap();
+            let target = dir.join(&name);
+            for k in 0..=per_file / 4 {
+                let (bytes, what) = if k == 0 {
+                    (orig.clone(), "original".to_string())
+                } else if name.contains(".nii") {
+                    dti::nifti(&orig, k, &mut rng)
+                } else {
+                    mif::mif(&orig, k, &mut rng)
+                };
+                std::fs::write(&target, &bytes).unwrap();
+                let opts = ReadOptions {
+                    sh_basis: (k % 7 == 6).then(|| tensorglyph::sh::ShBasis::VALUES[k % 3]),
+                    tensor_frame: (k % 11 == 10).then_some(TensorFrame::Voxel),
+                    ..ReadOptions::default()
+                };
+                let case = Case {
+                    label: format!("seed {seed}: {name} #{k}: {what}"),
+                    path: target.clone(),
+                    input_bytes: bytes.len(),
+                    read: Read::Sh(opts),
+                    names: vec![name.clone()],
+                };
+                if !run(case, &mut tally) {
+                    return;
+                }
+            }
+            let _ = std::fs::remove_file(&target);
         }
 
         for (label, bytes) in pvti_cases(&dir, fifo.as_deref()) {

@@ -329,7 +329,8 @@ pub fn run_all(
         let _ = std::fs::remove_file(&target);
     }
 
-    // Bombs: honest headers whose zeros deflate about 1000 times, as tensors and as volumes:
+    // Bombs: honest headers whose zeros deflate about 1000 times, as tensors, as volumes and as
+    // SH coefficients (`--sh-basis`, so that six volumes are SH too):
     // read within the budget, or refused by the gzip budget before anything is allocated. (A
     // field holds 96 bytes a voxel, positions and tensors, for the 24 its six float32 values
     // take: an image the budget lets inflate to more than about 16 MiB of tensors, such as
@@ -352,7 +353,15 @@ pub fn run_all(
         let gz = bomb(&h, bytes);
         let path = work.join("bomb.mif.gz");
         std::fs::write(&path, &gz).unwrap();
-        for read in [Read::Tensors(Default::default()), Read::Volumes] {
+        let sh = tensorglyph::field::ReadOptions {
+            sh_basis: Some(tensorglyph::sh::ShBasis::Tournier07),
+            ..Default::default()
+        };
+        for read in [
+            Read::Tensors(Default::default()),
+            Read::Volumes,
+            Read::Sh(sh),
+        ] {
             let case = Case {
                 label: format!(
                     "bomb: {x}×{y}×{z}×{v} f32, {} compressed bytes inflating to {bytes}",

@@ -16,6 +16,7 @@ mod dti;
 mod mif;
 mod regressions;
 mod scalars;
+mod sh;
 mod tensor_vectors;
 mod vtk;
 mod vtkio;

@@ -72,6 +72,9 @@ pub(super) struct Header {
     pub(super) data: DataFile,
     /// Whether the header's file is gzip-compressed (`.mif.gz`).
     pub(super) gz: bool,
+    /// Whether the header has a `dw_scheme`: a DWI series (`dwi2fod` keeps it as
+    /// `prior_dw_scheme`).
+    pub(super) dw_scheme: bool,
 }
 
 impl Header {
@@ -246,6 +249,7 @@ struct Raw {
     scaling: Option<String>,
     file: Option<String>,
     transform: Vec<String>,
+    dw_scheme: bool,
 }
 
 /// The header `text` (up to and including its `END` line) checked into a [`Header`].
@@ -276,6 +280,10 @@ pub(super) fn parse(text: &[u8], gz: bool) -> Res<Header> {
             "datatype" => &mut raw.datatype,
             "scaling" => &mut raw.scaling,
             "file" => &mut raw.file,
+            "dw_scheme" => {
+                raw.dw_scheme = true;
+                continue;
+            }
             _ => continue,
         };
         if slot.is_some() {
@@ -343,6 +351,7 @@ pub(super) fn parse(text: &[u8], gz: bool) -> Res<Header> {
         scaling,
         data,
         gz,
+        dw_scheme: raw.dw_scheme,
     })
 }
 

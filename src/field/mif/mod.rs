@@ -21,6 +21,9 @@
 //! of many values per voxel ([`read_volumes`]: spherical-harmonic coefficients, a DWI series)
 //! share the header, data and placement code, so they land in the same world as tensors.
 //!
+//! SH coefficients (`read_sh`: `dwi2fod`) are read into an [`ShField`] in MRtrix's basis,
+//! tournier07, their directions in scanner axes.
+//!
 //! Layout: `header` (the text and the image it describes), `data` (the values: where they
 //! are, and which voxel and volume each stored value belongs to).
 
@@ -29,13 +32,14 @@ mod header;
 
 use std::path::Path;
 
-use crate::field::frame::{Layout, TensorFrame, Why, rows4};
+use crate::field::frame::{FrameInfo, Layout, TensorFrame, Why, rows4};
 use crate::field::inputs::Inputs;
 use crate::field::nifti::lattice_field;
-use crate::field::number::try_vec;
+use crate::field::number::{Scalar, try_vec};
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
+use crate::field::sh_field::{self, Coefficients, ShField, Writer};
 use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField};
 use header::{Header, Res, field, read_header};
 
@@ -94,8 +98,9 @@ fn tensor_components(h: &Header) -> Res<usize> {
         return Err(field(
             "dim",
             format!(
-                "{n} values per voxel over {} axes; a tensor image has 6 or 9 volumes on its fourth",
-                h.axes.len()
+                "{n} values per voxel over {} axes; a tensor image has 6 or 9 volumes on its fourth{}",
+                h.axes.len(),
+                sh_field::tensor_hint(n)
             ),
         ));
     }
@@ -169,5 +174,52 @@ pub fn read_volumes(inputs: &Inputs, path: &Path) -> Res<Volumes> {
         values: out,
         voxel_to_world: rows4(&a),
         source,
+    })
+}
+
+/// What deciding between SH and tensors needs of an MRtrix image (its header only): values per
+/// voxel, and whether it is a DWI series (`dw_scheme`).
+pub(crate) fn sh_probe(inputs: &Inputs, path: &Path) -> Res<(usize, bool)> {
+    let input = inputs.open(path)?;
+    let h = read_header(&input)?;
+    Ok((h.per_voxel()?, h.dw_scheme))
+}
+
+/// Read an MRtrix image of SH coefficients (`dwi2fod`'s output) from `path` among `inputs`:
+/// tournier07 unless `opts.sh_basis` says otherwise, directions in scanner axes unless
+/// `opts.tensor_frame` does. Float32 without `scaling` stays float32; the rest is float64.
+pub(crate) fn read_sh(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<ShField> {
+    let input = inputs.open(path)?;
+    let h = read_header(&input)?;
+    let count = h.per_voxel()?;
+    let layout = sh_field::layout(count, Writer::MrtrixImage, opts.sh_basis)?;
+    let (a, source) = h.affine()?;
+    let values = data::locate(inputs, path, &input, &h)?;
+    let voxels = h.dims().iter().product::<usize>();
+    // Known to be in the file (`locate`): allocated only now.
+    let n = voxels * count;
+    let coefficients = if h.ty == Scalar::F32 && h.scaling == (0.0, 1.0) {
+        let mut out: Vec<f32> = try_vec(n)?;
+        out.resize(n, 0.0);
+        values.each(&h, |c, v, x| out[c * voxels + v] = x as f32)?;
+        Coefficients::F32(out)
+    } else {
+        let mut out: Vec<f64> = try_vec(n)?;
+        out.resize(n, 0.0);
+        values.each(&h, |c, v, x| out[c * voxels + v] = x)?;
+        Coefficients::F64(out)
+    };
+    sh_field::check_finite(&coefficients, h.dims())?;
+    Ok(ShField {
+        format: "mif".into(),
+        dims: h.dims(),
+        layout,
+        coefficients,
+        frame: FrameInfo {
+            tensor_frame: sh_field::direction_frame(Writer::MrtrixImage, opts.tensor_frame),
+            world: "RAS".into(),
+            voxel_to_world: Some(rows4(&a)),
+            source: source.into(),
+        },
     })
 }

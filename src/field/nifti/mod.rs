@@ -26,6 +26,9 @@
 //! header, data and affine code (`read_header`, `Header::voxels`), so they land in the
 //! same world as tensors.
 //!
+//! SH coefficient volumes (`read_sh`: DIPY's `shm_coeff`, MRtrix's `dwi2fod` converted) share
+//! them too; `descrip` tells MRtrix's files from the others (`field::sh_field`).
+//!
 //! Layout: `header` (the header: lattice, values per voxel, data type, voxel-to-world matrix),
 //! `voxels` (the voxel data); this module makes tensor fields and scalar volumes of them.
 
@@ -42,9 +45,11 @@ use crate::field::frame::{
     smallest_spacing, tensor_rotation,
 };
 use crate::field::inputs::Input;
+use crate::field::number::Scalar;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
+use crate::field::sh_field::{self, Coefficients, ShField, Writer};
 use crate::field::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
 pub(crate) use header::{Header, read_header};
 use header::{Res, Shape, Values, field, read_head};
@@ -151,7 +156,10 @@ fn tensor_components(components: usize) -> Res<()> {
     if components != 6 && components != 9 {
         return Err(field(
             "dim",
-            format!("{components} volumes per voxel; a tensor volume has 6 or 9"),
+            format!(
+                "{components} volumes per voxel; a tensor volume has 6 or 9{}",
+                sh_field::tensor_hint(components)
+            ),
         ));
     }
     Ok(())
@@ -190,4 +198,56 @@ pub fn is_nifti_path(path: &Path) -> bool {
         .map(|n| n.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     name.ends_with(".nii") || name.ends_with(".nii.gz")
+}
+
+/// Who wrote a NIfTI file, as far as SH needs to know: MRtrix writes `MRtrix version: …` into
+/// `descrip` (`mrconvert`, `dwi2fod`), which nothing else does.
+fn sh_writer(h: &NiftiHeader) -> Writer {
+    if h.descrip.starts_with(b"MRtrix version") {
+        Writer::MrtrixNifti
+    } else {
+        Writer::Other
+    }
+}
+
+/// What deciding between SH and tensors needs of a NIfTI file (its header only): values per
+/// voxel.
+pub(crate) fn sh_probe(input: &Input) -> Res<usize> {
+    Ok(read_header(input, |_| Ok(()))?.shape.components)
+}
+
+/// Read a NIfTI-1 volume of SH coefficients (4-D, coefficients along the fourth axis, or
+/// 5-D `X×Y×Z×1×C`; float32 or float64) from `input`: the basis from `opts.sh_basis`, else
+/// by the writer (MRtrix: tournier07; others: DIPY's descoteaux07-legacy), directions in
+/// scanner axes for MRtrix's files and voxel axes for the others unless `opts.tensor_frame`
+/// says otherwise. Float32 without `scl_slope` stays float32.
+pub(crate) fn read_sh(input: &Input, opts: &ReadOptions) -> Res<ShField> {
+    let head = read_header(input, |_| Ok(()))?;
+    let writer = sh_writer(&head.h);
+    let layout = sh_field::layout(head.shape.components, writer, opts.sh_basis)?;
+    let (a, source) = head.affine()?;
+    // Volume after volume, as the file stores them and as the field keeps them: the values
+    // grow with the bytes read.
+    let coefficients = if head.shape.ty == Scalar::F32 && voxels::scaling(&head.h) == (1.0, 0.0) {
+        let mut v = Vec::new();
+        head.each_value(input, |_, _, x| v.push(x as f32))?;
+        Coefficients::F32(v)
+    } else {
+        let mut v = Vec::new();
+        head.each_value(input, |_, _, x| v.push(x))?;
+        Coefficients::F64(v)
+    };
+    sh_field::check_finite(&coefficients, head.dims())?;
+    Ok(ShField {
+        format: "nifti".into(),
+        dims: head.dims(),
+        layout,
+        coefficients,
+        frame: FrameInfo {
+            tensor_frame: sh_field::direction_frame(writer, opts.tensor_frame),
+            world: "RAS".into(),
+            voxel_to_world: Some(rows4(&a)),
+            source: source.into(),
+        },
+    })
 }

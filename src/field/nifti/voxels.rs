@@ -121,7 +121,7 @@ impl Sink {
 
 /// `scl_slope` and `scl_inter`; a slope of 0 (or not finite) means "no scaling", per the
 /// standard.
-fn scaling(h: &NiftiHeader) -> (f64, f64) {
+pub(super) fn scaling(h: &NiftiHeader) -> (f64, f64) {
     let s = h.scl_slope as f64;
     if s != 0.0 && s.is_finite() {
         let i = h.scl_inter as f64;
