@@ -68,8 +68,16 @@ fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(x * 2.0 - 1.0, 1.0 - y * 2.0, 0.0, 1.0);
 }
 
+// The effects a pipeline is built for (src/render/effects.rs): what a frame does not ask for is
+// compiled out, so deferred shading alone does not carry the shadow and occlusion code.
+override OUTLINES: bool = true;
+override SHADOWS: bool = true;
+override AO: bool = true;
+
 fn has(flag: u32) -> bool {
-    return (fx.params.w & flag) != 0u;
+    let built = (flag != FLAG_OUTLINES || OUTLINES) && (flag != FLAG_SHADOWS || SHADOWS)
+        && (flag != FLAG_AO || AO);
+    return built && (fx.params.w & flag) != 0u;
 }
 
 // The view-space point a pixel's depth puts on its ray.

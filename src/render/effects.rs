@@ -282,7 +282,8 @@ pub struct EffectsPipeline {
     layout: wgpu::BindGroupLayout,
     glyph_group: wgpu::BindGroupLayout,
     sampler: wgpu::Sampler,
-    pipelines: Mutex<HashMap<GlyphKind, wgpu::RenderPipeline>>,
+    /// Keyed by the kind and the effects built in (outlines, shadows, ambient occlusion).
+    pipelines: Mutex<HashMap<(GlyphKind, [bool; 3]), wgpu::RenderPipeline>>,
     textures: Mutex<Option<Arc<EffectsTextures>>>,
 }
 
@@ -353,9 +354,15 @@ impl EffectsPipeline {
         }
     }
 
-    fn pipeline(&self, ctx: &GpuContext, kind: GlyphKind) -> wgpu::RenderPipeline {
+    fn pipeline(&self, ctx: &GpuContext, kind: GlyphKind, fx: &Effects) -> wgpu::RenderPipeline {
+        let built = [fx.outlines.is_some(), fx.shadows.is_some(), fx.ao.is_some()];
+        let constants: Vec<(&str, f64)> = ["OUTLINES", "SHADOWS", "AO"]
+            .into_iter()
+            .zip(built)
+            .map(|(name, on)| (name, f64::from(u8::from(on))))
+            .collect();
         let mut map = self.pipelines.lock().unwrap_or_else(|e| e.into_inner());
-        map.entry(kind)
+        map.entry((kind, built))
             .or_insert_with(|| {
                 let device = &ctx.device;
                 let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -382,7 +389,10 @@ impl EffectsPipeline {
                     fragment: Some(wgpu::FragmentState {
                         module: &module,
                         entry_point: Some("fs_composite"),
-                        compilation_options: Default::default(),
+                        compilation_options: wgpu::PipelineCompilationOptions {
+                            constants: &constants,
+                            ..Default::default()
+                        },
                         targets: &[Some(COLOR_FORMAT.into()), Some(EFFECTS_FORMAT.into())],
                     }),
                     multiview_mask: None,
@@ -591,7 +601,7 @@ impl EffectsPipeline {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline(ctx, buffers.kind));
+        pass.set_pipeline(&self.pipeline(ctx, buffers.kind, fx));
         pass.set_bind_group(0, &buffers.chunks[0].bind_group, &[]);
         pass.set_bind_group(1, &group, &[]);
         pass.draw(0..3, 0..1);
