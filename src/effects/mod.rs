@@ -147,6 +147,32 @@ impl Effects {
     }
 }
 
+impl Effects {
+    /// Effects by name, each at its defaults: `outlines`, `shadows`, `ao`, comma-separated
+    /// (`deferred` alone: deferred shading without effects).
+    pub fn from_names(names: &str) -> Result<Self, String> {
+        let mut fx = Effects {
+            shading: Shading::Deferred,
+            ..Effects::default()
+        };
+        for name in names.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            match name {
+                "deferred" => {}
+                "outlines" => fx.outlines = Some(Outlines::default()),
+                "shadows" => fx.shadows = Some(Shadows::default()),
+                "ao" => fx.ao = Some(ao::AmbientOcclusion::default()),
+                other => {
+                    return Err(format!(
+                        "unknown effect '{}': use deferred, outlines, shadows or ao",
+                        other.escape_debug()
+                    ));
+                }
+            }
+        }
+        Ok(fx)
+    }
+}
+
 impl fmt::Display for Effects {
     /// `deferred+outlines+shadows`, `direct`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -161,5 +187,25 @@ impl fmt::Display for Effects {
             s.push_str("+ao");
         }
         f.pad(&s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn effects_by_name_are_the_defaults_and_refuse_what_is_unknown() {
+        let fx = Effects::from_names("outlines, shadows,ao").unwrap();
+        assert_eq!(fx.outlines, Some(Outlines::default()));
+        assert_eq!(fx.shadows, Some(Shadows::default()));
+        assert_eq!(fx.ao, Some(ao::AmbientOcclusion::default()));
+        assert_eq!(fx.to_string(), "deferred+outlines+shadows+ao");
+        assert_eq!(
+            Effects::from_names("deferred").unwrap().to_string(),
+            "deferred"
+        );
+        let e = Effects::from_names("shadows,glow\n").unwrap_err();
+        assert!(e.contains("'glow'") && !e.contains('\n'), "{e}");
     }
 }

@@ -49,6 +49,8 @@ pub enum Command {
     /// Render a figure of this many pixels as `render` frames one by default, and keep it
     /// (through [`Host::save_figure`]) as `name`.
     Figure { size: (u32, u32), name: String },
+    /// Draw with these figure effects (the panel's; the page's `?effects=`).
+    Effects(crate::effects::Effects),
 }
 
 /// Commands queued for the app, which takes them at its next frame (woken by the push).

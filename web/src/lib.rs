@@ -116,6 +116,15 @@ impl WebHandle {
         Ok(())
     }
 
+    /// Draw with the figure effects named (`outlines,shadows,ao`, each at its defaults), in
+    /// the view and in figures, as the panel's figure section sets them.
+    pub fn effects(&self, names: &str) -> Result<(), JsValue> {
+        let effects = tensorglyph::effects::Effects::from_names(names)
+            .map_err(|e| JsValue::from_str(&format!("effects: {e}")))?;
+        self.remote.push(Command::Effects(effects));
+        Ok(())
+    }
+
     /// The panic message, if the viewer stopped on one.
     pub fn panic_message(&self) -> Option<String> {
         self.runner.panic_summary().map(|p| p.message())

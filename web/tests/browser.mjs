@@ -4,6 +4,8 @@
 //   - ?demo=grid40&figure=640x480 and ?demo=grid:10&figure=640x480: #status says 64000 glyphs
 //     after the first frame, and each figure matches `tensorglyph render --demo … --size
 //     640x480` on lavapipe (>= 99 % of pixels within 3/255);
+//   - ?demo=grid:10&effects=outlines,shadows,ao&figure=640x480: the figure effects on WebGPU
+//     against `render … --outlines --shadows --shadow-map 1024 --ao` (the same bound);
 //   - picking: the eigenvalues the page shows for the glyph under the pointer are those of the
 //     tensor it shows (a Jacobi eigensolver here);
 //   - ?url= a DIPY fit (tests/data/dti/dipy_small101) opens with DIPY's voxel count;
@@ -227,6 +229,20 @@ try {
     const frac = cmp.close / cmp.n;
     check(!cmp.size && cmp.glyph > 0.02 * cmp.n, `grid:10's figure is 640x480 with glyphs (${cmp.size || cmp.glyph})`);
     check(frac >= 0.99, `grid:10's figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
+    await page.close();
+  }
+
+  // The figure effects on WebGPU: the composite pass composed with the shape code for its
+  // exact shadow rays, and the occlusion volume, against the native figure with the same
+  // effects (the viewer's shadow map is Shadows::default's 1024²).
+  {
+    const { page } = await open('?demo=grid:10&effects=outlines,shadows,ao&figure=640x480');
+    const src = await figureOf(page);
+    fs.writeFileSync(path.join(out, 'web_grid10_effects_640x480.png'), Buffer.from(src.split(',')[1], 'base64'));
+    const cmp = await compare(page, src, nativeFigure('grid10_effects', ['--demo', 'grid:10', '--outlines', '--shadows', '--shadow-map', '1024', '--ao']));
+    const frac = cmp.close / cmp.n;
+    check(!cmp.size && cmp.glyph > 0.02 * cmp.n, `grid:10's figure with effects is 640x480 with glyphs (${cmp.size || cmp.glyph})`);
+    check(frac >= 0.99, `grid:10's figure with outlines, shadows and AO matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
     await page.close();
   }
 

@@ -553,6 +553,7 @@ impl eframe::App for ViewerApp {
                 Command::OpenFiles(files) => self.open_files(&ctx, files),
                 Command::Figure { size, name } => self.figure_asked = Some((size.0, size.1, name)),
                 Command::Underlay(files) => self.open_underlay(files),
+                Command::Effects(effects) => self.settings.effects = effects,
             }
         }
         // The first is the cause; later ones tend to follow from it.
