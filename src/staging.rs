@@ -6,7 +6,7 @@
 //! eigendecomposition, field and glyphs together). The viewer keeps the field and glyphs to
 //! restyle and reselect, and calls [`read`], [`decompose`] and [`build`] itself.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::str::FromStr;
 use std::sync::Arc;
 use web_time::Instant;
@@ -399,6 +399,11 @@ pub fn stage(
     progress: &dyn Progress,
 ) -> Result<Staged, StageError> {
     recipe.selection.check()?;
+    if let Source::File(path) = source
+        && crate::field::holds_sh(path, &recipe.read)
+    {
+        return stage_sh(path, recipe, progress);
+    }
     let mut timings = Timings::default();
 
     let inputs = Inputs::file_system();
@@ -447,6 +452,110 @@ pub fn stage(
         frame_half: built.frame_half,
         style: built.style,
         scene: built.scene,
+        timings,
+        read: inputs.paths_read(),
+    })
+}
+
+/// [`stage`] for a file of SH series: ODF glyphs ([`crate::scene::odf`]) on the lattice planes
+/// the selection asks for (with none, the middle axial one where `middle_slice` says so, as for
+/// DTI), seen face-on when one plane is shown. Only `--slice` selects: FA, stride, ROI and mask
+/// are the tensors' ([`Selection::check`] refused none of them here, so they are refused now).
+fn stage_sh(path: &Path, recipe: &Recipe, progress: &dyn Progress) -> Result<Staged, StageError> {
+    let mut timings = Timings::default();
+    let inputs = Inputs::file_system();
+    let name = crate::error::escape_path(path);
+    let t = Instant::now();
+    let field = run_stage(progress, "reading SH series", None, || {
+        crate::field::read_sh_field_from(&inputs, path, &recipe.read)
+    })?;
+    timings.load = ms(t);
+    timings.peak_rss_after[0] = crate::mem::peak_rss_bytes();
+    let sel = &recipe.selection;
+    let rest = Selection {
+        slicing: Slicing::Whole,
+        ..sel.clone()
+    };
+    if !rest.is_everything() || recipe.underlay.is_some() {
+        return Err(StageError::Of {
+            name,
+            error: Box::new(StageError::Selection(SelectionError(
+                "a file of SH series is selected by --slice only (--fa-*, --stride, --roi, \
+                 --mask and --underlay are for tensors)"
+                    .into(),
+            ))),
+        });
+    }
+    let d = field.dims;
+    let planes = sel.slicing.planes().or_else(|| {
+        recipe.middle_slice.then(|| {
+            vec![Plane {
+                axis: 2,
+                index: d[2] / 2,
+            }]
+        })
+    });
+    if let Some(p) = planes
+        .iter()
+        .flatten()
+        .find(|p| p.index >= d[p.axis.min(2)])
+    {
+        return Err(StageError::Of {
+            name,
+            error: Box::new(StageError::Selection(SelectionError(format!(
+                "--slice {p}: the lattice is {}x{}x{}",
+                d[0], d[1], d[2]
+            )))),
+        });
+    }
+    let t = Instant::now();
+    let opts = crate::scene::odf::OdfOptions {
+        planes: planes.clone(),
+        ..Default::default()
+    };
+    let scene = run_stage(progress, "scene", None, || {
+        crate::scene::odf::odf_scene(&field, &opts)
+    });
+    if scene.instances.is_empty() {
+        return Err(StageError::Of {
+            name,
+            error: Box::new(StageError::EmptySelection {
+                asked: planes.map_or("the whole lattice".into(), |p| {
+                    p.iter()
+                        .map(|p| p.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                }),
+                valid: 0,
+            }),
+        });
+    }
+    timings.scene = ms(t);
+    timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
+    let face = match opts.planes.as_deref() {
+        Some([plane]) => field.frame.voxel_to_world.and_then(|m| {
+            let steps = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
+            let toward = underlay::face_on_steps(steps, *plane)?;
+            Some(FaceOn {
+                toward,
+                centre: scene.centre,
+                radius: scene.radius,
+                half: scene.half,
+            })
+        }),
+        _ => None,
+    };
+    let n = scene.instances.len();
+    Ok(Staged {
+        glyphs_selected: n,
+        glyphs_clamped: 0,
+        glyphs_valid: n,
+        face,
+        frame_centre: scene.centre,
+        frame_radius: scene.radius,
+        frame_half: scene.half,
+        style: recipe.style.resolve(&GlyphSet::default(), 1.0),
+        scene,
         timings,
         read: inputs.paths_read(),
     })

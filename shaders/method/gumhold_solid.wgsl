@@ -80,6 +80,17 @@ fn solid_quad(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SolidQuad {
         z_hat = -e_b / e;
         q.m += t * (e_b / e2);
         radius = sqrt((e2 - 1.0) / e2);
+        // The quad's plane lies on the eye's side of the bounding ellipsoid's silhouette: in
+        // front of the near plane while the glyph reaches beyond it, the quad would be clipped
+        // away whole, and a non-convex glyph's parts behind the near plane (seen past parts in
+        // front of it, as the reference sees them) with it. The near-plane proxy draws them.
+        let f = camera.forward.xyz;
+        let near = camera.depth.z;
+        if dot(q.m - camera.eye.xyz, f) < near && dot(g.centre - camera.eye.xyz, f) + shape_radius(g.radii) > near {
+            q.drawn = true;
+            q.near = true;
+            return q;
+        }
     }
     let xy = orthonormal_pair(z_hat);
     q.x = t * (radius * xy[0]);
@@ -181,7 +192,9 @@ fn ray_cast(in: VsOut) -> Hit {
         hit.depth = in.position.z - (t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
     }
     let n_view = normalize(n * entry.yzw);
-    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, p_view), 1.0);
+    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
+    let base = shape_tint(transpose(rv) * (n * (o_t + t * v_t)), in.shape, unpack4x8unorm(in.color).rgb);
+    hit.color = vec4<f32>(shade(base, n_view, p_view), 1.0);
     hit.n_view = n_view;
     // The flat variants leave the quad's depth, so the proxy's z stays V's.
     hit.z_proxy_rel = dot(in.tz, in.o_t);

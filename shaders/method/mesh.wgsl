@@ -15,6 +15,10 @@ struct VsOut {
     @location(3) @interpolate(flat) color: u32,
     // View z relative to the glyph's centre, formed from the small offset O diag(r) p.
     @location(4) z_rel: f32,
+    // The point's offset from the glyph's centre (world) and the kind's shape vector: the
+    // kind's per-pixel colour (shape_tint).
+    @location(5) dir: vec3<f32>,
+    @location(6) @interpolate(flat) shape: vec4<f32>,
 }
 
 // The box baseline (MeshRenderer sets it for `box`): the unit cube scaled by the kind's
@@ -62,6 +66,8 @@ fn vs_main(
     out.n_view = normalize(rv * (o * m.n_local));
     out.id = ii + 1u;
     out.color = g.color;
+    out.dir = o * local;
+    out.shape = solid.shape;
     return out;
 }
 
@@ -69,7 +75,8 @@ fn vs_main(
 fn ray_cast(in: VsOut) -> Hit {
     let n_view = normalize(in.n_view);
     var hit: Hit;
-    hit.color = vec4<f32>(shade(unpack4x8unorm(in.color).rgb, n_view, in.v_view), 1.0);
+    let base = shape_tint(in.dir, in.shape, unpack4x8unorm(in.color).rgb);
+    hit.color = vec4<f32>(shade(base, n_view, in.v_view), 1.0);
     hit.n_view = n_view;
     hit.z_rel = in.z_rel;
     hit.z_proxy_rel = in.z_rel;

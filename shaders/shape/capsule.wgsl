@@ -173,3 +173,8 @@ fn shape_box_half(g: Glyph, solid: Solid) -> vec3<f32> {
     let r = solid.scale.x;
     return vec3<f32>((h + 1.0) * r, r, r);
 }
+
+// One colour per glyph (only ODF glyphs colour their pixels by direction).
+fn shape_tint(dir: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
+    return base;
+}

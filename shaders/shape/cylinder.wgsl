@@ -66,3 +66,8 @@ fn shape_mesh_point(p: vec3<f32>, n: vec3<f32>, g: Glyph, solid: Solid) -> MeshP
 fn shape_box_half(g: Glyph, solid: Solid) -> vec3<f32> {
     return g.radii;
 }
+
+// One colour per glyph (only ODF glyphs colour their pixels by direction).
+fn shape_tint(dir: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
+    return base;
+}

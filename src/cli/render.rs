@@ -330,12 +330,26 @@ where
     let (w, h) = image.size;
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
-    let options = draw.options(cam.method, cam.glyph, depth_correction)?;
+    // A file of SH series is drawn as ODF glyphs whatever --glyph left at its default says.
+    let glyph = match src {
+        Source::File(p) if crate::field::holds_sh(p, &scene_args.read_options()) => {
+            if !matches!(cam.glyph, GlyphKind::Odf | GlyphKind::Ellipsoid) {
+                bail!(
+                    "{}: holds SH series, drawn as --glyph odf, not {}",
+                    crate::error::escape_path(p),
+                    cam.glyph
+                );
+            }
+            GlyphKind::Odf
+        }
+        _ => cam.glyph,
+    };
+    let options = draw.options(cam.method, glyph, depth_correction)?;
     let recipe = Recipe {
         underlay: select.underlay.clone(),
         middle_slice: defaults.middle_slice && select.no_slice(),
         underlay_side: Some((w.max(h) * ssaa) as usize),
-        ..scene_args.recipe(select.selection()?, cam.glyph, &defaults)?
+        ..scene_args.recipe(select.selection()?, glyph, &defaults)?
     };
     let staged = stage(src, &recipe, progress)?;
     let mut read = staged.read.clone();
@@ -443,7 +457,7 @@ where
     let covered = frame.covered_pixels();
     let report = RenderReport {
         method,
-        glyph: cam.glyph,
+        glyph,
         effects: req.effects.to_string(),
         adapter,
         backend: backend_name,

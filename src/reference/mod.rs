@@ -82,7 +82,7 @@ impl<'a> ReferenceScene<'a> {
             .map(|g| {
                 let geo = GlyphGeometry::of(g);
                 let [r, gg, b, _] = g.color_rgba();
-                let shape = kind.exact(&geo);
+                let shape = kind.exact_with(&geo, scene.payload.as_ref());
                 let (h, eye_inside) = (shape.half_extents(), shape.contains(eye));
                 let drawable = drawable_radii(g.radii);
                 // An undrawn glyph's box may be NaN: keep the BVH finite.
@@ -229,10 +229,11 @@ impl<'a> ReferenceScene<'a> {
                             let p_view = self.view.transform_point3(hit.point);
                             let c_view = self.view.transform_point3(g.shape.centre());
                             let n_view = self.view.transform_vector3(hit.normal).normalize();
-                            let c = shade(&req.lighting, ortho, g.base, n_view, p_view);
+                            let base = g.shape.tint(hit.point, g.base);
+                            let c = shade(&req.lighting, ortho, base, n_view, p_view);
                             if let Some(last) = surfaces.last_mut() {
                                 *last = Some(Surface {
-                                    base: g.base,
+                                    base,
                                     n_view,
                                     p_view,
                                     point: hit.point,

@@ -15,6 +15,7 @@ use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGly
 use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
 use crate::request::FrameRequest;
 use crate::scene::{GlyphInstance, GlyphKind, Scene};
+use crate::shape::Payload;
 
 /// A scene's instances and camera uniform on the GPU, bound for drawing.
 pub struct SceneBuffers {
@@ -64,6 +65,20 @@ impl SceneBuffers {
         chunk: usize,
     ) -> Result<Self, RenderError> {
         let device = &ctx.device;
+        // Per-glyph values travel in the chunk's shape buffer after its words, indexed in f32
+        // by the shaders: at most 2²⁴ pairs of words (128 MiB) a chunk keeps the index exact.
+        let chunk = match &scene.payload {
+            Some(p) => {
+                let limits = &ctx.limits;
+                let bytes = limits
+                    .max_storage_buffer_binding_size
+                    .min(limits.max_buffer_size)
+                    .min(1 << 27);
+                let per = 8 + 4 * p.stride() as u64;
+                chunk.min((bytes / per).max(1) as usize)
+            }
+            None => chunk,
+        };
         let chunk = chunk.max(1);
         if scene.instances.len() > u32::MAX as usize - 1 {
             return Err(RenderError::Unsupported(format!(
@@ -98,6 +113,7 @@ impl SceneBuffers {
                 layout,
                 scene.kind,
                 piece,
+                scene.payload.as_deref(),
                 base,
                 [&camera_buffer, &light_buffer],
             )?);
@@ -203,6 +219,7 @@ impl ChunkBuffers {
         layout: &wgpu::BindGroupLayout,
         kind: GlyphKind,
         piece: &[GlyphInstance],
+        payload: Option<&Payload>,
         base: u32,
         [camera_buffer, light_buffer]: [&wgpu::Buffer; 2],
     ) -> Result<Self, RenderError> {
@@ -233,16 +250,17 @@ impl ChunkBuffers {
             }
         }
         glyphs.unmap();
-        // Superquadric exponents, where the chunk has any (a binding may not be empty).
-        let words: Vec<[u32; 2]> = if piece.iter().any(|g| g.shape != [0; 2]) {
-            piece.iter().map(|g| g.shape).collect()
-        } else {
-            vec![[0; 2]]
+        // The kind's parameter words, where the chunk has any (a binding may not be empty);
+        // with a payload, each glyph's series follows the words, and word 0 is where.
+        let words: Vec<[u32; 2]> = match payload {
+            Some(p) if piece.iter().any(|g| g.shape[0] != 0) => payload_words(piece, p),
+            _ if piece.iter().any(|g| g.shape != [0; 2]) => piece.iter().map(|g| g.shape).collect(),
+            _ => vec![[0; 2]],
         };
         let shapes = wgpu::util::DeviceExt::create_buffer_init(
             device,
             &wgpu::util::BufferInitDescriptor {
-                label: Some("superquadric exponents"),
+                label: Some("shape words"),
                 contents: bytemuck::cast_slice(&words),
                 usage: wgpu::BufferUsages::STORAGE,
             },
@@ -287,5 +305,63 @@ impl ChunkBuffers {
             _shapes: shapes,
             params,
         })
+    }
+}
+
+/// A chunk's shape buffer with per-glyph series: one pair of words per glyph (word 0: where its
+/// series starts, in pairs from the buffer's start, 0 for none; word 1 as the instance has it),
+/// then the series of the chunk's glyphs in their order, each `stride` floats (odf.wgsl reads
+/// them).
+fn payload_words(piece: &[GlyphInstance], p: &Payload) -> Vec<[u32; 2]> {
+    let stride = p.stride();
+    let mut words = Vec::with_capacity(piece.len());
+    let mut tail: Vec<u32> = Vec::new();
+    let mut next = piece.len() as u32;
+    for g in piece {
+        let k = g.shape[0] as usize;
+        if k == 0 || k > p.len() {
+            words.push([0, g.shape[1]]);
+            continue;
+        }
+        words.push([next, g.shape[1]]);
+        tail.extend(
+            p.values[(k - 1) * stride..k * stride]
+                .iter()
+                .map(|v| v.to_bits()),
+        );
+        next += (stride / 2) as u32;
+    }
+    words.extend(tail.chunks_exact(2).map(|c| [c[0], c[1]]));
+    words
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Each glyph's first word points at its own series after the words, whatever the order.
+    #[test]
+    fn payload_words_point_at_each_series() {
+        let mut p = Payload::new(2).unwrap();
+        p.push(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 0.5);
+        p.push(&[7.0, 8.0, 9.0, 10.0, 11.0, 12.0], 0.25);
+        let inst = |k: u32| GlyphInstance {
+            centre: [0.0; 3],
+            color: 0,
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            radii: [1.0; 3],
+            glyph: 0,
+            shape: [k, 1],
+        };
+        let words = payload_words(&[inst(2), inst(0), inst(1)], &p);
+        assert_eq!(words[1], [0, 1]);
+        for (w, k) in [(words[0], 2usize), (words[2], 1)] {
+            let start = w[0] as usize;
+            let float = |i: usize| f32::from_bits(words[start + i / 2][i % 2]);
+            let want = p.series(k - 1);
+            for (i, &v) in want.iter().enumerate() {
+                assert_eq!(float(i), v);
+            }
+        }
     }
 }

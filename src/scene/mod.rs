@@ -6,6 +6,7 @@ use glam::{DQuat, DVec3};
 
 pub use crate::shape::{GlyphGeometry, GlyphInstance, GlyphKind};
 
+pub mod odf;
 pub mod underlay;
 
 pub use underlay::{Underlay, UnderlaySource};
@@ -24,6 +25,9 @@ pub struct Scene {
     pub half: DVec3,
     /// A scalar image under the glyphs (`--underlay`), if asked for.
     pub underlay: Option<Underlay>,
+    /// Per-glyph values the instances' parameter words index (ODF series), if the kind keeps
+    /// any ([`crate::shape::Payload`]).
+    pub payload: Option<std::sync::Arc<crate::shape::Payload>>,
 }
 
 /// One glyph given directly by world centre, frame and radii (tests, synthetic scenes).
@@ -104,6 +108,7 @@ impl Scene {
             radius: half.length(),
             half,
             underlay: None,
+            payload: None,
         }
     }
 
@@ -218,7 +223,9 @@ impl Scene {
                 v.behind_camera += 1;
             } else if culling.skips(geo.centre, shape.cull_radius(g.radii)) {
                 v.culled += 1;
-            } else if !camera.is_ortho() && shape.contains(&geo, eye) {
+            } else if !camera.is_ortho()
+                && shape.exact_with(&geo, self.payload.as_ref()).contains(eye)
+            {
                 v.eye_inside += 1;
             }
         }

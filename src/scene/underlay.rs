@@ -334,9 +334,13 @@ fn in_plane_axes(axis: usize) -> (usize, usize) {
 /// the side and with the up of the anatomical preset nearest to it (axial for a plane whose
 /// normal is mostly z, coronal for y, sagittal for x). `None` without a lattice.
 pub fn face_on(field: &TensorField, plane: Plane) -> Option<(DVec3, DVec3)> {
-    let lattice = Lattice::of(field).ok()?;
+    face_on_steps(Lattice::of(field).ok()?.steps, plane)
+}
+
+/// [`face_on`] for a lattice of voxel steps `steps` (world).
+pub fn face_on_steps(steps: [DVec3; 3], plane: Plane) -> Option<(DVec3, DVec3)> {
     let (a, b) = in_plane_axes(plane.axis.min(2));
-    let n = lattice.steps[a].cross(lattice.steps[b]).normalize_or_zero();
+    let n = steps[a].cross(steps[b]).normalize_or_zero();
     if n == DVec3::ZERO || !n.is_finite() {
         return None;
     }

@@ -12,6 +12,7 @@ pub mod cylinder;
 pub mod ellipsoid;
 pub mod geometry;
 pub mod mesh;
+pub mod odf;
 pub mod principal;
 pub mod rules;
 pub mod superquadric;
@@ -20,6 +21,7 @@ use glam::DVec3;
 
 pub use geometry::{GlyphGeometry, GlyphInstance};
 pub use mesh::Mesh;
+pub use odf::Payload;
 
 use crate::glyph::{Glyph, ResolvedStyle};
 
@@ -41,6 +43,9 @@ pub enum GlyphKind {
     /// Principal stresses: a bar along each eigenvector, half-length ∝ |σ_i|, coloured by the
     /// sign of σ_i, with arrowheads on request ([`principal`]).
     Principal,
+    /// A function on the sphere drawn as the radial surface r(u) = max(f(u), 0): a fibre ODF's
+    /// spherical-harmonic series, or a tensor's profile uᵀTu ([`odf`]).
+    Odf,
 }
 
 crate::names::named_values!(GlyphKind {
@@ -49,6 +54,7 @@ crate::names::named_values!(GlyphKind {
     Capsule => "capsule",
     Superquadric => "superquadric",
     Principal => "principal",
+    Odf => "odf",
 });
 
 impl GlyphKind {
@@ -60,6 +66,7 @@ impl GlyphKind {
             GlyphKind::Capsule => &capsule::Kind,
             GlyphKind::Superquadric => &superquadric::Kind,
             GlyphKind::Principal => &principal::Kind,
+            GlyphKind::Odf => &odf::Kind,
         }
     }
 
@@ -139,6 +146,12 @@ pub trait Exact: Send + Sync {
     /// The first forward crossing of `o + t d` (`d` unit) with the surface (the exit when `o` is
     /// inside).
     fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit>;
+
+    /// The colour of the surface point `p` for a glyph of colour `base` (`shape_tint` of the
+    /// kind's WGSL: ODF glyphs coloured by direction; most kinds: `base`).
+    fn tint(&self, _p: DVec3, base: DVec3) -> DVec3 {
+        base
+    }
 }
 
 /// The f64 geometry of a glyph kind.
@@ -179,6 +192,16 @@ pub trait Shape: Send + Sync {
 
     /// The glyph as the exact reference casts it.
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact>;
+
+    /// [`Self::exact`] with the scene's per-glyph values ([`Payload`]), for kinds that keep
+    /// some there (ODF series).
+    fn exact_with(
+        &self,
+        geo: &GlyphGeometry,
+        _payload: Option<&std::sync::Arc<Payload>>,
+    ) -> Box<dyn Exact> {
+        self.exact(geo)
+    }
 
     /// Whether `p` (relative to the scene origin) is inside or on the glyph ([`Exact::contains`]).
     fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {

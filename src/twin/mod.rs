@@ -13,6 +13,7 @@ pub mod composite;
 pub mod cylinder;
 pub mod ellipsoid;
 pub mod gumhold_ellipsoid;
+pub mod odf;
 pub mod principal;
 pub mod screen_box;
 pub mod sigg;
@@ -45,5 +46,6 @@ pub fn of(kind: GlyphKind) -> &'static dyn ShapeTwin {
         GlyphKind::Capsule => &capsule::Twin,
         GlyphKind::Superquadric => &superquadric::Twin,
         GlyphKind::Principal => &principal::Twin,
+        GlyphKind::Odf => &odf::Twin,
     }
 }

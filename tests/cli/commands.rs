@@ -180,10 +180,50 @@ fn bad_options_exit_2_with_a_clear_message() {
             ],
             "--sharpness must be between 0 and 20",
         ),
+        // A file of SH series is drawn as ODF glyphs, selected by --slice only.
+        (
+            &[
+                "render",
+                "tests/data/sh/mrtrix_lmax8.mif",
+                "-o",
+                o,
+                "--glyph",
+                "cylinder",
+            ],
+            "mrtrix_lmax8.mif: holds SH series, drawn as --glyph odf, not cylinder",
+        ),
+        (
+            &[
+                "render",
+                "tests/data/sh/mrtrix_lmax8.mif",
+                "-o",
+                o,
+                "--fa-min",
+                "0.2",
+            ],
+            "selected by --slice only",
+        ),
+        (
+            &[
+                "render",
+                "tests/data/sh/mrtrix_lmax8.mif",
+                "-o",
+                o,
+                "--slice",
+                "z=9",
+            ],
+            "--slice z=9: the lattice is 4x4x4",
+        ),
     ];
     for (args, needle) in cases {
         let r = tg(args);
         assert_eq!(r.status.code(), Some(2), "{args:?}: {}", stderr(&r));
+        assert_eq!(
+            stderr(&r).trim_end().lines().count(),
+            1,
+            "{args:?}: {}",
+            stderr(&r)
+        );
         assert!(
             stderr(&r).contains(needle),
             "{args:?}: '{needle}' not in {}",

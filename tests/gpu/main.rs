@@ -20,6 +20,7 @@ mod gumhold;
 mod kinds;
 mod less_work;
 mod mesh;
+mod odf;
 mod prepass;
 mod published_bounds;
 mod ray_casters;

@@ -1,0 +1,308 @@
+//! A scene of ODF glyphs from a field of SH series ([`ShField`]): one glyph per voxel whose
+//! series is not all zero (a CSD fit writes zeros outside its mask), at the voxel's centre,
+//! turned from the series' axes into world axes, sized to the voxel and normalised as DIPY's
+//! `odf_slicer` and mrview do. Each glyph's series goes to the scene's [`Payload`] in the plain
+//! basis, scaled to parameter space with its bounds ([`crate::shape::odf`]).
+//!
+//! **Normalisation** ([`OdfNormalize`]): `max` (the default, DIPY's `norm=True`) scales each
+//! voxel's ODF to its own largest value; `minmax` maps each voxel's [min, max] to [0, 1] (DIPY's
+//! `minmax_norm`, mrview's "normalise"); `none` keeps the amplitudes comparable across voxels,
+//! scaled by the field's largest. Negative values are not drawn (r = max(f, 0)). The largest
+//! value is the largest on a geodesic sphere of 2562 or 10242 directions (a glyph's size, not its bound: the bound R is
+//! rigorous).
+
+use std::sync::Arc;
+
+use glam::{DMat3, DQuat, DVec3};
+use nalgebra::Matrix3;
+use rayon::prelude::*;
+
+use super::{GlyphInstance, GlyphKind, Scene};
+use crate::field::ShField;
+use crate::field::frame::tensor_rotation;
+use crate::select::Plane;
+use crate::shape::Payload;
+use crate::shape::odf::{DIRECTION_COLOUR, plain_of, rigorous_bounds, sampled_range};
+
+/// How each voxel's ODF is scaled ([module doc](self)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OdfNormalize {
+    #[default]
+    Max,
+    MinMax,
+    None,
+}
+
+crate::names::named_values!(OdfNormalize {
+    Max => "max",
+    MinMax => "minmax",
+    None => "none",
+});
+
+/// What an ODF scene is made with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OdfOptions {
+    pub normalize: OdfNormalize,
+    /// The largest radius of a normalised glyph, in units of the voxel's smallest spacing
+    /// (0.5: a glyph fills its voxel).
+    pub scale: f64,
+    /// Keep only voxels on these lattice planes (`--slice`); `None`: every voxel.
+    pub planes: Option<Vec<Plane>>,
+    /// Colour each pixel by its direction from the glyph's centre (DEC); else `color`.
+    pub by_direction: bool,
+    pub color: [u8; 4],
+}
+
+impl Default for OdfOptions {
+    fn default() -> Self {
+        Self {
+            normalize: OdfNormalize::Max,
+            scale: 0.5,
+            planes: None,
+            by_direction: true,
+            color: [200, 200, 200, 255],
+        }
+    }
+}
+
+/// One voxel's glyph before placing: world centre, plain coefficients of r (world units),
+/// its gradient bound and its bound R.
+struct Made {
+    voxel: usize,
+    centre: DVec3,
+    plain: Vec<f64>,
+    g: f64,
+    r: f64,
+}
+
+/// The scene of `field`'s ODFs ([module doc](self)); its kind is [`GlyphKind::Odf`].
+pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
+    let m = field.frame.voxel_to_world.unwrap_or([
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    let linear = Matrix3::from_fn(|r, c| m[r][c]);
+    let spacing = (0..3)
+        .map(|c| linear.column(c).norm())
+        .fold(f64::INFINITY, f64::min);
+    let spacing = if spacing.is_finite() && spacing > 0.0 {
+        spacing
+    } else {
+        1.0
+    };
+    // Series axes to world: a rotation, or a reflection taken as the rotation −Q (an even
+    // function does not tell u from −u).
+    let q = tensor_rotation(field.frame.tensor_frame, &linear).unwrap_or_else(Matrix3::identity);
+    let q = if q.determinant() < 0.0 { -q } else { q };
+    let frame = DMat3::from_cols_array(&[
+        q[(0, 0)],
+        q[(1, 0)],
+        q[(2, 0)],
+        q[(0, 1)],
+        q[(1, 1)],
+        q[(2, 1)],
+        q[(0, 2)],
+        q[(1, 2)],
+        q[(2, 2)],
+    ]);
+    let rotation = DQuat::from_mat3(&frame).normalize();
+    let lmax = field.layout.lmax;
+    let count = field.layout.count;
+    let d = field.dims;
+    let keep = |v: usize| {
+        opts.planes.as_ref().is_none_or(|planes| {
+            let ijk = [v % d[0], v / d[0] % d[1], v / d[0] / d[1]];
+            planes.iter().any(|p| ijk[p.axis.min(2)] == p.index)
+        })
+    };
+    // Each kept voxel's series in the plain basis, and its sampled range.
+    let raw: Vec<(usize, Vec<f64>, f64, f64)> = (0..field.voxels())
+        .into_par_iter()
+        .filter(|&v| keep(v))
+        .filter_map(|v| {
+            let mut c = vec![0.0; count];
+            field.coefficients_of(v, &mut c);
+            if c.iter().all(|&x| x == 0.0) {
+                return None;
+            }
+            let plain = plain_of(&c, field.layout.basis, 1.0).ok()?;
+            let (min, max) = sampled_range(&plain, lmax);
+            Some((v, plain, max, min))
+        })
+        .collect();
+    let global = raw.iter().map(|r| r.2).fold(0.0f64, f64::max);
+    let size = opts.scale * spacing;
+    let y00 = 1.0 / (4.0 * std::f64::consts::PI).sqrt();
+    let made: Vec<Made> = raw
+        .into_par_iter()
+        .filter_map(|(voxel, plain, max, min)| {
+            // r = k f + b: b goes to the constant term (Y₀⁰ is constant).
+            let (k, b) = match opts.normalize {
+                OdfNormalize::Max => (size / max, 0.0),
+                OdfNormalize::MinMax => (size / (max - min), -size * min / (max - min)),
+                OdfNormalize::None => (size / global, 0.0),
+            };
+            if !k.is_finite() || k <= 0.0 || !b.is_finite() {
+                return None;
+            }
+            let mut plain: Vec<f64> = plain.iter().map(|x| x * k).collect();
+            plain[0] += b / y00;
+            let (g, r) = rigorous_bounds(&plain, lmax, (k * min + b, k * max + b));
+            if r.is_nan() || r <= 0.0 || r.is_infinite() {
+                return None;
+            }
+            Some(Made {
+                voxel,
+                centre: DVec3::from(field.position(voxel)),
+                plain,
+                g,
+                r,
+            })
+        })
+        .collect();
+    let (lo, hi) = made.iter().fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), g| (lo.min(g.centre), hi.max(g.centre)),
+    );
+    let origin = if made.is_empty() {
+        DVec3::ZERO
+    } else {
+        (lo + hi) / 2.0
+    };
+    let mut payload = Payload::new(lmax).expect("a field's lmax is checked when read");
+    payload.values.reserve(made.len() * payload.stride());
+    let flags = (u32::from(opts.by_direction) * DIRECTION_COLOUR) | (lmax << 8);
+    let q = [
+        rotation.x as f32,
+        rotation.y as f32,
+        rotation.z as f32,
+        rotation.w as f32,
+    ];
+    let instances = made
+        .iter()
+        .map(|g| {
+            let plain: Vec<f64> = g.plain.iter().map(|x| x / g.r).collect();
+            let k = payload.push(&plain, g.g / g.r);
+            let c = g.centre - origin;
+            let r = g.r as f32;
+            GlyphInstance {
+                centre: [c.x as f32, c.y as f32, c.z as f32],
+                color: GlyphInstance::pack_color(opts.color),
+                rotation: q,
+                radii: [r; 3],
+                glyph: g.voxel as u32,
+                shape: [k as u32 + 1, flags],
+            }
+        })
+        .collect();
+    let mut scene = Scene::from_instances_as(origin, instances, GlyphKind::Odf);
+    scene.payload = Some(Arc::new(payload));
+    scene
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::frame::{FrameInfo, TensorFrame};
+    use crate::field::sh_field::Coefficients;
+    use crate::field::{ShLayout, frame::Why};
+    use crate::sh::{ShBasis, ShEval};
+    use crate::shape::odf::{Odf, Profile};
+    use crate::shape::{Exact, GlyphGeometry};
+
+    fn field(
+        dims: [usize; 3],
+        series: &[Vec<f64>],
+        frame: TensorFrame,
+        m: [[f64; 4]; 4],
+    ) -> ShField {
+        let count = series[0].len();
+        let n = dims.iter().product::<usize>();
+        let mut c = vec![0.0; count * n];
+        for (v, s) in series.iter().enumerate() {
+            for (j, &x) in s.iter().enumerate() {
+                c[j * n + v] = x;
+            }
+        }
+        ShField {
+            format: "nifti".into(),
+            dims,
+            layout: ShLayout {
+                lmax: crate::sh::lmax_of_count(count).unwrap(),
+                count,
+                basis: ShBasis::Descoteaux07Legacy,
+                why: Why::Default,
+                reason: String::new(),
+                recognised: String::new(),
+            },
+            coefficients: Coefficients::F64(c),
+            frame: FrameInfo {
+                tensor_frame: frame,
+                world: "RAS".into(),
+                voxel_to_world: Some(m),
+                source: "sform".into(),
+            },
+        }
+    }
+
+    /// Each glyph's surface lies where the voxel's series, normalised, puts it: the distance
+    /// from the centre along a world direction w is scale·f(Qᵀw)/max f, with the series read by
+    /// ShEval in its own basis (DIPY's), the voxel axes turned into world by a reflecting affine.
+    #[test]
+    fn glyph_radius_is_the_normalised_series_in_world() {
+        let mut s1 = vec![0.0; 15];
+        s1[0] = 2.5;
+        s1[3] = 0.6;
+        s1[5] = 0.2;
+        s1[12] = 0.3;
+        let mut s2 = s1.clone();
+        s2[1] = -0.25;
+        let zero = vec![0.0; 15];
+        // x flipped, 2 mm voxels: voxel axis x is world −x.
+        let m = [
+            [-2.0, 0.0, 0.0, 10.0],
+            [0.0, 2.0, 0.0, 0.0],
+            [0.0, 0.0, 2.5, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ];
+        let f = field(
+            [3, 1, 1],
+            &[s1.clone(), zero, s2.clone()],
+            TensorFrame::Voxel,
+            m,
+        );
+        let scene = odf_scene(&f, &OdfOptions::default());
+        assert_eq!(scene.instances.len(), 2, "the all-zero voxel has no glyph");
+        let mut ev = ShEval::new(4, ShBasis::Descoteaux07Legacy).unwrap();
+        for (inst, series) in scene.instances.iter().zip([&s1, &s2]) {
+            let geo = GlyphGeometry::of(inst);
+            let odf = Odf::of(&geo, scene.payload.as_ref());
+            assert!(matches!(odf.profile, Profile::Series { .. }));
+            let max = (0..20000)
+                .map(|i| {
+                    let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / 20000.0;
+                    let phi = f64::from(i) * 2.399963;
+                    let s = (1.0 - z * z).sqrt();
+                    ev.value(series, [s * phi.cos(), s * phi.sin(), z])
+                })
+                .fold(f64::NEG_INFINITY, f64::max);
+            for w in [
+                DVec3::X,
+                DVec3::new(0.3, -0.5, 0.8).normalize(),
+                DVec3::new(-0.9, 0.1, 0.2).normalize(),
+            ] {
+                let voxel_dir = DVec3::new(-w.x, w.y, w.z);
+                let want = 0.5 * 2.0 * ev.value(series, voxel_dir.to_array()).max(0.0) / max;
+                assert!(want > 0.1, "the series is positive along {w}");
+                let o = geo.centre + w * 10.0;
+                let hit = odf.intersect(o, -w).expect("a ray through the centre hits");
+                let got = 10.0 - hit.t;
+                // The scale uses the sampled maximum: within 0.5 % of the dense one.
+                assert!((got - want).abs() <= 5e-3 * want + 1e-9, "{got} {want}");
+            }
+        }
+    }
+}
