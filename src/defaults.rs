@@ -48,6 +48,12 @@ impl DataKind {
                 DataKind::Diffusion
             }
             Source::Field(f) if f.diffusion => DataKind::Diffusion,
+            Source::Bytes(b)
+                if crate::field::nifti::is_nifti_path(std::path::Path::new(&b.name))
+                    || crate::field::mif::is_mif_path(std::path::Path::new(&b.name)) =>
+            {
+                DataKind::Diffusion
+            }
             _ => DataKind::General,
         }
     }

@@ -69,13 +69,44 @@ impl std::fmt::Display for Demo {
     }
 }
 
-/// Where a scene comes from: a file, a built-in demo field, or a field already in memory.
+/// Where a scene comes from: a file, a built-in demo field, a field already in memory, or a
+/// file's bytes in memory.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Source {
     File(PathBuf),
     Demo(Demo),
     Field(InMemory),
+    Bytes(InMemoryFile),
 }
+
+/// A file held in memory under its name, read as the file of that name is (the Python
+/// package's DIPY fits in spherical harmonics, made a NIfTI file in memory by nibabel: tensors
+/// or SH series, whatever the bytes hold).
+#[derive(Debug, Clone)]
+pub struct InMemoryFile {
+    /// Its name, whose extension says the format (`fit.nii`), and what messages call it.
+    pub name: String,
+    pub bytes: Arc<Vec<u8>>,
+}
+
+impl InMemoryFile {
+    /// The file as the readers' inputs, and its path among them.
+    pub fn inputs(&self) -> (Inputs, PathBuf) {
+        (
+            Inputs::named([(self.name.clone(), self.bytes.to_vec())]),
+            PathBuf::from(&self.name),
+        )
+    }
+}
+
+/// The same bytes (one allocation) under the same name.
+impl PartialEq for InMemoryFile {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.bytes, &other.bytes) && self.name == other.name
+    }
+}
+
+impl Eq for InMemoryFile {}
 
 /// A field the caller made or read itself (the Python package's arrays), shared: staging
 /// copies it, the caller keeps it for the next image.
@@ -113,6 +144,23 @@ impl Source {
             Source::File(p) => read_field_from(inputs, p, opts),
             Source::Demo(d) => Ok(crate::field::synthetic::grid(d.n)),
             Source::Field(f) => Ok((*f.field).clone()),
+            Source::Bytes(b) => {
+                let (inputs, path) = b.inputs();
+                read_field_from(&inputs, &path, opts)
+            }
+        }
+    }
+
+    /// Whether the source is a file (on disk or in memory) of SH series ([`crate::field::holds_sh`]),
+    /// which `render` draws as ODF glyphs.
+    pub fn holds_sh(&self, opts: &ReadOptions) -> bool {
+        match self {
+            Source::File(p) => crate::field::holds_sh(p, opts),
+            Source::Bytes(b) => {
+                let (inputs, path) = b.inputs();
+                crate::field::holds_sh_from(&inputs, &path, opts)
+            }
+            Source::Demo(_) | Source::Field(_) => false,
         }
     }
 
@@ -122,6 +170,7 @@ impl Source {
             Source::File(p) => p.display().to_string(),
             Source::Demo(d) => format!("demo {d}"),
             Source::Field(f) => f.name.clone(),
+            Source::Bytes(b) => b.name.clone(),
         }
     }
 }
@@ -399,10 +448,15 @@ pub fn stage(
     progress: &dyn Progress,
 ) -> Result<Staged, StageError> {
     recipe.selection.check()?;
-    if let Source::File(path) = source
-        && crate::field::holds_sh(path, &recipe.read)
-    {
-        return stage_sh(path, recipe, progress);
+    match source {
+        Source::File(path) if source.holds_sh(&recipe.read) => {
+            return stage_sh(&Inputs::file_system(), path, recipe, progress);
+        }
+        Source::Bytes(b) if source.holds_sh(&recipe.read) => {
+            let (inputs, path) = b.inputs();
+            return stage_sh(&inputs, &path, recipe, progress);
+        }
+        _ => {}
     }
     let mut timings = Timings::default();
 
@@ -461,13 +515,17 @@ pub fn stage(
 /// the selection asks for (with none, the middle axial one where `middle_slice` says so, as for
 /// DTI), seen face-on when one plane is shown. Only `--slice` selects: FA, stride, ROI and mask
 /// are the tensors' ([`Selection::check`] refused none of them here, so they are refused now).
-fn stage_sh(path: &Path, recipe: &Recipe, progress: &dyn Progress) -> Result<Staged, StageError> {
+fn stage_sh(
+    inputs: &Inputs,
+    path: &Path,
+    recipe: &Recipe,
+    progress: &dyn Progress,
+) -> Result<Staged, StageError> {
     let mut timings = Timings::default();
-    let inputs = Inputs::file_system();
     let name = crate::error::escape_path(path);
     let t = Instant::now();
     let field = run_stage(progress, "reading SH series", None, || {
-        crate::field::read_sh_field_from(&inputs, path, &recipe.read)
+        crate::field::read_sh_field_from(inputs, path, &recipe.read)
     })?;
     timings.load = ms(t);
     timings.peak_rss_after[0] = crate::mem::peak_rss_bytes();

@@ -35,7 +35,7 @@ use tensorglyph::progress::Silent;
 use tensorglyph::request::Method;
 use tensorglyph::scene::underlay::{NamedVolume, UnderlaySource};
 use tensorglyph::select::Mask;
-use tensorglyph::staging::{Demo, InMemory, Source};
+use tensorglyph::staging::{Demo, InMemory, InMemoryFile, Source};
 
 /// How an error reaches Python: its class in `tensorglyph._errors` and its one line.
 enum Failure {
@@ -429,10 +429,31 @@ impl Volume {
     }
 }
 
+/// A file's bytes in memory under its name (`fit.nii`), rendered as the file of that name is:
+/// the package's DIPY fits in spherical harmonics, which nibabel writes as NIfTI bytes.
+#[pyclass(frozen, module = "tensorglyph._tensorglyph")]
+struct NamedBytes {
+    file: InMemoryFile,
+}
+
+#[pymethods]
+impl NamedBytes {
+    #[new]
+    fn new(bytes: Vec<u8>, name: String) -> Self {
+        NamedBytes {
+            file: InMemoryFile {
+                name,
+                bytes: Arc::new(bytes),
+            },
+        }
+    }
+}
+
 /// What a render is of.
 #[derive(FromPyObject)]
 enum Data<'py> {
     Field(PyRef<'py, Field>),
+    Bytes(PyRef<'py, NamedBytes>),
     Path(PathBuf),
 }
 
@@ -539,6 +560,7 @@ impl Renderer {
                 diffusion: f.diffusion,
             }),
             (Some(Data::Path(p)), None) => Source::File(p),
+            (Some(Data::Bytes(b)), None) => Source::Bytes(b.file.clone()),
             (None, Some(d)) => Source::Demo(d.parse::<Demo>().map_err(PyValueError::new_err)?),
             (None, None) => return Err(PyValueError::new_err("give data or demo")),
             (Some(_), Some(_)) => {
@@ -718,6 +740,7 @@ fn write_png(
 fn _tensorglyph(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Field>()?;
     m.add_class::<Volume>()?;
+    m.add_class::<NamedBytes>()?;
     m.add_class::<Renderer>()?;
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(encode_png, m)?)?;

@@ -269,6 +269,8 @@ def read(
         raise Error(f"{', '.join(sorted(options))}= apply to files; arrays take layout= and frame=")
     args: list = []
     inner = _field(data, affine, layout, frame, positions, args)
+    if isinstance(inner, _tensorglyph.NamedBytes):
+        raise Error("a fit in spherical harmonics holds no tensors: render() draws it as ODF glyphs")
     if isinstance(inner, str):
         return Field(_tensorglyph.Field.read(inner, args + _cli_args(options)))
     return data if isinstance(data, Field) else Field(inner)
@@ -287,6 +289,20 @@ def _field(data: Any, affine: Any, layout: Any, frame: Any, positions: Any, args
             raise Error("affine and positions apply to arrays; a file places its tensors itself")
         args += _order_args(layout, frame)
         return os.fspath(data)
+    if hasattr(data, "shm_coeff") and not isinstance(data, np.ndarray):
+        # A DIPY fit in spherical harmonics (CsdFit, or any fit with shm_coeff): its series in
+        # the voxel axes and DIPY's default basis (descoteaux07, legacy; sh_basis= says
+        # otherwise), read as the NIfTI file nibabel would save of them: render draws ODF glyphs.
+        if positions is not None or layout:
+            raise Error("a fit in spherical harmonics sits on its lattice: give affine, not layout or positions")
+        import nibabel as nib
+
+        coef = np.asarray(data.shm_coeff, dtype=np.float64)
+        if coef.ndim != 4:
+            raise Error(f"shm_coeff of shape {coef.shape}: a fit's series are (X, Y, Z, coefficients)")
+        args += _order_args(None, frame)
+        img = nib.Nifti1Image(coef, np.asarray(_affine(affine), dtype=np.float64))
+        return _tensorglyph.NamedBytes(_nifti_bytes(img), "shm_coeff.nii")
     if hasattr(data, "quadratic_form") and not isinstance(data, np.ndarray):
         # A DIPY TensorFit: tensors in the voxel axes, taken as DIPY saves them (its
         # lower_triangular, NIfTI's order): quadratic_form is V Λ Vᵀ, symmetric only to
@@ -444,7 +460,8 @@ def render(
 
     ``data``: a file's path (any format the command line reads), a ``Field``, a numpy array of
     tensors (``(..., 6)`` with ``layout`` or ``(..., 3, 3)``), a DIPY ``TensorFit`` or a nibabel
-    image; or ``demo="grid40"``. A lattice ``(X, Y, Z, ...)`` takes ``affine`` (4×4 voxel to
+    image; or ``demo="grid40"``. A DIPY fit in spherical harmonics (``CsdFit``, any fit with
+    ``shm_coeff``), with its image's ``affine``, and files of SH series are drawn as ODF glyphs. A lattice ``(X, Y, Z, ...)`` takes ``affine`` (4×4 voxel to
     world; identity when absent), an ``(N, ...)`` array ``positions`` ``(N, 3)``. ``frame``:
     the axes the tensors are in (``voxel``, the default for arrays, fits and NIfTI; ``fsl``;
     ``world``), as ``--tensor-frame``.

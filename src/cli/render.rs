@@ -212,7 +212,7 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
     } = args;
     let mut inputs: Vec<&Path> = match src {
         Source::File(p) => vec![p.as_path()],
-        Source::Demo(_) | Source::Field(_) => Vec::new(),
+        Source::Demo(_) | Source::Field(_) | Source::Bytes(_) => Vec::new(),
     };
     if let Some(UnderlaySource::File(p)) = &select.underlay {
         inputs.push(p.as_path());
@@ -331,18 +331,17 @@ where
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
     // A file of SH series is drawn as ODF glyphs whatever --glyph left at its default says.
-    let glyph = match src {
-        Source::File(p) if crate::field::holds_sh(p, &scene_args.read_options()) => {
-            if !matches!(cam.glyph, GlyphKind::Odf | GlyphKind::Ellipsoid) {
-                bail!(
-                    "{}: holds SH series, drawn as --glyph odf, not {}",
-                    crate::error::escape_path(p),
-                    cam.glyph
-                );
-            }
-            GlyphKind::Odf
+    let glyph = if src.holds_sh(&scene_args.read_options()) {
+        if !matches!(cam.glyph, GlyphKind::Odf | GlyphKind::Ellipsoid) {
+            bail!(
+                "{}: holds SH series, drawn as --glyph odf, not {}",
+                crate::error::escape_path(Path::new(&src.name())),
+                cam.glyph
+            );
         }
-        _ => cam.glyph,
+        GlyphKind::Odf
+    } else {
+        cam.glyph
     };
     let options = draw.options(cam.method, glyph, depth_correction)?;
     let recipe = Recipe {

@@ -1,0 +1,43 @@
+"""ODF glyphs from Python: a DIPY CSD fit renders as the command line renders the NIfTI file of
+its ``shm_coeff`` saved by nibabel, pixel for pixel, and a file of SH series (MRtrix's
+``dwi2fod`` output) as the command line renders it."""
+
+import numpy as np
+import pytest
+
+import tensorglyph as tg
+from conftest import REPO, cli_render, require, same_pixels
+
+
+def test_a_file_of_sh_series_renders_as_the_command_line_renders_it(tmp_path):
+    path = REPO / "tests" / "data" / "sh" / "mrtrix_lmax8.mif"
+    image = tg.render(path, size=(160, 120))
+    assert image.info["glyph"] == "odf"
+    same_pixels(image, cli_render(path, tmp_path, "--size", "160x120"))
+
+
+def test_a_csd_fit_renders_as_its_saved_series(tmp_path):
+    require("dipy")
+    nib = require("nibabel")
+    from dipy.core.gradients import gradient_table
+    from dipy.data import get_fnames
+    from dipy.io import read_bvals_bvecs
+    from dipy.reconst.csdeconv import ConstrainedSphericalDeconvModel, auto_response_ssst
+
+    dwi, bval, bvec = get_fnames(name="small_64D")
+    img = nib.load(dwi)
+    data = np.asarray(img.dataobj, dtype=np.float64)
+    bvals, bvecs = read_bvals_bvecs(bval, bvec)
+    gtab = gradient_table(bvals, bvecs=bvecs)
+    response, _ = auto_response_ssst(gtab, data, roi_radii=10, fa_thr=0.7)
+    block = img.slicer[3:7, 3:7, 3:7]
+    fit = ConstrainedSphericalDeconvModel(gtab, response, sh_order_max=8).fit(data[3:7, 3:7, 3:7])
+    image = tg.render(fit, affine=block.affine, size=(160, 120))
+    assert image.info["glyph"] == "odf"
+    assert image.info["glyphs_drawn"] == 16, image.info
+    path = tmp_path / "fod.nii.gz"
+    nib.save(nib.Nifti1Image(np.asarray(fit.shm_coeff, dtype=np.float64), block.affine), path)
+    same_pixels(image, cli_render(path, tmp_path, "--size", "160x120"))
+    # A fit in SH holds no tensors to read.
+    with pytest.raises(tg.Error, match="holds no tensors"):
+        tg.read(fit, affine=block.affine)
