@@ -7,4 +7,4 @@
 set -e
 TG=${TG:-target/debug/tensorglyph}
 "$TG" render tests/data/sh/dipy_lmax8_descoteaux07_legacy.nii.gz -o docs/images/odf_dipy_slice.png --size 480x360 --ssaa 2 --quiet
-"$TG" render tests/data/sh/mrtrix_lmax8.mif -o docs/images/odf_mrtrix_3d.png --slice z=0 --slice z=1 --slice z=2 --slice z=3 --azimuth 35 --elevation 25 --size 480x360 --ssaa 2 --shadows --quiet
+"$TG" render tests/data/sh/mrtrix_lmax8.mif -o docs/images/odf_mrtrix_3d.png --slice z=0 --slice z=1 --slice z=2 --slice z=3 --azimuth 35 --elevation 25 --zoom 1.5 --size 480x360 --ssaa 2 --shadows --quiet

@@ -11,6 +11,9 @@
 // The marcher's smallest step (GPU_EPS in src/shape/odf.rs) and its step cap.
 const ODF_EPS: f32 = 0.00012207031;
 const ODF_STEPS: u32 = 1024u;
+// The over-relaxation of the marcher's steps (1.5 took 29 % fewer evaluations than 1 on the
+// test fits, 1.8 and 1.95 more: their fall-backs cost what they save).
+const ODF_RELAX: f32 = 1.5;
 
 fn shape_radius(radii: vec3<f32>) -> f32 {
     return max(radii.x, max(radii.y, radii.z));
@@ -168,17 +171,21 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
     }
     let inside = !on_ball && hv > 0.0;
     for (var i = 0u; i < ODF_STEPS; i++) {
-        let a = abs(hv);
-        let qn = length(near + s * d);
-        let d0 = a / (1.0 + g * b / max(qn * qn, 1e-30));
-        let m = max(b, qn - d0);
-        let step = max(a / (1.0 + g * b / max(m * m, 1e-30)), ODF_EPS);
-        let sn = min(s + step, half);
-        let hn = odf_h(near, d, sn, shape);
+        // Over-relaxed (Keinert et al. 2014, "Enhanced Sphere Tracing"): a step of ODF_RELAX
+        // safe radii, kept only where the new point's own safe radius reaches back over the
+        // part the old one did not cover; else the plain step. Either way no crossing is passed.
+        let r = odf_safe(near, d, s, abs(hv), b, g);
+        var sn = min(s + max(ODF_RELAX * r, ODF_EPS), half);
+        var hn = odf_h(near, d, sn, shape);
+        if ODF_RELAX * r > ODF_EPS && sn - odf_safe(near, d, sn, abs(hn), b, g) > s + r {
+            sn = min(s + max(r, ODF_EPS), half);
+            hn = odf_h(near, d, sn, shape);
+        }
         if (hn > 0.0) != inside {
+            // Bisected to 2⁻²² of the radius (the depth bound is 1e-4 of it).
             var lo = s;
             var hi = sn;
-            for (var k = 0u; k < 24u; k++) {
+            for (var k = 0u; k < 32u && hi - lo > 2.4e-7; k++) {
                 let mid = 0.5 * (lo + hi);
                 if (odf_h(near, d, mid, shape) > 0.0) == inside {
                     lo = mid;
@@ -199,6 +206,16 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
         hv = hn;
     }
     return res;
+}
+
+// The safe radius at near + s d where |h| = a: a step of it cannot reach the surface, since h
+// changes by at most 1 + G·b/m² per unit of ray, m ≥ max(b, |q| − step) a lower bound of |q|
+// over the step (first_crossing in src/shape/odf.rs).
+fn odf_safe(near: vec3<f32>, d: vec3<f32>, s: f32, a: f32, b: f32, g: f32) -> f32 {
+    let qn = length(near + s * d);
+    let d0 = a / (1.0 + g * b / max(qn * qn, 1e-30));
+    let m = max(b, qn - d0);
+    return a / (1.0 + g * b / max(m * m, 1e-30));
 }
 
 fn shape_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {

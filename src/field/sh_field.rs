@@ -135,8 +135,8 @@ pub(crate) enum Writer {
 pub(crate) fn tensor_hint(count: usize) -> String {
     match lmax_of_count(count) {
         Ok(lmax) if is_sh_count(count) => format!(
-            " ({count} is the SH count of lmax {lmax}: `info` and `render` read SH coefficients, \
-             `render` draws them as ODF glyphs; the viewer does not open them yet)"
+            " ({count} is the SH count of lmax {lmax}: SH coefficients, which `info` reads and \
+             `render` draws as ODF glyphs)"
         ),
         _ => String::new(),
     }

@@ -66,10 +66,19 @@ impl Default for OdfOptions {
     }
 }
 
-/// One voxel's glyph before placing: world centre, plain coefficients of r (world units),
-/// its gradient bound and its bound R.
+/// One glyph's series before it is normalised: its index (the instance's `glyph`), its world
+/// centre and the plain coefficients of f ([`plain_of`], unscaled).
+#[derive(Debug, Clone)]
+pub struct Series {
+    pub index: usize,
+    pub centre: DVec3,
+    pub plain: Vec<f64>,
+}
+
+/// One glyph after normalising: plain coefficients of r (world units), its gradient bound and
+/// its bound R.
 struct Made {
-    voxel: usize,
+    index: usize,
     centre: DVec3,
     plain: Vec<f64>,
     g: f64,
@@ -108,8 +117,6 @@ pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
         q[(1, 2)],
         q[(2, 2)],
     ]);
-    let rotation = DQuat::from_mat3(&frame).normalize();
-    let lmax = field.layout.lmax;
     let count = field.layout.count;
     let d = field.dims;
     let keep = |v: usize| {
@@ -118,8 +125,7 @@ pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
             planes.iter().any(|p| ijk[p.axis.min(2)] == p.index)
         })
     };
-    // Each kept voxel's series in the plain basis, and its sampled range.
-    let raw: Vec<(usize, Vec<f64>, f64, f64)> = (0..field.voxels())
+    let series: Vec<Series> = (0..field.voxels())
         .into_par_iter()
         .filter(|&v| keep(v))
         .filter_map(|v| {
@@ -128,17 +134,40 @@ pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
             if c.iter().all(|&x| x == 0.0) {
                 return None;
             }
-            let plain = plain_of(&c, field.layout.basis, 1.0).ok()?;
-            let (min, max) = sampled_range(&plain, lmax);
-            Some((v, plain, max, min))
+            Some(Series {
+                index: v,
+                centre: DVec3::from(field.position(v)),
+                plain: plain_of(&c, field.layout.basis, 1.0).ok()?,
+            })
         })
         .collect();
-    let global = raw.iter().map(|r| r.2).fold(0.0f64, f64::max);
-    let size = opts.scale * spacing;
+    series_scene(series, field.layout.lmax, frame, opts.scale * spacing, opts)
+}
+
+/// The scene of `series` (each of order `lmax`, in the axes whose world directions are the
+/// columns of `frame`), normalised by `opts.normalize` to a largest radius of `size` (world);
+/// glyphs whose r is nowhere positive are left out.
+pub fn series_scene(
+    series: Vec<Series>,
+    lmax: u32,
+    frame: DMat3,
+    size: f64,
+    opts: &OdfOptions,
+) -> Scene {
+    let rotation = DQuat::from_mat3(&frame).normalize();
+    // Each series' sampled range.
+    let raw: Vec<(Series, f64, f64)> = series
+        .into_par_iter()
+        .map(|s| {
+            let (min, max) = sampled_range(&s.plain, lmax);
+            (s, max, min)
+        })
+        .collect();
+    let global = raw.iter().map(|r| r.1).fold(0.0f64, f64::max);
     let y00 = 1.0 / (4.0 * std::f64::consts::PI).sqrt();
     let made: Vec<Made> = raw
         .into_par_iter()
-        .filter_map(|(voxel, plain, max, min)| {
+        .filter_map(|(s, max, min)| {
             // r = k f + b: b goes to the constant term (Y₀⁰ is constant).
             let (k, b) = match opts.normalize {
                 OdfNormalize::Max => (size / max, 0.0),
@@ -148,15 +177,15 @@ pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
             if !k.is_finite() || k <= 0.0 || !b.is_finite() {
                 return None;
             }
-            let mut plain: Vec<f64> = plain.iter().map(|x| x * k).collect();
+            let mut plain: Vec<f64> = s.plain.iter().map(|x| x * k).collect();
             plain[0] += b / y00;
             let (g, r) = rigorous_bounds(&plain, lmax, (k * min + b, k * max + b));
             if r.is_nan() || r <= 0.0 || r.is_infinite() {
                 return None;
             }
             Some(Made {
-                voxel,
-                centre: DVec3::from(field.position(voxel)),
+                index: s.index,
+                centre: s.centre,
                 plain,
                 g,
                 r,
@@ -193,7 +222,7 @@ pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
                 color: GlyphInstance::pack_color(opts.color),
                 rotation: q,
                 radii: [r; 3],
-                glyph: g.voxel as u32,
+                glyph: g.index as u32,
                 shape: [k as u32 + 1, flags],
             }
         })

@@ -27,6 +27,7 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: false,
             benched_by_default: false,
+            mesh_holes: false,
             arrows: false,
         }
     }

@@ -28,6 +28,7 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: false,
             benched_by_default: true,
+            mesh_holes: false,
             arrows: false,
         }
     }

@@ -30,6 +30,7 @@ impl Shape for Kind {
             conservative_depth: true,
             sharpness: false,
             benched_by_default: true,
+            mesh_holes: false,
             arrows: false,
         }
     }

@@ -50,6 +50,7 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: false,
             benched_by_default: false,
+            mesh_holes: false,
             arrows: true,
         }
     }

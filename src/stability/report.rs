@@ -123,6 +123,12 @@ fn chart_spec(case: &str) -> Option<(&'static str, &'static str, bool)> {
         ),
         "10-degeneracy-sweep" => ("colour_jump_raw", "colour jump across t = 0", false),
         "11-eigensolver" => ("e1_angle_deg_p99", "e1 angle error p99, degrees", true),
+        "14-odf-sharp" => ("normal_err_deg_p99", "normal error p99, degrees", true),
+        "14-odf-faint" => (
+            "coverage_mismatch",
+            "coverage mismatch (fraction of pixels)",
+            false,
+        ),
         _ => return None,
     })
 }
@@ -130,7 +136,9 @@ fn chart_spec(case: &str) -> Option<(&'static str, &'static str, bool)> {
 /// x as charted: log scale for decade sweeps (|ẽ| − 1 for the eye approach).
 fn x_of(r: &Row) -> (f64, bool) {
     match r.case {
-        "1-distance" | "1-distance-mu" | "8-sub-pixel" | "11-eigensolver" => (r.value, true),
+        "1-distance" | "1-distance-mu" | "8-sub-pixel" | "11-eigensolver" | "14-odf-faint" => {
+            (r.value, true)
+        }
         c if is_anisotropy(c) => (r.value, true),
         "7-large-world" => (r.value.max(1.0), true),
         "4-eye-approach" => (

@@ -41,7 +41,7 @@ struct Bounds {
 }
 
 /// lmax 8: the project's release bounds but for coverage, which the marcher's smallest step
-/// (2⁻¹³ of the radius) may lose at a grazing rim (measured 0 to 4.2e-5).
+/// (2⁻¹³ of the radius) may lose at a grazing rim (measured 0 here).
 const LMAX8: Bounds = Bounds {
     coverage: 2e-4,
     id: 5e-4,
@@ -51,13 +51,13 @@ const LMAX8: Bounds = Bounds {
 };
 
 /// lmax 12: the ringing of the truncated series makes lobes at each glyph's centre thinner than
-/// the smallest step, where the f32 series is no more exact than its terms' rounding (a smaller
-/// step made it worse): measured up to 1.0e-3 of coverage and 1.6e-3 of ids, a pixel or two per
-/// glyph (book: user-guide/odf.md, Accuracy).
+/// the smallest step, where the f32 series is no more exact than its terms' rounding: measured
+/// up to 1.2e-4 of coverage and 6.3e-4 of ids, a pixel or two per view (book:
+/// user-guide/odf.md, Accuracy).
 const LMAX12: Bounds = Bounds {
-    coverage: 1.5e-3,
-    id: 2e-3,
-    psnr_db: 33.0,
+    coverage: 5e-4,
+    id: 1.5e-3,
+    psnr_db: 40.0,
     ..LMAX8
 };
 

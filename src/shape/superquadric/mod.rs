@@ -40,6 +40,7 @@ impl Shape for Kind {
             conservative_depth: false,
             sharpness: true,
             benched_by_default: false,
+            mesh_holes: false,
             arrows: false,
         }
     }

@@ -2,11 +2,12 @@
 //!
 //! Grouped by what they probe: `view` (cases 1, 5, 6, 7: where the camera and the world are),
 //! `surface` (2, 3, 4, 8, 9: where rays meet glyphs at their hardest), `degenerate` (10),
-//! `superquadric` (11–13); `probe` holds what every case is made of, `limits` the documented
+//! `superquadric` (11–13), `odf` (14); `probe` holds what every case is made of, `limits` the documented
 //! inherent limits.
 
 mod degenerate;
 mod limits;
+mod odf;
 mod probe;
 mod superquadric;
 mod surface;
@@ -14,6 +15,7 @@ mod view;
 
 pub use degenerate::{Eigen, degenerate, degenerate_tensors, glyph_from_tensor, symmetric_eigen};
 pub use limits::documented_limit;
+pub use odf::{odf_faint, odf_sharp};
 pub use probe::{H, Probe, W, oblique};
 pub use superquadric::{class_boundary, indefinite, indefinite_tensors, sharpness};
 pub use surface::{anisotropy, eye_approach, grazing, intersecting, is_anisotropy, sub_pixel};
@@ -35,5 +37,7 @@ pub fn all(quick: bool) -> Vec<Probe> {
     v.extend(sharpness(quick));
     v.extend(class_boundary(quick));
     v.extend(indefinite(quick));
+    v.extend(odf_sharp(quick));
+    v.extend(odf_faint(quick));
     v
 }
