@@ -125,9 +125,9 @@ pub struct Capabilities {
     /// Measured by `bench` when no `--glyph` is given (the main speed table; other kinds have
     /// bench runs of their own, with `--glyph`).
     pub benched_by_default: bool,
-    /// Lobes that cross and necks narrower than a coarse mesh's facets (ODF glyphs): a mesh
+    /// Lobes that cross and necks narrower than a coarse mesh's facets (ODF glyphs): a `mesh:N`
     /// baseline of the kind leaves background pixels inside its outline, which the stability
-    /// suite judges as the mesh's coverage error, not as cracks.
+    /// suite judges as the mesh's coverage error, not as cracks (`box` is still held to them).
     pub mesh_holes: bool,
 }
 

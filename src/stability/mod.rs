@@ -217,7 +217,7 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
                 Ok(frame) => {
                     // A coarse mesh of crossing lobes leaves holes inside its outline by design:
                     // its coverage error, not a crack (Capabilities::mesh_holes).
-                    let faceted = matches!(req.method.method(), Method::Mesh(_) | Method::Box);
+                    let faceted = matches!(req.method.method(), Method::Mesh(_));
                     let cracks = !(faceted && glyph.caps().mesh_holes);
                     measure(&frame, &reference, scene, cracks, &mut m);
                     (Status::Pass, String::new())
