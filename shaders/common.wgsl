@@ -24,6 +24,11 @@ struct Camera {
     // w: 1 when shading is deferred (the colour target gets the unlit base colour, see
     // composite.wgsl).
     pixels: vec4<f32>,
+    // Rows 0..3 of `view` (columns 0..4) less their f32 rounding: the view transform in
+    // double-f32 with `view` (centre_ray).
+    view_lo: array<vec4<f32>, 3>,
+    // pixels.x and its reciprocal, each in double-f32: (hi, lo, hi, lo).
+    pixel_scale: vec4<f32>,
 }
 
 // One glyph as stored: 32 bytes (layout in src/render/gpu_data.rs). Read it with load_glyph.
@@ -69,9 +74,13 @@ struct Glyph {
     radii: vec3<f32>,
 }
 
-// √2 / (2²⁰ − 1) and 1/√2: the quaternion's fixed point (gpu_data.rs QUAT_SCALE).
-const QUAT_SCALE: f32 = 1.34870044e-6;
-const QUAT_OFFSET: f32 = 0.70710678;
+// Radii spanning more than this make a glyph thin: its quaternion is decoded exactly as the CPU
+// decodes it (quat_largest).
+const THIN_RATIO: f32 = 1000.0;
+
+// 1.5 · 2⁻²⁰: one step of a stored quaternion component, (n − 2¹⁹) · QUAT_STEP, exact in f32
+// (src/shape/geometry.rs QUAT_STEP; the reference casts the same decoded glyph).
+const QUAT_STEP: f32 = 1.4305115e-6;
 
 fn load_glyph(instance: u32) -> Glyph {
     let s = glyphs[instance - chunk.base];
@@ -84,10 +93,16 @@ fn load_glyph(instance: u32) -> Glyph {
     );
     g.color = (s.radius_rgb0 & 0xffu) | ((s.radius_rgb1 & 0xffu) << 8u)
         | ((s.radius_rgb2 & 0xffu) << 16u) | 0xff000000u;
-    let a = f32(s.rotation0 & 0xfffffu) * QUAT_SCALE - QUAT_OFFSET;
-    let b = f32((s.rotation0 >> 20u) | ((s.rotation1 & 0xffu) << 12u)) * QUAT_SCALE - QUAT_OFFSET;
-    let c = f32((s.rotation1 >> 8u) & 0xfffffu) * QUAT_SCALE - QUAT_OFFSET;
-    let big = sqrt(max(1.0 - (a * a + b * b + c * c), 0.0));
+    let a = f32(i32(s.rotation0 & 0xfffffu) - 524288) * QUAT_STEP;
+    let b = f32(i32((s.rotation0 >> 20u) | ((s.rotation1 & 0xffu) << 12u)) - 524288) * QUAT_STEP;
+    let c = f32(i32((s.rotation1 >> 8u) & 0xfffffu) - 524288) * QUAT_STEP;
+    // Exact, as the CPU has it, where a glyph is thin enough to show the difference; elsewhere
+    // f32 (within an ulp of it).
+    var big = sqrt(max(1.0 - (a * a + b * b + c * c), 0.0));
+    let rmax = max(g.radii.x, max(g.radii.y, g.radii.z));
+    if rmax > THIN_RATIO * min(g.radii.x, min(g.radii.y, g.radii.z)) {
+        big = quat_largest(a, b, c);
+    }
     switch (s.rotation1 >> 28u) & 3u {
         case 0u: { g.rotation = vec4<f32>(big, a, b, c); }
         case 1u: { g.rotation = vec4<f32>(a, big, b, c); }
@@ -95,6 +110,21 @@ fn load_glyph(instance: u32) -> Glyph {
         default: { g.rotation = vec4<f32>(a, b, c, big); }
     }
     return g;
+}
+
+// √(1 − a² − b² − c²) rounded to f32 from double-f32 (a, b, c exact), as the CPU forms it in f64
+// (unpack_rotation in src/shape/geometry.rs): both sides then hold the same quaternion, to which
+// a thin glyph is sensitive (an ulp of it turns a glyph by 6e-8 rad, which a needle of k = 1e5
+// turns into 0.3° of normal at its rim).
+fn quat_largest(a: f32, b: f32, c: f32) -> f32 {
+    df_begin();
+    let x = df_add(vec2<f32>(1.0, 0.0), -df_add(df_add(two_prod(a, a), two_prod(b, b)), two_prod(c, c)));
+    if !(x.x > 0.0) {
+        return 0.0;
+    }
+    let r = sqrt(x.x);
+    // One Newton step on the double-f32 residual.
+    return r + df_add(x, -two_prod(r, r)).x / (2.0 * r);
 }
 
 // The shape interface. Every kind's file, shaders/shape/<kind>.wgsl, defines these functions,
@@ -274,6 +304,138 @@ fn near_plane_point(ndc: vec2<f32>) -> vec3<f32> {
     return h.xyz / h.w;
 }
 
+// Double-f32 arithmetic: a value is hi + lo (vec2: x = hi, y = lo), ~2⁻⁴⁸ relative, for the
+// few per-glyph numbers that f32 cannot hold (centre_ray). Nothing in SPIR-V keeps a compiler
+// from simplifying these formulas (naga marks nothing NoContraction or exact): products split
+// their factors by masking bits, not by Dekker's 4097 · a, so every partial product is exact and
+// fusing a · b + c into fma changes nothing; sums pass through `opaque`, since lavapipe's NIR
+// folds (a + b) − a into b, which turns every error term into 0. tests/gpu/double_f32.rs checks
+// the arithmetic on the device against f64.
+
+// A 0 the compiler cannot know: df_begin sets it from the camera (eye.w is 0 or 1, read at a
+// computed index), once per invocation, before any double-f32 arithmetic.
+var<private> df_salt: u32;
+
+fn df_begin() {
+    df_salt = u32(camera.eye[flag_index()] > 2.0);
+}
+
+// x, through df_salt.
+fn opaque(x: f32) -> f32 {
+    return bitcast<f32>(bitcast<u32>(x) ^ df_salt);
+}
+
+fn df_split(a: f32) -> vec2<f32> {
+    // 12 significant bits each: products of halves are exact in f32.
+    let hi = bitcast<f32>(bitcast<u32>(a) & 0xfffff000u);
+    return vec2<f32>(hi, a - hi);
+}
+
+fn two_sum(a: f32, b: f32) -> vec2<f32> {
+    let s = opaque(a + b);
+    let bb = opaque(s - a);
+    return vec2<f32>(s, (a - (s - bb)) + (b - bb));
+}
+
+// |a| ≥ |b| (or a = 0).
+fn quick_two_sum(a: f32, b: f32) -> vec2<f32> {
+    let s = opaque(a + b);
+    return vec2<f32>(s, b - (s - a));
+}
+
+fn two_prod(a: f32, b: f32) -> vec2<f32> {
+    let p = a * b;
+    let x = df_split(a);
+    let y = df_split(b);
+    return vec2<f32>(p, ((x.x * y.x - p) + x.x * y.y + x.y * y.x) + x.y * y.y);
+}
+
+fn df_add(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let s = two_sum(a.x, b.x);
+    return quick_two_sum(s.x, s.y + (a.y + b.y));
+}
+
+fn df_mul_f(a: vec2<f32>, b: f32) -> vec2<f32> {
+    let p = two_prod(a.x, b);
+    return quick_two_sum(p.x, p.y + a.y * b);
+}
+
+fn df_mul(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let p = two_prod(a.x, b.x);
+    return quick_two_sum(p.x, p.y + (a.x * b.y + a.y * b.x));
+}
+
+fn df_div(a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let q1 = a.x / b.x;
+    let r = df_add(a, -df_mul_f(b, q1));
+    return quick_two_sum(q1, r.x / b.x);
+}
+
+// Where a glyph's centre lies for the rays of its pixels. A pixel's offset from the centre's
+// ray, o(px) (pixel_offset), is a small difference of two large numbers, the pixel's view
+// direction and the centre's, each ~|xy| (up to ~0.5 at the image's edge): f32 rounds each to
+// ~2⁻²⁴·|xy|, a lateral error of 2⁻²⁴·|xy|·D at the glyph's distance D, which a glyph of
+// radius r sees as 2⁻²⁴·|xy|·D/r of itself (grid40: depth p99 5e-5; needles: normals ~0.3°).
+// Here it is formed once per glyph in double-f32 for one pixel centre px0 next to the centre's
+// projection, where it is ≤ ~1 px and f32 holds it to 2⁻²⁴ of itself; every other pixel adds
+// its exact integer distance from px0.
+struct CentreRay {
+    // The centre in view space (the double-f32 transform, rounded).
+    c_view: vec3<f32>,
+    // A pixel centre (framebuffer coordinates) and o(px0).
+    px0: vec2<f32>,
+    o0: vec2<f32>,
+}
+
+// Row i of the view transform applied to c, in double-f32: hi and lo are the row's four
+// entries (rotation, then translation) and what f32 left of them. Written out, not looped:
+// lavapipe keeps a run-time-indexed local array in memory.
+fn view_row(hi: vec4<f32>, lo: vec4<f32>, c: vec3<f32>) -> vec2<f32> {
+    var acc = vec2<f32>(hi.w, lo.w);
+    acc = df_add(acc, df_mul_f(vec2<f32>(hi.x, lo.x), c.x));
+    acc = df_add(acc, df_mul_f(vec2<f32>(hi.y, lo.y), c.y));
+    return df_add(acc, df_mul_f(vec2<f32>(hi.z, lo.z), c.z));
+}
+
+fn centre_ray(c: vec3<f32>) -> CentreRay {
+    df_begin();
+    let v = camera.view;
+    let cx = view_row(vec4<f32>(v[0].x, v[1].x, v[2].x, v[3].x), camera.view_lo[0], c);
+    let cy = view_row(vec4<f32>(v[0].y, v[1].y, v[2].y, v[3].y), camera.view_lo[1], c);
+    let cz = view_row(vec4<f32>(v[0].z, v[1].z, v[2].z, v[3].z), camera.view_lo[2], c);
+    var r: CentreRay;
+    r.c_view = vec3<f32>(cx.x + cx.y, cy.x + cy.y, cz.x + cz.y);
+    // The centre's view (x, y): at view distance 1 (perspective) or as it is (orthographic).
+    var ax = cx;
+    var ay = cy;
+    if !is_ortho() {
+        if !(cz.x < 0.0) {
+            // Behind the eye's plane: any px0 is exact, the principal point will do.
+            r.px0 = camera.pixels.yz;
+            r.o0 = pixel_view_xy(r.px0) - r.c_view.xy / -r.c_view.z;
+            return r;
+        }
+        ax = df_div(cx, -cz);
+        ay = df_div(cy, -cz);
+    }
+    let f = camera.pixels.x;
+    let proj = vec2<f32>(camera.pixels.y + f * ax.x, camera.pixels.z - f * ay.x);
+    // Clamped so px − px0 stays exact for every pixel of any viewport.
+    r.px0 = clamp(floor(proj), vec2<f32>(-16384.0), vec2<f32>(16384.0)) + 0.5;
+    let inv_f = camera.pixel_scale.zw;
+    let ox = df_add(df_mul_f(inv_f, r.px0.x - camera.pixels.y), -ax);
+    let oy = df_add(df_mul_f(inv_f, camera.pixels.z - r.px0.y), -ay);
+    r.o0 = vec2<f32>(ox.x + ox.y, oy.x + oy.y);
+    return r;
+}
+
+// o(px): the pixel's view (x, y) less the centre's, at view distance 1 (perspective: the
+// pixel's ray direction (xy, −1) less the centre's c/(−c.z)) or in view units (orthographic).
+fn pixel_offset(px: vec2<f32>, px0: vec2<f32>, o0: vec2<f32>) -> vec2<f32> {
+    let d = px - px0;
+    return o0 + vec2<f32>(d.x, -d.y) * camera.pixel_scale.z;
+}
+
 // The pixel's view-space (x, y) (at view distance 1 when perspective), for a framebuffer
 // position px: measured from the whole image's centre, so a tile's off-centre pixels get their
 // own rays.
@@ -297,18 +459,19 @@ struct ParamRay {
 }
 
 // The ray of the pixel at framebuffer position px towards the glyph centred at c_view (view
-// space), whose parameter space is a · view space (a = diag(1/scale) Oᵀ R_viewᵀ).
-fn glyph_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, a: mat3x3<f32>) -> ParamRay {
-    let xy = pixel_view_xy(px);
+// space; px0, o0: its centre_ray), whose parameter space is a · view space
+// (a = diag(1/scale) Oᵀ R_viewᵀ).
+fn glyph_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, px0: vec2<f32>, o0: vec2<f32>, a: mat3x3<f32>) -> ParamRay {
+    let o = pixel_offset(px, px0, o0);
     var r: ParamRay;
     if is_ortho() {
-        r.off = vec3<f32>(xy - c_view.xy, 0.0);
+        r.off = vec3<f32>(o, 0.0);
         r.d = vec3<f32>(0.0, 0.0, -1.0);
         r.t0 = -c_view.z;
     } else {
-        let dv = vec3<f32>(xy, -1.0);
+        let dv = vec3<f32>(pixel_view_xy(px), -1.0);
         let len = length(dv);
-        r.off = vec3<f32>(-c_view.z * dv.xy - c_view.xy, 0.0);
+        r.off = vec3<f32>(-c_view.z * o, 0.0);
         r.d = dv / len;
         r.t0 = -c_view.z * len;
     }

@@ -5,19 +5,21 @@
 // Nothing is interpolated: every fragment finds its quad point q~ from its own pixel position
 // and the glyph's PixelCast, sent flat. Interpolation precision is not specified (WGSL, Vulkan),
 // and the hit is very sensitive to q~ on thin glyphs: SwiftShader's interpolated q~ turned
-// grid40's normals by 12° at the 99th percentile (0.009° now, as lavapipe's).
+// grid40's normals by 12° at the 99th percentile (0.0002° now, as lavapipe's).
 struct VsOut {
     @builtin(position) position: vec4<f32>,
-    // The PixelCast packed: (ux, uy); (off0, g.xy); (g.z, 1 − E², u, view z of the centre);
+    // The PixelCast packed: (ux, uy); (o0, g.xy); (g.z, 1 − E², u, view z of the centre);
     // the view normal's columns nx, ny, nz with tzq's components in w.
     @location(0) @interpolate(flat) ux_uy: vec4<f32>,
-    @location(1) @interpolate(flat) off_gxy: vec4<f32>,
+    @location(1) @interpolate(flat) o0_gxy: vec4<f32>,
     @location(2) @interpolate(flat) gz_k_u_cz: vec4<f32>,
     @location(3) @interpolate(flat) nx_tzx: vec4<f32>,
     @location(4) @interpolate(flat) ny_tzy: vec4<f32>,
     @location(5) @interpolate(flat) nz_tzz: vec4<f32>,
     @location(6) @interpolate(flat) color: u32,
     @location(7) @interpolate(flat) id: u32,
+    // The centre ray's pixel px0 (centre_ray in common.wgsl).
+    @location(8) @interpolate(flat) px0: vec2<f32>,
 }
 
 // Everything a glyph's proxy vertices need, computed once per glyph: by each vertex in vs_main,
@@ -166,7 +168,8 @@ fn proxy_vertex(f: GlyphFrame, corner: vec2<f32>) -> VsOut {
     }
     let c = pixel_cast(f);
     out.ux_uy = vec4<f32>(c.ux, c.uy);
-    out.off_gxy = vec4<f32>(c.off0, c.g.xy);
+    out.o0_gxy = vec4<f32>(c.o0, c.g.xy);
+    out.px0 = c.px0;
     out.gz_k_u_cz = vec4<f32>(c.g.z, c.one_minus_e2, c.u, c.cz);
     out.nx_tzx = vec4<f32>(c.nx, c.tzq.x);
     out.ny_tzy = vec4<f32>(c.ny, c.tzq.y);
@@ -292,8 +295,9 @@ fn ray_cast(in: VsOut) -> Hit {
     var c: PixelCast;
     c.ux = in.ux_uy.xy;
     c.uy = in.ux_uy.zw;
-    c.off0 = in.off_gxy.xy;
-    c.g = vec3<f32>(in.off_gxy.zw, in.gz_k_u_cz.x);
+    c.o0 = in.o0_gxy.xy;
+    c.px0 = in.px0;
+    c.g = vec3<f32>(in.o0_gxy.zw, in.gz_k_u_cz.x);
     c.one_minus_e2 = in.gz_k_u_cz.y;
     c.u = in.gz_k_u_cz.z;
     c.cz = in.gz_k_u_cz.w;
@@ -353,12 +357,14 @@ fn cast_hit(c: PixelCast, px: vec2<f32>, color: u32) -> Hit {
 // what is linear in the hit's p~ (cast_p): so a pixel costs a few dozen operations. The vertex
 // stage sends it flat to the fragments; the splats' loops use it directly.
 struct PixelCast {
-    // q~(px) = t(px) (o.x ux + o.y uy) with o = xy(px) + off0, xy(px) the pixel's view-space
-    // offset at distance 1 (perspective) or 0 (orthographic), t = (1 − E²)/(g · (xy, −1))
-    // (orthographic: g = (0, 0, −1), 1 − E² = 1, so t = 1).
+    // q~(px) = t(px) (o.x ux + o.y uy) with o = o(px) of pixel_offset, the pixel's view (x, y)
+    // less the centre's (at distance 1 when perspective), t = (1 − E²)/(g · (xy, −1)) with
+    // xy(px) the pixel's view-space (x, y) (orthographic: g = (0, 0, −1), 1 − E² = 1, so t = 1).
     ux: vec2<f32>,
     uy: vec2<f32>,
-    off0: vec2<f32>,
+    // The centre ray's pixel and o(px0) (centre_ray).
+    o0: vec2<f32>,
+    px0: vec2<f32>,
     g: vec3<f32>,
     one_minus_e2: f32,
     // u = 1/E (perspective) or 0 (orthographic), as in cast_p.
@@ -382,12 +388,14 @@ fn pixel_cast(f: GlyphFrame) -> PixelCast {
     let r2 = dot(f.x_t, f.x_t);
     s.ux = vec2<f32>(dot(m[0], f.x_t), dot(m[0], f.y_t)) / r2;
     s.uy = vec2<f32>(dot(m[1], f.x_t), dot(m[1], f.y_t)) / r2;
-    let c_v = (camera.view * vec4<f32>(f.centre, 1.0)).xyz;
+    let cr = centre_ray(f.centre);
+    let c_v = cr.c_view;
+    s.o0 = cr.o0;
+    s.px0 = cr.px0;
     var z_hat = f.ray_t;
     if is_ortho() {
         // The ray from (x, y, 0) in view space along the view direction keeps q~ while it
         // moves: take it level with the centre (in-plane offsets only, nothing to cancel).
-        s.off0 = -c_v.xy;
         // t = 1.
         s.g = vec3<f32>(0.0, 0.0, -1.0);
         s.one_minus_e2 = 1.0;
@@ -396,7 +404,6 @@ fn pixel_cast(f: GlyphFrame) -> PixelCast {
         // e~ and m~ both lie on the quad's axis, the eye's ray to the centre, so the in-plane
         // offset is t times that of the pixel ray's offset from the centre's ray, taken alone
         // (the whole d~, mostly along the axis, would cancel badly).
-        s.off0 = c_v.xy / c_v.z;
         let e_t = -f.ray_t;
         s.g = transpose(m) * e_t;
         s.one_minus_e2 = 1.0 - dot(e_t, e_t);
@@ -415,7 +422,7 @@ fn pixel_cast(f: GlyphFrame) -> PixelCast {
 // q~ at pixel centre `px` (framebuffer coordinates).
 fn splat_q(s: PixelCast, px: vec2<f32>) -> vec2<f32> {
     let xy = pixel_view_xy(px);
-    let o = xy + s.off0;
+    let o = pixel_offset(px, s.px0, s.o0);
     return (s.one_minus_e2 / (dot(s.g.xy, xy) - s.g.z)) * (o.x * s.ux + o.y * s.uy);
 }
 
@@ -425,7 +432,7 @@ fn splat_q(s: PixelCast, px: vec2<f32>) -> vec2<f32> {
 fn splat_row(s: PixelCast, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let start = vec2<f32>(f32(x0) + 0.5, f32(y) + 0.5);
     let xy = pixel_view_xy(start);
-    let o = xy + s.off0;
+    let o = pixel_offset(start, s.px0, s.o0);
     let k = s.one_minus_e2;
     let l0 = k * (o.x * s.ux + o.y * s.uy);
     let lx = k * s.ux / camera.pixels.x;

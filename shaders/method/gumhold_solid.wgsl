@@ -1,26 +1,16 @@
 // Gumhold's method for every kind but the ellipsoid (whose exact quad is gumhold_ellipsoid.wgsl):
 // the glyph ray cast on Gumhold's quad of a bounding ellipsoid (cylinder-capsule.md §5), in the
-// glyph's local parameter space p~ = diag(1/scale) Oᵀ (p − c).
-// The ray starts at the quad point V, next to the glyph: p = V + t v with v = V − e, in front of
-// the eye for t > −1. When the eye is inside the bounding ellipsoid but outside the solid (near
-// a cap), the proxy becomes the whole near plane. Orthographic rays are instead formed from the
-// fragment's position (glyph_pixel_ray, as Sigg's method does): V interpolated across the quad
-// is only as exact as an attribute plane rounded over the whole screen, and at the rims that
-// error moves the nearly tangent ray's hit by more than the depth bound (perspective rays stay
-// within it). So are the near-plane proxy's rays, whose V lies next to the eye, which may lie
-// next to the surface: there a quadric's constant term cancels in f32. The kind's shape file (the interface in common.wgsl's `Solid`) gives the
-// bounding sphere (`shape_radius`), the scale, bounding ellipsoid and parameters (`shape_of`),
-// the eye test (`shape_contains`) and the entry (`shape_entry`: t and local normal, discarding
-// on a miss).
+// glyph's local parameter space p~ = diag(1/scale) Oᵀ (p − c). The quad only chooses the
+// fragments: each casts its own pixel's ray (ray_cast). When the eye is inside the bounding
+// ellipsoid but outside the solid (near a cap), the proxy becomes the whole near plane. The
+// kind's shape file (the interface in common.wgsl's `Solid`) gives the bounding sphere
+// (`shape_radius`), the scale, bounding ellipsoid and parameters (`shape_of`), the eye test
+// (`shape_contains`) and the entry (`shape_entry`: t and local normal, discarding on a miss).
 
 struct VsOut {
     @builtin(position) position: vec4<f32>,
-    // The proxy point V in parameter space.
+    // The proxy point V in parameter space: the flat variants' view z (they keep its depth).
     @location(0) o_t: vec3<f32>,
-    // The ray through V in parameter space, diag(1/scale) Oᵀ (V − e) (perspective only).
-    @location(1) v_t: vec3<f32>,
-    // V in view space.
-    @location(2) v_view: vec3<f32>,
     @location(3) @interpolate(flat) id: u32,
     @location(4) @interpolate(flat) color: u32,
     // Columns of N = R_view O diag(1/scale): view normal = N n~.
@@ -32,10 +22,10 @@ struct VsOut {
     // The shape's parameters (a capsule's segment half-length in units of its radius; a
     // superquadric's exponents and bounding ball).
     @location(9) @interpolate(flat) shape: vec4<f32>,
-    // The glyph centre in view space: the orthographic ray's reference point.
+    // The glyph centre in view space: the rays' reference point.
     @location(10) @interpolate(flat) c_view: vec3<f32>,
-    // 1 on the near-plane proxy (the eye inside the bounding ellipsoid).
-    @location(11) @interpolate(flat) near: u32,
+    // The centre ray's pixel px0 and o(px0) (centre_ray in common.wgsl).
+    @location(12) @interpolate(flat) px0_o0: vec4<f32>,
 }
 
 // The quad of a glyph's bounding ellipsoid (g, its rotation o, shape_of): corner s at
@@ -128,10 +118,6 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
         out.position = vec4<f32>(near_plane_ndc(vi), 0.0, 1.0);
     }
     out.o_t = (ot * (v - g.centre)) / sc;
-    if !is_ortho() {
-        out.v_t = (ot * (v - camera.eye.xyz)) / sc;
-    }
-    out.v_view = (camera.view * vec4<f32>(v, 1.0)).xyz;
     out.id = ii + 1u;
     out.color = g.color;
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
@@ -142,55 +128,35 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
     let r2 = vec3<f32>(camera.view[0].z, camera.view[1].z, camera.view[2].z);
     out.tz = (ot * r2) * sc;
     out.shape = solid.shape;
-    out.c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
-    out.near = u32(q.near);
+    let cr = centre_ray(g.centre);
+    out.c_view = cr.c_view;
+    out.px0_o0 = vec4<f32>(cr.px0, cr.o0);
     return out;
 }
 
-// One call of the finder for both projections: a CPU device runs a branch not taken under a
-// mask, so a second call (the orthographic ray's) would cost every perspective fragment.
+// Every fragment casts its own pixel's ray from a glyph-near origin (glyph_pixel_ray, as
+// Sigg's): nothing interpolated, and the pixel's offset from the centre's ray formed in
+// double-f32 once per glyph (centre_ray). Rays through the interpolated quad point V were only
+// as exact as an attribute plane rounded over the whole screen: grid40's cylinders had depth p99
+// 8.8e-5 of the radius that way, 6.5e-7 this way. Perspective rays take what lies in front of
+// the eye, orthographic ones the whole line (the depth range clips them).
 fn ray_cast(in: VsOut) -> Hit {
     let n = mat3x3<f32>(in.n0, in.n1, in.n2);
-    // Perspective: from the quad point V along V − e, in front of the eye for t > −1.
-    var o_t = in.o_t;
-    var v_t = in.v_t;
-    var t_min = -1.0;
-    var r: ParamRay;
-    // The pixel's own ray from its glyph-near origin (as Sigg's): orthographic rays, and those
-    // of the near-plane proxy, whose point V lies next to the eye, and so next to the surface
-    // the eye is close to, where a quadric's constant term cancels in f32.
-    let pixel = is_ortho() || in.near != 0u;
-    if pixel {
-        // Parameter space from view space is Nᵀ; orthographic rays take the whole line (the
-        // depth range clips them), perspective ones what lies in front of the eye.
-        r = glyph_pixel_ray(in.position.xy, in.c_view, transpose(n));
-        o_t = r.o_t;
-        v_t = r.v_t;
-        t_min = select(-r.t0, -3.0e38, is_ortho());
-    }
-    let entry = shape_entry(o_t, v_t, in.shape, t_min);
+    // Parameter space from view space is Nᵀ.
+    let r = glyph_pixel_ray(in.position.xy, in.c_view, in.px0_o0.xy, in.px0_o0.zw, transpose(n));
+    let o_t = r.o_t;
+    let v_t = r.v_t;
+    let entry = shape_entry(o_t, v_t, in.shape, select(-r.t0, -3.0e38, is_ortho()));
     let t = entry.x;
-    var p_view: vec3<f32>;
     var hit: Hit;
-    if pixel {
-        if !(is_ortho() || r.t0 + t > 0.0) {
-            discard;
-        }
-        let off = r.off + t * r.d;
-        p_view = in.c_view + off;
-        hit.z_rel = off.z;
-        // From the hit's view z: the quad's rasterised depth belongs to V, not to this ray's
-        // origin.
-        hit.depth = view_depth(p_view.z);
-    } else {
-        // t < 0 is in front of the proxy.
-        if t <= -1.0 {
-            discard;
-        }
-        p_view = (1.0 + t) * in.v_view;
-        hit.z_rel = dot(in.tz, in.o_t + t * in.v_t);
-        hit.depth = in.position.z - (t / (1.0 + t)) * camera.depth.x / (-in.v_view.z);
+    if !(is_ortho() || r.t0 + t > 0.0) {
+        discard;
     }
+    let off = r.off + t * r.d;
+    let p_view = in.c_view + off;
+    hit.z_rel = off.z;
+    // From the hit's view z: the quad's rasterised depth belongs to V, not to this ray's origin.
+    hit.depth = view_depth(p_view.z);
     let n_view = normalize(n * entry.yzw);
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
     let base = shape_tint(transpose(rv) * (n * (o_t + t * v_t)), in.shape, unpack4x8unorm(in.color).rgb);

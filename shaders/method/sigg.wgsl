@@ -23,18 +23,18 @@ struct VsOut {
     // Shape parameters of the glyph kind (capsules: x, the segment's half-length in units of R;
     // superquadrics: the exponents α, β, c and the bounding ball's radius).
     @location(7) @interpolate(flat) shape: vec4<f32>,
-}
-
-fn view_rotation() -> mat3x3<f32> {
-    return mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
+    // The centre ray's pixel px0 and o(px0) (centre_ray in common.wgsl).
+    @location(8) @interpolate(flat) px0_o0: vec4<f32>,
 }
 
 // The flat per-glyph varyings of glyph g with frame o and parameter-space scale `scale`.
 fn glyph_varyings(out: ptr<function, VsOut>, g: Glyph, o: mat3x3<f32>, scale: vec3<f32>, id: u32) {
-    let rv = view_rotation();
+    let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
     (*out).id = id;
     (*out).color = g.color;
-    (*out).c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
+    let cr = centre_ray(g.centre);
+    (*out).c_view = cr.c_view;
+    (*out).px0_o0 = vec4<f32>(cr.px0, cr.o0);
     (*out).a0 = rv * o[0] / scale.x;
     (*out).a1 = rv * o[1] / scale.y;
     (*out).a2 = rv * o[2] / scale.z;
@@ -64,7 +64,7 @@ fn culled() -> VsOut {
 
 // The fragment's ray (glyph_pixel_ray in common.wgsl, shared with Gumhold's orthographic solids).
 fn pixel_ray(in: VsOut) -> ParamRay {
-    return glyph_pixel_ray(in.position.xy, in.c_view, transpose(mat3x3<f32>(in.a0, in.a1, in.a2)));
+    return glyph_pixel_ray(in.position.xy, in.c_view, in.px0_o0.xy, in.px0_o0.zw, transpose(mat3x3<f32>(in.a0, in.a1, in.a2)));
 }
 
 // Shade the hit at t' along the ray from the glyph-near origin with parameter-space normal n_t;

@@ -125,8 +125,10 @@ fn sq_near_z(s: SqPixels, o: mat3x3<f32>, solid: Solid) -> f32 {
 
 // What a glyph's pixels need, once per glyph.
 struct SqPixels {
-    // The centre in view space.
+    // The centre in view space, its centre ray's pixel px0 and o(px0) (centre_ray).
     c_view: vec3<f32>,
+    px0: vec2<f32>,
+    o0: vec2<f32>,
     // View space from parameter space for normals, R_view O diag(1/radii); its transpose maps
     // view-space offsets into parameter space.
     n: mat3x3<f32>,
@@ -137,7 +139,10 @@ struct SqPixels {
 
 fn sq_pixels_of(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SqPixels {
     var s: SqPixels;
-    s.c_view = (camera.view * vec4<f32>(g.centre, 1.0)).xyz;
+    let cr = centre_ray(g.centre);
+    s.c_view = cr.c_view;
+    s.px0 = cr.px0;
+    s.o0 = cr.o0;
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
     s.n = rv * mat3x3<f32>(o[0] / solid.scale.x, o[1] / solid.scale.y, o[2] / solid.scale.z);
     s.shape = solid.shape;
@@ -209,7 +214,7 @@ fn sq_row(rows: SqRows, y: i32, x1: i32) -> vec2<i32> {
 
 // The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
 fn sq_pixel_hit(s: SqPixels, px: vec2<f32>, tol_min: f32) -> Hit {
-    let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
+    let r = glyph_pixel_ray(px, s.c_view, s.px0, s.o0, transpose(s.n));
     // From the eye; orthographic rays are clipped by the depth range.
     let h = sq_first_within(r.o_t, r.v_t, s.shape.xyz, select(-r.t0, -3.0e38, is_ortho()), s.shape.w, tol_min);
     if !h.hit {
@@ -250,7 +255,7 @@ fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
     }
     let g = load_glyph(ii);
     let s = sq_pixels_of(g, quat_to_mat3(g.rotation), shape_of(g, ii));
-    let r = glyph_pixel_ray(px, s.c_view, transpose(s.n));
+    let r = glyph_pixel_ray(px, s.c_view, s.px0, s.o0, transpose(s.n));
     // View z from the key, then the ray's t.
     let z = -bitcast<f32>(0xffffffffu - key);
     let t = (z - s.c_view.z - r.off.z) / r.d.z;

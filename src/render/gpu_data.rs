@@ -7,6 +7,7 @@ use glam::{DMat4, DVec3};
 use crate::camera::Camera;
 use crate::frame::Lighting;
 use crate::scene::GlyphInstance;
+use crate::shape::geometry::{pack_radius, pack_rotation, unpack_radius, unpack_rotation};
 
 /// One glyph as the GPU reads it: 32 bytes, decoded by `load_glyph` in shaders/common.wgsl.
 /// Keep in sync with `GpuGlyph` there.
@@ -15,10 +16,10 @@ use crate::scene::GlyphInstance;
 /// - `radius_rgb[i]`: radius i as an unsigned 24-bit float (f32 without sign and the 7 lowest
 ///   mantissa bits, rounded to nearest: relative error ≤ 2⁻¹⁷) in bits 8..32, and colour channel
 ///   i (R, G, B) in bits 0..8. Glyphs no method draws (degenerate radii) get radii 0.
-/// - `rotation`: the unit quaternion as "smallest three": the index of the largest component
-///   (made positive) in bits 28..30 of word 1 and the other three, in order, as 20-bit fixed
-///   point over [−1/√2, 1/√2] (error ≤ 6.7e-7 each): a = w0[0..20], b = w0[20..32] | w1[0..8] << 12,
-///   c = w1[8..28].
+/// - `rotation`: the unit quaternion as "smallest three" ([`pack_rotation`]).
+///
+/// Scenes hold their instances as stored ([`GlyphInstance::stored`]), so packing them again
+/// changes nothing and the reference casts the glyph the GPU reads.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct GpuGlyph {
@@ -29,9 +30,6 @@ pub struct GpuGlyph {
 
 pub const GPU_GLYPH_SIZE: usize = 32;
 const _: () = assert!(std::mem::size_of::<GpuGlyph>() == GPU_GLYPH_SIZE);
-
-const QUAT_BITS: u32 = 20;
-const QUAT_MAX: f64 = ((1u32 << QUAT_BITS) - 1) as f64;
 
 impl GpuGlyph {
     pub fn pack(g: &GlyphInstance) -> Self {
@@ -45,18 +43,18 @@ impl GpuGlyph {
         Self {
             centre: g.centre,
             radius_rgb,
-            rotation: pack_quat(g.rotation),
+            rotation: pack_rotation(g.rotation),
         }
     }
 
-    /// The CPU twin of `load_glyph` in common.wgsl (same arithmetic, f32).
+    /// The CPU twin of `load_glyph` in common.wgsl.
     pub fn unpack(&self) -> GlyphInstance {
-        let radii = self.radius_rgb.map(|w| f32::from_bits((w >> 8) << 7));
+        let radii = self.radius_rgb.map(|w| unpack_radius(w >> 8));
         let [r, g, b] = self.radius_rgb.map(|w| (w & 0xff) as u8);
         GlyphInstance {
             centre: self.centre,
             color: u32::from_le_bytes([r, g, b, 255]),
-            rotation: unpack_quat(self.rotation),
+            rotation: unpack_rotation(self.rotation),
             radii,
             glyph: 0,
             // A separate buffer holds superquadric exponents (`GpuShape`).
@@ -64,66 +62,6 @@ impl GpuGlyph {
         }
     }
 }
-
-/// f32 → 24 bits (no sign, 16 mantissa bits), rounded to nearest; only for radii ≥ 0.
-fn pack_radius(r: f32) -> u32 {
-    let bits = r.max(0.0).to_bits();
-    ((bits + 0x40) >> 7).min(0x00ff_ffff)
-}
-
-fn pack_quat(q: [f32; 4]) -> [u32; 2] {
-    let q = q.map(f64::from);
-    let len = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-    let q = if len > 0.0 && len.is_finite() {
-        q.map(|c| c / len)
-    } else {
-        [0.0, 0.0, 0.0, 1.0]
-    };
-    let largest = (0..4)
-        .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
-        .unwrap_or(3);
-    let sign = if q[largest] < 0.0 { -1.0 } else { 1.0 };
-    let mut rest = [0u32; 3];
-    let mut k = 0;
-    for (i, c) in q.iter().enumerate() {
-        if i != largest {
-            let x = (sign * c * std::f64::consts::FRAC_1_SQRT_2 + 0.5) * QUAT_MAX;
-            rest[k] = x.round().clamp(0.0, QUAT_MAX) as u32;
-            k += 1;
-        }
-    }
-    let [a, b, c] = rest;
-    [
-        a | (b << 20),
-        (b >> 12) | (c << 8) | ((largest as u32) << 28),
-    ]
-}
-
-fn unpack_quat(w: [u32; 2]) -> [f32; 4] {
-    let a = w[0] & 0xfffff;
-    let b = (w[0] >> 20) | ((w[1] & 0xff) << 12);
-    let c = (w[1] >> 8) & 0xfffff;
-    let largest = ((w[1] >> 28) & 3) as usize;
-    let dec = |x: u32| x as f32 * QUAT_SCALE - std::f32::consts::FRAC_1_SQRT_2;
-    let rest = [dec(a), dec(b), dec(c)];
-    let big = (1.0 - rest.iter().map(|c| c * c).sum::<f32>())
-        .max(0.0)
-        .sqrt();
-    let mut q = [0.0f32; 4];
-    let mut k = 0;
-    for (i, slot) in q.iter_mut().enumerate() {
-        if i == largest {
-            *slot = big;
-        } else {
-            *slot = rest[k];
-            k += 1;
-        }
-    }
-    q
-}
-
-/// √2 / (2²⁰ − 1): one fixed-point step of a quaternion component (the shader's constant).
-const QUAT_SCALE: f32 = (std::f64::consts::SQRT_2 / QUAT_MAX) as f32;
 
 /// Per draw of one chunk of instances. Keep in sync with `Chunk` in shaders/common.wgsl.
 #[repr(C)]
@@ -165,9 +103,14 @@ pub struct CameraUniform {
     /// whole image's centre in this viewport's pixels (off-centre for a tile); w: 1 when
     /// shading is deferred (the methods write the unlit base colour).
     pub pixels: [f32; 4],
+    /// Rows 0..3 of the view matrix (columns 0..4: rotation and translation) less their f32
+    /// rounding: with `view`, the view transform in double-f32 (`centre_ray` in common.wgsl).
+    pub view_lo: [[f32; 4]; 3],
+    /// `pixels.x` and its reciprocal, each in double-f32 (hi, lo, hi, lo).
+    pub pixel_scale: [f32; 4],
 }
 
-pub const CAMERA_UNIFORM_SIZE: usize = 384;
+pub const CAMERA_UNIFORM_SIZE: usize = 448;
 const _: () = assert!(std::mem::size_of::<CameraUniform>() == CAMERA_UNIFORM_SIZE);
 
 impl CameraUniform {
@@ -178,6 +121,8 @@ impl CameraUniform {
         let eye = camera.eye - origin;
         let f = camera.forward();
         let m = |m: DMat4| m.as_mat4().to_cols_array_2d();
+        // What f32 leaves of x: x = hi + lo with hi = x as f32.
+        let lo = |x: f64| (x - f64::from(x as f32)) as f32;
         Self {
             view_proj: m(proj * view),
             inv_view_proj: m((proj * view).inverse()),
@@ -213,6 +158,11 @@ impl CameraUniform {
             pixels: {
                 let (cx, cy) = camera.image_centre_px();
                 [camera.pixels_per_unit() as f32, cx as f32, cy as f32, 0.0]
+            },
+            view_lo: std::array::from_fn(|i| std::array::from_fn(|j| lo(view.col(j)[i]))),
+            pixel_scale: {
+                let f = camera.pixels_per_unit();
+                [f as f32, lo(f), (1.0 / f) as f32, lo(1.0 / f)]
             },
         }
     }
@@ -356,7 +306,7 @@ mod tests {
             &module,
             "Camera",
             &fields!(CameraUniform: view_proj, view, inv_view_proj, eye, forward, depth,
-                viewport, light, frustum, pixels),
+                viewport, light, frustum, pixels, view_lo, pixel_scale),
         );
         assert_offsets(
             &module,

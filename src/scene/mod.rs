@@ -87,6 +87,11 @@ impl Scene {
         kind: GlyphKind,
     ) -> Self {
         let shape = kind.shape();
+        let mut instances = instances;
+        {
+            use rayon::prelude::*;
+            instances.par_iter_mut().for_each(|g| *g = g.stored());
+        }
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for g in &instances {
@@ -119,7 +124,11 @@ impl Scene {
         let shape = kind.shape();
         Scene {
             kind,
-            instances: self.instances.iter().map(|g| shape.adopt(g)).collect(),
+            instances: self
+                .instances
+                .iter()
+                .map(|g| shape.adopt(g).stored())
+                .collect(),
             ..self.clone()
         }
     }
@@ -188,7 +197,7 @@ impl Scene {
             .enumerate()
             .fold(empty, |(lo, hi), (k, g)| {
                 instances(g, k, origin, style, shape).fold((lo, hi), |(lo, hi), inst| {
-                    let geo = GlyphGeometry::of(&inst);
+                    let geo = GlyphGeometry::of(&inst.stored());
                     let h = shape.bounds(&geo);
                     (lo.min(geo.centre - h), hi.max(geo.centre + h))
                 })

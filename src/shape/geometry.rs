@@ -40,6 +40,101 @@ impl GlyphInstance {
     }
 }
 
+impl GlyphInstance {
+    /// The instance as the GPU stores it ([`crate::render::gpu_data::GpuGlyph`]): the rotation
+    /// through its 20-bit "smallest three" code and drawable radii through their 24-bit floats,
+    /// decoded as `load_glyph` in common.wgsl decodes them. Scenes keep their instances so, and
+    /// the reference casts what every method draws: the rotation code alone turns a glyph by up
+    /// to ~2e-6 rad, which moves a needle's tip across its section when k ≳ 1e4 (normals of
+    /// needles at k = 1e4: 2.3–5.0° measured against the unstored instance, 0.2–1.0° against
+    /// this). What storing costs against the field is stated on its own (the Accuracy page).
+    pub fn stored(mut self) -> Self {
+        self.rotation = unpack_rotation(pack_rotation(self.rotation));
+        if crate::shape::rules::drawable_radii(self.radii) {
+            self.radii = self.radii.map(|r| unpack_radius(pack_radius(r)));
+        }
+        self
+    }
+}
+
+/// Bits of each of a stored quaternion's three smaller components.
+const QUAT_BITS: u32 = 20;
+/// One step of a stored component: 1.5 · 2⁻²⁰, so that (n − 2¹⁹) · step, the decode, is exact in
+/// f32 (21 significant bits) on every device, fused or not; the codes span ±0.75 ⊃ ±1/√2.
+pub const QUAT_STEP: f32 = 1.430_511_5e-6;
+const QUAT_HALF: i32 = 1 << (QUAT_BITS - 1);
+
+/// A unit quaternion (x, y, z, w) as "smallest three": the index of the largest component (made
+/// positive) in bits 28..30 of word 1 and the other three, in order, as 20-bit codes n with
+/// component (n − 2¹⁹) · [`QUAT_STEP`] (error ≤ 7.2e-7 each): a = w0[0..20],
+/// b = w0[20..32] | w1[0..8] << 12, c = w1[8..28]. A quaternion that is not finite or zero is
+/// stored as the identity.
+pub fn pack_rotation(q: [f32; 4]) -> [u32; 2] {
+    let q = q.map(f64::from);
+    let len = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let q = if len > 0.0 && len.is_finite() {
+        q.map(|c| c / len)
+    } else {
+        [0.0, 0.0, 0.0, 1.0]
+    };
+    let largest = (0..4)
+        .max_by(|&a, &b| q[a].abs().total_cmp(&q[b].abs()))
+        .unwrap_or(3);
+    let sign = if q[largest] < 0.0 { -1.0 } else { 1.0 };
+    let max = f64::from((1u32 << QUAT_BITS) - 1);
+    let mut rest = [0u32; 3];
+    let mut k = 0;
+    for (i, c) in q.iter().enumerate() {
+        if i != largest {
+            let n = (sign * c / f64::from(QUAT_STEP)).round() + f64::from(QUAT_HALF);
+            rest[k] = n.clamp(0.0, max) as u32;
+            k += 1;
+        }
+    }
+    let [a, b, c] = rest;
+    [
+        a | (b << 20),
+        (b >> 12) | (c << 8) | ((largest as u32) << 28),
+    ]
+}
+
+/// The decode of `load_glyph` in common.wgsl: the three codes are exact in f32, and the largest
+/// component is √(1 − a² − b² − c²), exact in f64 but for the square root, rounded once to f32
+/// (the shader forms it in double-f32 and rounds it the same way, `quat_largest`).
+pub fn unpack_rotation(w: [u32; 2]) -> [f32; 4] {
+    let a = w[0] & 0xfffff;
+    let b = (w[0] >> 20) | ((w[1] & 0xff) << 12);
+    let c = (w[1] >> 8) & 0xfffff;
+    let largest = ((w[1] >> 28) & 3) as usize;
+    let dec = |n: u32| (n as i32 - QUAT_HALF) as f32 * QUAT_STEP;
+    let rest = [dec(a), dec(b), dec(c)];
+    let [x, y, z] = rest.map(f64::from);
+    let big = (1.0 - (x * x + y * y + z * z)).max(0.0).sqrt() as f32;
+    let mut q = [0.0f32; 4];
+    let mut k = 0;
+    for (i, slot) in q.iter_mut().enumerate() {
+        if i == largest {
+            *slot = big;
+        } else {
+            *slot = rest[k];
+            k += 1;
+        }
+    }
+    q
+}
+
+/// A radius ≥ 0 as an unsigned 24-bit float (f32 without sign and the 7 lowest mantissa bits,
+/// rounded to nearest: relative error ≤ 2⁻¹⁷).
+pub fn pack_radius(r: f32) -> u32 {
+    let bits = r.max(0.0).to_bits();
+    ((bits + 0x40) >> 7).min(0x00ff_ffff)
+}
+
+/// The radius [`pack_radius`] stored.
+pub fn unpack_radius(w: u32) -> f32 {
+    f32::from_bits(w << 7)
+}
+
 /// A glyph instance's geometry in f64, as both the reference and the tests need it.
 #[derive(Debug, Clone, Copy)]
 pub struct GlyphGeometry {

@@ -9,7 +9,7 @@ use glam::{DMat3, DQuat, DVec2, DVec3, Mat3, Mat4, Quat, Vec3};
 use super::cases::{self, oblique};
 use super::{Row, Status, within};
 use crate::camera::{Camera, Projection};
-use crate::scene::{GlyphSpec, Scene};
+use crate::scene::{GlyphGeometry, GlyphInstance, GlyphSpec};
 use crate::shape::ellipsoid;
 use crate::twin::gumhold_ellipsoid;
 
@@ -224,6 +224,11 @@ fn dir_colour(e: &cases::Eigen, weighted: bool) -> DVec3 {
     }
 }
 
+/// What storing an instance may cost its tensor ([`GlyphInstance::stored`]), relative to the
+/// largest |λ|: radii to 2⁻¹⁷ (7.6e-6) and a frame turned by at most 2·√3·7.2e-7 = 2.5e-6 rad
+/// (three components off by half a 20-bit step each), which moves T by at most twice that.
+const STORED_RECONSTRUCTION: f64 = 1.3e-5;
+
 /// Case 10 on the CPU: a tensor passing through λ1 = λ2 (T(t) = R diag(0.5 + t, 0.5 − t, 0.2) Rᵀ):
 /// the glyph the renderers get (f32 quaternion + radii) must reproduce T for every t (the frame
 /// may turn: it is undefined at the degeneracy); the principal-direction colour jumps across
@@ -242,22 +247,34 @@ pub fn degeneracy(quick: bool) -> Vec<Row> {
     let mut out = Vec::new();
     for &t in &ts {
         let mut worst_rec = 0.0f64;
+        let mut worst_stored = 0.0f64;
         let mut e1 = [DVec3::ZERO; 2];
         for (k, s) in [t, -t].into_iter().enumerate() {
             let a = tensor(s);
             let e = cases::symmetric_eigen(&a).expect("finite");
             let spec: GlyphSpec = cases::glyph_from_tensor(&a, DVec3::ZERO, [0; 4]).expect("glyph");
-            // What the GPU gets: f32 quaternion and radii, back to T (scaled by the largest |λ|).
-            let scene = Scene::from_specs(&[spec]);
-            let g = scene.geometry(0);
+            // The f32 instance (quaternion and radii) and what the GPU stores of it, back to T
+            // (scaled by the largest |λ|).
+            let q = spec.rotation.normalize();
+            let built = GlyphInstance {
+                centre: [0.0; 3],
+                color: 0,
+                rotation: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+                radii: spec.radii.as_vec3().to_array(),
+                glyph: 0,
+                shape: [0; 2],
+            };
             let scale = e.values[0].abs();
-            let rec = g.t() * scale;
             let want = DMat3::from_cols_array(&a);
-            let err = (0..3)
-                .map(|c| (rec.col(c) - want.col(c)).length())
-                .fold(0.0, f64::max)
-                / scale;
-            worst_rec = worst_rec.max(err);
+            let err = |g: &GlyphInstance| {
+                let rec = GlyphGeometry::of(g).t() * scale;
+                (0..3)
+                    .map(|c| (rec.col(c) - want.col(c)).length())
+                    .fold(0.0, f64::max)
+                    / scale
+            };
+            worst_rec = worst_rec.max(err(&built));
+            worst_stored = worst_stored.max(err(&built.stored()));
             e1[k] = DVec3::from(e.vectors[0]);
         }
         // Colour difference between T(t) and T(−t): the jump a viewer sees.
@@ -275,12 +292,19 @@ pub fn degeneracy(quick: bool) -> Vec<Row> {
         rw.metrics
             .insert("tensor_reconstruction_rel".into(), worst_rec);
         rw.metrics
+            .insert("tensor_reconstruction_stored_rel".into(), worst_stored);
+        rw.metrics
             .insert("e1_turn_deg_t_vs_minus_t".into(), frame_turn);
         rw.metrics.insert("colour_jump_raw".into(), jump_raw);
         rw.metrics.insert("colour_jump_cl_weighted".into(), jump_cl);
         if !within(worst_rec, 1e-6) {
             rw.status = Status::Fail;
             rw.reason = format!("glyph does not reproduce the tensor: {worst_rec:.3e} > 1e-6");
+        } else if !within(worst_stored, STORED_RECONSTRUCTION) {
+            rw.status = Status::Fail;
+            rw.reason = format!(
+                "stored glyph does not reproduce the tensor: {worst_stored:.3e} > {STORED_RECONSTRUCTION:e}"
+            );
         } else if jump_raw > 0.05 {
             rw.status = Status::Degraded;
             rw.reason = format!(

@@ -1,6 +1,6 @@
 //! Thin discs and long needles (issue 37) as a user renders them: `render --reference-check`
 //! on tests/data/extremes (discs k = 1e5, needles k = 1e4, and a mix of both at k = 1e3 … 1e6,
-//! each glyph passing through its neighbours), ellipsoids with `--min-radius 0`, in the three
+//! each glyph passing through its neighbours; and a field of 1,000 needles), ellipsoids with `--min-radius 0`, in the three
 //! views of the issue, held to the targets against the exact f64 reference: coverage ≤ 1e-3,
 //! id ≤ 1e-3, depth p99 ≤ 1e-4 of the largest radius, normal p99 ≤ 0.5° — where they are met
 //! (the rows and the reasons for the others: docs/book/src/results/accuracy.md).
@@ -30,18 +30,34 @@ const TARGETS: Bounds = Bounds {
     normal_deg: 0.5,
 };
 
-/// Needles: depth, id and coverage as [`TARGETS`]; normals bounded by 6°, not 0.5°. A needle of
-/// radius 8e-5 is thinner than a pixel (12 to 84 pixels in these views, so the p99 is the worst
-/// pixel, next to a rim), and f32 places the pixel's ray across it only to ~2⁻²⁴ of the eye's
-/// distance (1e-6 at 13 units, 1 % of its section): 2.8–5° measured, both ray casters.
+/// needles.vtk: depth, id and coverage as [`TARGETS`]; normals bounded by 2°. Its 64 needles of
+/// radius 8e-5 are thinner than a pixel and cover 12 to 87 pixels in these views, so the p99 is
+/// the worst pixel, next to a rim, where the normal turns fastest with the ray: 0.06–1.5°
+/// measured on lavapipe and SwiftShader, both ray casters (2.3–5.0° before the reference cast
+/// the glyphs as stored and the rays were formed next to the glyph). The orientation of a
+/// needle's thin axes in view space, formed per glyph in f32, is what is left: its length turns
+/// ~2⁻²⁴ into ~2⁻²⁴·k of its section. `needle_field_meets_the_targets` holds the p99 of 1,000.
 const NEEDLES: Bounds = Bounds {
-    normal_deg: 6.0,
+    normal_deg: 2.0,
     ..TARGETS
 };
 
 /// `render` of `file` (tests/data/extremes) in view `view` with `method` (and `preset`), drawn
-/// as `glyph`, held to `b`.
+/// as `glyph` at 400x300, held to `b`.
 fn check(file: &str, view: &[&str], glyph: &str, method: &str, preset: Option<&str>, b: &Bounds) {
+    check_at("400x300", file, view, glyph, method, preset, b);
+}
+
+/// [`check`] at image size `size`.
+fn check_at(
+    size: &str,
+    file: &str,
+    view: &[&str],
+    glyph: &str,
+    method: &str,
+    preset: Option<&str>,
+    b: &Bounds,
+) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");
     let input = format!("tests/data/extremes/{file}");
@@ -57,7 +73,7 @@ fn check(file: &str, view: &[&str], glyph: &str, method: &str, preset: Option<&s
         "--method",
         method,
         "--size",
-        "400x300",
+        size,
         "-o",
         out.to_str().unwrap(),
         "--json",
@@ -71,7 +87,7 @@ fn check(file: &str, view: &[&str], glyph: &str, method: &str, preset: Option<&s
     let r = tg(&args);
     assert!(r.status.success(), "{args:?}: {}", stderr(&r));
     let j = json(&r);
-    let name = format!("{file} {view:?} {glyph} {method} {preset:?}");
+    let name = format!("{file} {size} {view:?} {glyph} {method} {preset:?}");
     assert!(j["covered_pixels"].as_u64().unwrap() > 10, "{name}: {j}");
     let v = |k: &str| j[k].as_f64().unwrap_or(f64::NAN);
     eprintln!(
@@ -129,24 +145,34 @@ fn other_kinds_meet_the_targets_on_the_mixed_field() {
     }
 }
 
-/// Needles (k = 1e4) as ellipsoids: [`NEEDLES`]; and as Gumhold's capsules seen
-/// orthographically, whose ray solved from its point nearest the centre lost the needle's
-/// section in f32 (normal p99 72°, now 1.0° with capsule_slide, as Sigg's).
+/// needles.vtk (k = 1e4), every kind and both ray casters: [`NEEDLES`]. Gumhold's capsules
+/// seen orthographically, whose ray solved from its point nearest the centre lost the needle's
+/// section in f32, had 72° (now 0.05°, capsule_slide).
 #[test]
 fn needles_within_their_bounds() {
     if crate::check::gpu().is_none() {
         return;
     }
     for view in VIEWS {
-        check("needles.vtk", view, "ellipsoid", "gumhold", None, &NEEDLES);
-        check("needles.vtk", view, "ellipsoid", "sigg", None, &NEEDLES);
+        for glyph in ["ellipsoid", "cylinder", "capsule", "superquadric"] {
+            check("needles.vtk", view, glyph, "gumhold", None, &NEEDLES);
+            check("needles.vtk", view, glyph, "sigg", None, &NEEDLES);
+        }
     }
-    check(
-        "needles.vtk",
-        VIEWS[2],
-        "capsule",
-        "gumhold",
-        None,
-        &NEEDLES,
-    );
+}
+
+/// 1,000 needles at k = 1e4 (needle_field.vtk) at 1024x768: 250 to 2,200 pixels, so the p99 is
+/// a percentile, held to the targets (normal p99 0.13–0.44° measured on lavapipe; 2.4–4.5°
+/// before).
+#[test]
+fn needle_field_meets_the_targets() {
+    if crate::check::gpu().is_none() {
+        return;
+    }
+    for view in VIEWS {
+        for method in ["gumhold", "sigg"] {
+            let file = "needle_field.vtk";
+            check_at("1024x768", file, view, "ellipsoid", method, None, &TARGETS);
+        }
+    }
 }

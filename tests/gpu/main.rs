@@ -11,6 +11,7 @@ mod cli;
 mod data;
 
 mod check;
+mod double_f32;
 mod scenes;
 
 mod effects;

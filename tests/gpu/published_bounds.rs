@@ -40,11 +40,17 @@ fn grid40_gumhold_meets_the_published_bounds() {
         // grid40's acceptance bounds (docs/book/src/results/accuracy.md). Coverage and identity
         // flip only on pixel centres within f32 rounding of a silhouette or an intersection
         // curve; depth (relative to the glyph's largest radius) and normals are limited at the
-        // rims by the f32 interpolation of q (drawn quads) or by the pixel ray's f32 offset
-        // (splats).
+        // rims, where the hit moves fastest with the ray.
         assert!(a.coverage_mismatch <= 5e-4, "{a:?}");
         assert!(a.id_mismatch <= 1e-3, "{a:?}");
         assert!(a.depth_err_rel_p99 <= 1e-4, "{a:?}");
         assert!(a.normal_err_deg_p99 <= 0.5, "{a:?}");
+        // What this code holds, well inside them (issue 37's aim of 1e-5 for depth): the
+        // pixel's offset from a glyph's centre ray is formed in double-f32 (centre_ray), and the
+        // reference casts the instances as stored. Measured on lavapipe: depth p99 1.06e-6,
+        // normals 0.0002°, ids 0 (they were 3.95e-5, 0.009° and 1.7e-5).
+        assert!(a.depth_err_rel_p99 <= 5e-6, "{a:?}");
+        assert!(a.normal_err_deg_p99 <= 2e-3, "{a:?}");
+        assert!(a.id_mismatch <= 1e-5, "{a:?}");
     }
 }

@@ -177,6 +177,7 @@ mod tests {
     #[test]
     fn superquadric_instances_carry_the_mapping_in_their_local_frame() {
         use crate::glyph::superquadric::{Sharpness, superquadric_shape};
+        use crate::shape::geometry::{pack_radius, unpack_radius};
         let field = crate::field::synthetic::grid(6);
         let set = derive_glyphs(&field, &crate::progress::Silent);
         let style = GlyphStyle::default().resolve(&set, field_spacing(&field));
@@ -194,7 +195,9 @@ mod tests {
                 let e = DVec3::from(eigen[k]);
                 let cos = geo.frame.col(local).normalize().dot(e).abs();
                 assert!(cos > 1.0 - 1e-5, "column {local} vs e{k}: cos {cos}");
-                assert_eq!(inst.radii[local], frame_radii[k]);
+                // As stored (24-bit radii).
+                let stored = unpack_radius(pack_radius(frame_radii[k]));
+                assert_eq!(inst.radii[local], stored);
             }
             assert!(geo.frame.determinant() > 0.0);
             let want = [shape.alpha, shape.beta, shape.c];
