@@ -223,6 +223,9 @@ pub struct Recipe {
     /// rendered image's larger side; `None`: [`underlay::MAX_TEXELS`] (the viewer's window
     /// may grow).
     pub underlay_side: Option<usize>,
+    /// How a file of SH series scales each voxel's ODF (`None`: the default,
+    /// [`crate::scene::odf::OdfNormalize::Max`]); given for tensors, staging refuses it.
+    pub odf_normalize: Option<crate::scene::odf::OdfNormalize>,
 }
 
 impl Recipe {
@@ -458,6 +461,12 @@ pub fn stage(
         }
         _ => {}
     }
+    if recipe.odf_normalize.is_some() {
+        return Err(StageError::Selection(SelectionError(format!(
+            "{}: --odf-normalize applies to files of SH series (fibre ODFs), not to tensors",
+            crate::error::escape_path(Path::new(&source.name()))
+        ))));
+    }
     let mut timings = Timings::default();
 
     let inputs = Inputs::file_system();
@@ -569,6 +578,7 @@ fn stage_sh(
     let t = Instant::now();
     let opts = crate::scene::odf::OdfOptions {
         planes: planes.clone(),
+        normalize: recipe.odf_normalize.unwrap_or_default(),
         ..Default::default()
     };
     let scene = run_stage(progress, "scene", None, || {

@@ -41,3 +41,12 @@ def test_a_csd_fit_renders_as_its_saved_series(tmp_path):
     # A fit in SH holds no tensors to read.
     with pytest.raises(tg.Error, match="holds no tensors"):
         tg.read(fit, affine=block.affine)
+
+
+def test_odf_normalize_is_the_command_lines(tmp_path):
+    path = REPO / "tests" / "data" / "sh" / "mrtrix_lmax8.mif"
+    for how in ["minmax", "none"]:
+        image = tg.render(path, size=(160, 120), odf_normalize=how)
+        same_pixels(image, cli_render(path, tmp_path, "--size", "160x120", "--odf-normalize", how))
+    with pytest.raises(ValueError, match="--odf-normalize applies to files of SH series"):
+        tg.render(REPO / "tests" / "data" / "extremes" / "needles.vtk", odf_normalize="max")

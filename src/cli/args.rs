@@ -19,6 +19,7 @@ use crate::glyph::superquadric::{MAX_GAMMA, Sharpness};
 use crate::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
 use crate::request::{DrawOptions, GlyphKind, Method, Preset, ProxyShape, UnderlayView};
 use crate::scene::UnderlaySource;
+use crate::scene::odf::OdfNormalize;
 use crate::select::{Mask, Plane, Selection, Slicing, parse_roi};
 use crate::sh::ShBasis;
 use crate::staging::{Demo, Recipe, Source};
@@ -82,6 +83,12 @@ pub struct SceneArgs {
     /// Normalise eigenvalues before scaling.
     #[arg(long, default_value = "none", value_parser = one_of::<Normalize>(Normalize::NAMES))]
     pub normalize: Normalize,
+    /// How each fibre ODF of a file of SH series is scaled: max (each voxel's to its own
+    /// largest value, DIPY's odf_slicer), minmax (each voxel's [min, max] to [0, 1], mrview's
+    /// normalise) or none (amplitudes comparable across voxels: the field's largest fills its
+    /// voxel). Default: max.
+    #[arg(long, value_parser = one_of::<OdfNormalize>(OdfNormalize::NAMES))]
+    pub odf_normalize: Option<OdfNormalize>,
     /// Smallest radius as a fraction of the glyph's largest (keeps T invertible). Default 0.01;
     /// 0.25 for stress-like fields sized by the automatic log map (uniaxial stress is a needle
     /// otherwise).
@@ -192,6 +199,7 @@ impl SceneArgs {
             underlay: None,
             middle_slice: false,
             underlay_side: None,
+            odf_normalize: self.odf_normalize,
         })
     }
 }

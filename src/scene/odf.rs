@@ -334,4 +334,77 @@ mod tests {
             }
         }
     }
+
+    /// `minmax` maps each voxel's [min, max] to [0, scale] (mrview's normalise), `none` scales
+    /// every voxel by the field's largest value: the radius along w is scale·(f − min)/(max −
+    /// min) and scale·f/max over the field, with min and max found densely here.
+    #[test]
+    fn minmax_and_none_scale_as_documented() {
+        let mut s1 = vec![0.0; 15];
+        s1[0] = 2.5;
+        s1[3] = 0.6;
+        s1[5] = 0.2;
+        s1[12] = 0.3;
+        // A weaker voxel: half the first's amplitude.
+        let s2: Vec<f64> = s1.iter().map(|c| 0.5 * c).collect();
+        let m = [
+            [2.0, 0.0, 0.0, 0.0],
+            [0.0, 2.0, 0.0, 0.0],
+            [0.0, 0.0, 2.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ];
+        let f = field([2, 1, 1], &[s1.clone(), s2.clone()], TensorFrame::Voxel, m);
+        let mut ev = ShEval::new(4, ShBasis::Descoteaux07Legacy).unwrap();
+        let dirs: Vec<[f64; 3]> = (0..20000)
+            .map(|i| {
+                let z = 1.0 - 2.0 * (f64::from(i) + 0.5) / 20000.0;
+                let phi = f64::from(i) * 2.399963;
+                let s = (1.0 - z * z).sqrt();
+                [s * phi.cos(), s * phi.sin(), z]
+            })
+            .collect();
+        let range = |ev: &mut ShEval, c: &[f64]| {
+            dirs.iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &d| {
+                    let v = ev.value(c, d);
+                    (lo.min(v), hi.max(v))
+                })
+        };
+        let (min1, max1) = range(&mut ev, &s1);
+        let (min2, max2) = range(&mut ev, &s2);
+        assert!(min1 > 0.0, "a positive ODF, so minmax differs from max");
+        for normalize in [OdfNormalize::MinMax, OdfNormalize::None] {
+            let opts = OdfOptions {
+                normalize,
+                ..OdfOptions::default()
+            };
+            let scene = odf_scene(&f, &opts);
+            assert_eq!(scene.instances.len(), 2);
+            for (inst, (series, min, max)) in scene
+                .instances
+                .iter()
+                .zip([(&s1, min1, max1), (&s2, min2, max2)])
+            {
+                let geo = GlyphGeometry::of(inst);
+                let odf = Odf::of(&geo, scene.payload.as_ref());
+                for w in [DVec3::X, DVec3::new(0.3, -0.5, 0.8).normalize()] {
+                    let v = ev.value(series, w.to_array());
+                    // 0.5 of the 2 mm voxel.
+                    let want = match normalize {
+                        OdfNormalize::MinMax => 1.0 * (v - min) / (max - min),
+                        _ => 1.0 * v / max1,
+                    };
+                    let o = geo.centre + w * 10.0;
+                    let got = match odf.intersect(o, -w) {
+                        Some(hit) => 10.0 - hit.t,
+                        None => 0.0,
+                    };
+                    assert!(
+                        (got - want).abs() <= 5e-3 * want.abs().max(0.1),
+                        "{normalize:?} along {w}: {got} {want}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -214,6 +214,28 @@ fn bad_options_exit_2_with_a_clear_message() {
             ],
             "--slice z=9: the lattice is 4x4x4",
         ),
+        (
+            &[
+                "render",
+                "tests/data/extremes/needles.vtk",
+                "-o",
+                o,
+                "--odf-normalize",
+                "minmax",
+            ],
+            "needles.vtk: --odf-normalize applies to files of SH series (fibre ODFs), not to tensors",
+        ),
+        (
+            &[
+                "render",
+                "tests/data/sh/mrtrix_lmax8.mif",
+                "-o",
+                o,
+                "--odf-normalize",
+                "mean",
+            ],
+            "invalid value 'mean' for '--odf-normalize",
+        ),
     ];
     for (args, needle) in cases {
         let r = tg(args);
@@ -231,6 +253,32 @@ fn bad_options_exit_2_with_a_clear_message() {
         );
         assert!(!out.exists(), "{args:?} left an output behind");
     }
+}
+
+/// `--odf-normalize` reaches the ODF scene: MRtrix's CSD fit (tests/data/sh) drawn with each
+/// normalisation gives three different images, and `max` is the default (the scaling itself is
+/// checked in src/scene/odf.rs against DIPY's basis).
+#[test]
+fn odf_normalize_changes_the_glyphs() {
+    let dir = tempfile::tempdir().unwrap();
+    let render = |extra: &[&str]| {
+        let out = dir.path().join(format!("odf{}.png", extra.join("_")));
+        let o = out.to_str().unwrap();
+        let mut args = vec!["render", "tests/data/sh/mrtrix_lmax8.mif", "-o", o];
+        args.extend_from_slice(&["--size", "160x120", "--method", "reference", "-q"]);
+        args.extend_from_slice(extra);
+        let r = tg(&args);
+        assert!(r.status.success(), "{args:?}: {}", stderr(&r));
+        image::open(&out).unwrap().to_rgba8()
+    };
+    let default = render(&[]);
+    let max = render(&["--odf-normalize", "max"]);
+    let minmax = render(&["--odf-normalize", "minmax"]);
+    let none = render(&["--odf-normalize", "none"]);
+    assert_eq!(default, max, "max is the default");
+    assert_ne!(max, minmax);
+    assert_ne!(max, none);
+    assert_ne!(minmax, none);
 }
 
 #[test]

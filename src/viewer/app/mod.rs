@@ -272,6 +272,7 @@ impl ViewerApp {
             // The panel shows the slicing it draws: the middle slice is set there on load.
             middle_slice: false,
             underlay_side: None,
+            odf_normalize: None,
         };
         let volume = data.underlay.as_deref();
         let built = match staging::build(
