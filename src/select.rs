@@ -246,6 +246,11 @@ pub fn lattice_coords(n: usize, dims: [usize; 3]) -> [usize; 3] {
 /// The box `[x0, y0, z0, x1, y1, z1]` around the glyph centres (the ROI that keeps every
 /// glyph; all zero for an empty set).
 pub fn centre_bounds(set: &GlyphSet) -> [f64; 6] {
+    point_bounds(set.glyphs.par_iter().map(|g| g.centre))
+}
+
+/// The box `[x0, y0, z0, x1, y1, z1]` around `points` (all zero for none).
+pub fn point_bounds(points: impl ParallelIterator<Item = [f64; 3]>) -> [f64; 6] {
     // The identity of the fold: every point extends it.
     const EMPTY: [f64; 6] = [
         f64::INFINITY,
@@ -255,17 +260,13 @@ pub fn centre_bounds(set: &GlyphSet) -> [f64; 6] {
         f64::NEG_INFINITY,
         f64::NEG_INFINITY,
     ];
-    if set.glyphs.is_empty() {
-        return [0.0; 6];
-    }
-    set.glyphs
-        .par_iter()
+    let b = points
         .fold(
             || EMPTY,
-            |mut b, g| {
+            |mut b, p| {
                 for a in 0..3 {
-                    b[a] = b[a].min(g.centre[a]);
-                    b[a + 3] = b[a + 3].max(g.centre[a]);
+                    b[a] = b[a].min(p[a]);
+                    b[a + 3] = b[a + 3].max(p[a]);
                 }
                 b
             },
@@ -279,7 +280,8 @@ pub fn centre_bounds(set: &GlyphSet) -> [f64; 6] {
                 }
                 a
             },
-        )
+        );
+    if b == EMPTY { [0.0; 6] } else { b }
 }
 
 /// `[x0, y0, z0, x1, y1, z1]` from "x0,y0,z0,x1,y1,z1", checked (finite, x0 ≤ x1 …).

@@ -154,8 +154,13 @@ impl Source {
     /// Whether the source is a file (on disk or in memory) of SH series ([`crate::field::holds_sh`]),
     /// which `render` draws as ODF glyphs.
     pub fn holds_sh(&self, opts: &ReadOptions) -> bool {
+        self.holds_sh_in(&Inputs::file_system(), opts)
+    }
+
+    /// [`Self::holds_sh`], a file looked for among `inputs` (the page's files).
+    pub fn holds_sh_in(&self, inputs: &Inputs, opts: &ReadOptions) -> bool {
         match self {
-            Source::File(p) => crate::field::holds_sh(p, opts),
+            Source::File(p) => crate::field::holds_sh_from(inputs, p, opts),
             Source::Bytes(b) => {
                 let (inputs, path) = b.inputs();
                 crate::field::holds_sh_from(&inputs, &path, opts)
@@ -520,10 +525,7 @@ pub fn stage(
     })
 }
 
-/// [`stage`] for a file of SH series: ODF glyphs ([`crate::scene::odf`]) on the lattice planes
-/// the selection asks for (with none, the middle axial one where `middle_slice` says so, as for
-/// DTI), seen face-on when one plane is shown. Only `--slice` selects: FA, stride, ROI and mask
-/// are the tensors' ([`Selection::check`] refused none of them here, so they are refused now).
+/// [`stage`] for a file of SH series: read, then [`build_sh`].
 fn stage_sh(
     inputs: &Inputs,
     path: &Path,
@@ -531,27 +533,59 @@ fn stage_sh(
     progress: &dyn Progress,
 ) -> Result<Staged, StageError> {
     let mut timings = Timings::default();
-    let name = crate::error::escape_path(path);
     let t = Instant::now();
     let field = run_stage(progress, "reading SH series", None, || {
         crate::field::read_sh_field_from(inputs, path, &recipe.read)
     })?;
     timings.load = ms(t);
     timings.peak_rss_after[0] = crate::mem::peak_rss_bytes();
+    let t = Instant::now();
+    let built = build_sh(&field, &crate::error::escape_path(path), recipe, progress)?;
+    timings.scene = ms(t);
+    timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
+    let n = built.scene.instances.len();
+    Ok(Staged {
+        glyphs_selected: n,
+        glyphs_clamped: 0,
+        glyphs_valid: n,
+        face: built.face,
+        frame_centre: built.frame_centre,
+        frame_radius: built.frame_radius,
+        frame_half: built.frame_half,
+        style: built.style,
+        scene: built.scene,
+        timings,
+        read: inputs.paths_read(),
+    })
+}
+
+/// The scene of ODF glyphs ([`crate::scene::odf`]) of `field` (called `name` in errors) on the
+/// lattice planes the selection asks for (with none, the middle axial one where `middle_slice`
+/// says so, as for DTI), seen face-on when one plane is shown. Only `--slice` selects: FA,
+/// stride, ROI and mask are the tensors' ([`Selection::check`] refused none of them here, so
+/// they are refused now). The scene's instances name their voxel (`glyph`), and `selected`
+/// lists those voxels.
+pub fn build_sh(
+    field: &crate::field::ShField,
+    name: &str,
+    recipe: &Recipe,
+    progress: &dyn Progress,
+) -> Result<Built, StageError> {
+    let of = |error: StageError| StageError::Of {
+        name: name.to_string(),
+        error: Box::new(error),
+    };
     let sel = &recipe.selection;
     let rest = Selection {
         slicing: Slicing::Whole,
         ..sel.clone()
     };
     if !rest.is_everything() || recipe.underlay.is_some() {
-        return Err(StageError::Of {
-            name,
-            error: Box::new(StageError::Selection(SelectionError(
-                "a file of SH series is selected by --slice only (--fa-*, --stride, --roi, \
-                 --mask and --underlay are for tensors)"
-                    .into(),
-            ))),
-        });
+        return Err(of(StageError::Selection(SelectionError(
+            "a file of SH series is selected by --slice only (--fa-*, --stride, --roi, \
+             --mask and --underlay are for tensors)"
+                .into(),
+        ))));
     }
     let d = field.dims;
     let planes = sel.slicing.planes().or_else(|| {
@@ -567,39 +601,30 @@ fn stage_sh(
         .flatten()
         .find(|p| p.index >= d[p.axis.min(2)])
     {
-        return Err(StageError::Of {
-            name,
-            error: Box::new(StageError::Selection(SelectionError(format!(
-                "--slice {p}: the lattice is {}x{}x{}",
-                d[0], d[1], d[2]
-            )))),
-        });
+        return Err(of(StageError::Selection(SelectionError(format!(
+            "--slice {p}: the lattice is {}x{}x{}",
+            d[0], d[1], d[2]
+        )))));
     }
-    let t = Instant::now();
     let opts = crate::scene::odf::OdfOptions {
         planes: planes.clone(),
         normalize: recipe.odf_normalize.unwrap_or_default(),
         ..Default::default()
     };
     let scene = run_stage(progress, "scene", None, || {
-        crate::scene::odf::odf_scene(&field, &opts)
+        crate::scene::odf::odf_scene(field, &opts)
     });
     if scene.instances.is_empty() {
-        return Err(StageError::Of {
-            name,
-            error: Box::new(StageError::EmptySelection {
-                asked: planes.map_or("the whole lattice".into(), |p| {
-                    p.iter()
-                        .map(|p| p.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                }),
-                valid: 0,
+        return Err(of(StageError::EmptySelection {
+            asked: planes.map_or("the whole lattice".into(), |p| {
+                p.iter()
+                    .map(|p| p.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
             }),
-        });
+            valid: 0,
+        }));
     }
-    timings.scene = ms(t);
-    timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
     let face = match opts.planes.as_deref() {
         Some([plane]) => field.frame.voxel_to_world.and_then(|m| {
             let steps = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
@@ -613,19 +638,16 @@ fn stage_sh(
         }),
         _ => None,
     };
-    let n = scene.instances.len();
-    Ok(Staged {
-        glyphs_selected: n,
+    Ok(Built {
+        selected: scene.instances.iter().map(|i| i.glyph as usize).collect(),
         glyphs_clamped: 0,
-        glyphs_valid: n,
+        glyphs_valid: scene.instances.len(),
         face,
         frame_centre: scene.centre,
         frame_radius: scene.radius,
         frame_half: scene.half,
         style: recipe.style.resolve(&GlyphSet::default(), 1.0),
         scene,
-        timings,
-        read: inputs.paths_read(),
     })
 }
 

@@ -87,6 +87,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         // Unscaled: the viewer scales the outline width with its own sampling.
         effects: args.effects.effects(args.size, 1)?,
         ssaa: args.ssaa,
+        odf_normalize: args.scene.odf_normalize.unwrap_or_default(),
     };
     viewer::run(Options {
         source,

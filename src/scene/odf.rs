@@ -66,6 +66,31 @@ impl Default for OdfOptions {
     }
 }
 
+/// The world directions of the series' axes (columns): the affine's rotation, or a reflection
+/// taken as the rotation −Q (an even function does not tell u from −u).
+pub fn series_frame(field: &ShField) -> DMat3 {
+    let m = field.frame.voxel_to_world.unwrap_or([
+        [1.0, 0.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0, 0.0],
+        [0.0, 0.0, 0.0, 1.0],
+    ]);
+    let linear = Matrix3::from_fn(|r, c| m[r][c]);
+    let q = tensor_rotation(field.frame.tensor_frame, &linear).unwrap_or_else(Matrix3::identity);
+    let q = if q.determinant() < 0.0 { -q } else { q };
+    DMat3::from_cols_array(&[
+        q[(0, 0)],
+        q[(1, 0)],
+        q[(2, 0)],
+        q[(0, 1)],
+        q[(1, 1)],
+        q[(2, 1)],
+        q[(0, 2)],
+        q[(1, 2)],
+        q[(2, 2)],
+    ])
+}
+
 /// One glyph's series before it is normalised: its index (the instance's `glyph`), its world
 /// centre and the plain coefficients of f ([`plain_of`], unscaled).
 #[derive(Debug, Clone)]
@@ -87,36 +112,8 @@ struct Made {
 
 /// The scene of `field`'s ODFs ([module doc](self)); its kind is [`GlyphKind::Odf`].
 pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
-    let m = field.frame.voxel_to_world.unwrap_or([
-        [1.0, 0.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0, 0.0],
-        [0.0, 0.0, 1.0, 0.0],
-        [0.0, 0.0, 0.0, 1.0],
-    ]);
-    let linear = Matrix3::from_fn(|r, c| m[r][c]);
-    let spacing = (0..3)
-        .map(|c| linear.column(c).norm())
-        .fold(f64::INFINITY, f64::min);
-    let spacing = if spacing.is_finite() && spacing > 0.0 {
-        spacing
-    } else {
-        1.0
-    };
-    // Series axes to world: a rotation, or a reflection taken as the rotation −Q (an even
-    // function does not tell u from −u).
-    let q = tensor_rotation(field.frame.tensor_frame, &linear).unwrap_or_else(Matrix3::identity);
-    let q = if q.determinant() < 0.0 { -q } else { q };
-    let frame = DMat3::from_cols_array(&[
-        q[(0, 0)],
-        q[(1, 0)],
-        q[(2, 0)],
-        q[(0, 1)],
-        q[(1, 1)],
-        q[(2, 1)],
-        q[(0, 2)],
-        q[(1, 2)],
-        q[(2, 2)],
-    ]);
+    let frame = series_frame(field);
+    let spacing = field.spacing();
     let count = field.layout.count;
     let d = field.dims;
     let keep = |v: usize| {

@@ -12,11 +12,12 @@ use std::sync::{Arc, Mutex};
 #[cfg(not(target_arch = "wasm32"))]
 use std::thread::JoinHandle;
 
+use rayon::prelude::*;
 use web_time::Instant;
 
-use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::field::{Inputs, ReadOptions};
+use crate::field::{ShField, TensorField};
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
 use crate::scene::UnderlaySource;
@@ -31,6 +32,9 @@ pub struct Loaded {
     pub spacing: crate::glyph::style::Spacing,
     /// The box around the glyph centres `[x0, y0, z0, x1, y1, z1]` (the ROI control's default).
     pub bounds: [f64; 6],
+    /// The series of a file of SH series (fibre ODFs), drawn as ODF glyphs; `field` is then
+    /// its lattice without tensors ([`ShField::geometry`]) and `set` is empty.
+    pub odf: Option<Arc<ShField>>,
     /// The underlay file's volume, when one was given.
     pub underlay: Option<Arc<ScalarVolume>>,
     pub timings: LoadTimings,
@@ -72,6 +76,9 @@ pub fn load_now_from(
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
     let started = Instant::now();
+    if let (true, Source::File(path)) = (source.holds_sh_in(inputs, opts), source) {
+        return load_sh(inputs, path, source, opts, progress, started);
+    }
     let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;
     let underlay = read_underlay(underlay).map_err(|e| e.to_string())?;
     if field.is_empty() {
@@ -96,11 +103,45 @@ pub fn load_now_from(
         set: Arc::new(set),
         spacing,
         bounds,
+        odf: None,
         underlay: underlay.map(Arc::new),
         timings: LoadTimings {
             started,
             read_ms,
             eigen_ms,
+            first_frame_ms: None,
+        },
+    })
+}
+
+/// [`load_now_from`] of a file of SH series: the series and their lattice (an underlay is for
+/// tensors: ODF glyphs are drawn without one, as `render` draws them).
+fn load_sh(
+    inputs: &Inputs,
+    path: &std::path::Path,
+    source: &Source,
+    opts: &ReadOptions,
+    progress: &dyn Progress,
+    started: Instant,
+) -> Result<Loaded, String> {
+    let sh = crate::progress::stage(progress, "reading SH series", None, || {
+        crate::field::read_sh_field_from(inputs, path, opts)
+    })
+    .map_err(|e| e.to_string())?;
+    let read_ms = crate::staging::ms(started);
+    let field = sh.geometry();
+    Ok(Loaded {
+        source: source.clone(),
+        spacing: field_spacing(&field),
+        bounds: crate::select::point_bounds(field.positions.par_iter().copied()),
+        field: Arc::new(field),
+        set: Arc::new(GlyphSet::default()),
+        odf: Some(Arc::new(sh)),
+        underlay: None,
+        timings: LoadTimings {
+            started,
+            read_ms,
+            eigen_ms: 0.0,
             first_frame_ms: None,
         },
     })
@@ -318,6 +359,55 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(5));
         };
         assert!(err.contains("bad.vtk"), "{err}");
+    }
+
+    /// A file of SH series (MRtrix's, and the same bytes handed over as the page hands them)
+    /// opens as its lattice and series, and the viewer's scene of a slice is `render`'s.
+    #[test]
+    fn sh_series_open_and_build_the_scene_render_draws() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sh/mrtrix_lmax8.mif");
+        let opts = ReadOptions::default();
+        let silent = &crate::progress::Silent;
+        let from_disk = load_now(&Source::File(path.clone()), &opts, &None, silent).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        let from_page = load_now_from(
+            &Inputs::named([("lmax8.mif".to_string(), bytes)]),
+            &Source::File("lmax8.mif".into()),
+            &opts,
+            &None,
+            silent,
+        )
+        .unwrap();
+        for l in [&from_disk, &from_page] {
+            let sh = l.odf.as_ref().expect("read as SH series");
+            assert_eq!((sh.dims, sh.layout.lmax), ([4, 4, 4], 8));
+            assert_eq!(l.field.lattice_dims(), Some([4, 4, 4]));
+            assert_eq!(l.field.positions.len(), 64);
+            assert!(l.set.glyphs.is_empty() && l.field.tensors.is_empty());
+        }
+        let slice = crate::select::Plane { axis: 1, index: 2 };
+        let recipe = crate::staging::Recipe {
+            selection: crate::select::Selection {
+                slicing: crate::select::Slicing::Planes(vec![slice]),
+                ..Default::default()
+            },
+            odf_normalize: Some(crate::scene::odf::OdfNormalize::MinMax),
+            ..Default::default()
+        };
+        let viewer = crate::staging::build_sh(
+            from_page.odf.as_ref().unwrap(),
+            "lmax8.mif",
+            &recipe,
+            silent,
+        )
+        .unwrap();
+        let render = crate::staging::stage(&Source::File(path), &recipe, silent).unwrap();
+        assert_eq!(viewer.scene.instances.len(), 16);
+        assert_eq!(viewer.scene.instances, render.scene.instances);
+        assert_eq!(viewer.scene.payload, render.scene.payload);
+        assert_eq!(viewer.face.map(|f| f.toward), render.face.map(|f| f.toward));
+        assert_eq!(viewer.selected.len(), 16);
     }
 
     #[test]

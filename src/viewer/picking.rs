@@ -2,31 +2,51 @@
 //! back through the selection to the glyph and its tensor.
 
 use crate::error::RenderError;
+use crate::field::ShField;
 use crate::render::GpuContext;
 use crate::render::targets::Readback;
 #[cfg(not(target_arch = "wasm32"))]
 use crate::render::targets::Targets;
 use crate::scene::Scene;
+use crate::scene::odf::series_frame;
+use crate::sh::{Peak, PeakFinder, PeakOptions};
 use crate::tensor::shape;
 use crate::viewer::loader::Loaded;
+use glam::DVec3;
 
 /// A glyph's details, as the hover tooltip shows them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PickInfo {
-    /// Index of the tensor in file order.
+    /// Index of the tensor (or the voxel of an ODF) in file order.
     pub index: usize,
     pub position: [f64; 3],
-    /// World-space tensor as stored (before symmetrisation), row-major.
-    pub tensor: [f64; 9],
-    pub eigenvalues: [f64; 3],
-    pub fa: f64,
-    pub class: shape::ShapeClass,
+    pub detail: Detail,
+}
+
+/// What a picked glyph shows of its data.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Detail {
+    Tensor {
+        /// World-space tensor as stored (before symmetrisation), row-major.
+        tensor: [f64; 9],
+        eigenvalues: [f64; 3],
+        fa: f64,
+        class: shape::ShapeClass,
+    },
+    /// An ODF glyph: its voxel's series and its peaks, as DIPY's `peaks_from_model` finds them
+    /// ([`PeakOptions::default`]), directions in world axes.
+    Odf {
+        lmax: u32,
+        basis: crate::sh::ShBasis,
+        coefficients: Vec<f64>,
+        peaks: Vec<Peak>,
+    },
 }
 
 impl PickInfo {
     /// The glyph behind id `id` (0 = background) when `scene` holds `selected` glyphs of
     /// `data.set` (an instance's `glyph` is its place in `selected`; a glyph may be several
-    /// instances).
+    /// instances), or, for a file of SH series, the voxel an instance names.
     pub fn of(
         id: u32,
         scene: &Scene,
@@ -35,6 +55,9 @@ impl PickInfo {
         class_threshold: f64,
     ) -> Option<Self> {
         let instance = scene.instances.get((id as usize).checked_sub(1)?)?;
+        if let Some(sh) = &data.odf {
+            return Self::of_voxel(sh, instance.glyph as usize);
+        }
         let g = data
             .set
             .glyphs
@@ -44,33 +67,101 @@ impl PickInfo {
         Some(Self {
             index,
             position: g.centre,
-            tensor: data.field.world_tensor(index),
-            eigenvalues: ev,
-            fa: shape::fa(ev),
-            class: shape::classify(ev, class_threshold),
+            detail: Detail::Tensor {
+                tensor: data.field.world_tensor(index),
+                eigenvalues: ev,
+                fa: shape::fa(ev),
+                class: shape::classify(ev, class_threshold),
+            },
+        })
+    }
+
+    /// Voxel `v` of `sh`: its series and peaks.
+    pub fn of_voxel(sh: &ShField, v: usize) -> Option<Self> {
+        if v >= sh.voxels() {
+            return None;
+        }
+        let mut c = vec![0.0; sh.layout.count];
+        sh.coefficients_of(v, &mut c);
+        let frame = series_frame(sh);
+        let peaks = PeakFinder::new(sh.layout.lmax, sh.layout.basis)
+            .ok()?
+            .peaks(&c, &PeakOptions::default())
+            .into_iter()
+            .map(|p| Peak {
+                direction: (frame * DVec3::from(p.direction)).to_array(),
+                value: p.value,
+            })
+            .collect();
+        Some(Self {
+            index: v,
+            position: sh.position(v),
+            detail: Detail::Odf {
+                lmax: sh.layout.lmax,
+                basis: sh.layout.basis,
+                coefficients: c,
+                peaks,
+            },
         })
     }
 
     /// Multi-line text for the tooltip.
     pub fn text(&self) -> String {
         let [x, y, z] = self.position;
-        let t = &self.tensor;
-        let [l1, l2, l3] = self.eigenvalues;
-        format!(
-            "glyph #{}\nposition ({x:.4}, {y:.4}, {z:.4})\ntensor\n  {:>11.4e} {:>11.4e} {:>11.4e}\n  {:>11.4e} {:>11.4e} {:>11.4e}\n  {:>11.4e} {:>11.4e} {:>11.4e}\nλ = {l1:.4e}, {l2:.4e}, {l3:.4e}\nFA {:.4}   class {}",
-            self.index,
-            t[0],
-            t[1],
-            t[2],
-            t[3],
-            t[4],
-            t[5],
-            t[6],
-            t[7],
-            t[8],
-            self.fa,
-            self.class.glyph_name()
-        )
+        match &self.detail {
+            Detail::Tensor {
+                tensor: t,
+                eigenvalues: [l1, l2, l3],
+                fa,
+                class,
+            } => format!(
+                "glyph #{}\nposition ({x:.4}, {y:.4}, {z:.4})\ntensor\n  {:>11.4e} {:>11.4e} {:>11.4e}\n  {:>11.4e} {:>11.4e} {:>11.4e}\n  {:>11.4e} {:>11.4e} {:>11.4e}\nλ = {l1:.4e}, {l2:.4e}, {l3:.4e}\nFA {fa:.4}   class {}",
+                self.index,
+                t[0],
+                t[1],
+                t[2],
+                t[3],
+                t[4],
+                t[5],
+                t[6],
+                t[7],
+                t[8],
+                class.glyph_name()
+            ),
+            Detail::Odf {
+                lmax,
+                basis,
+                coefficients,
+                peaks,
+            } => {
+                let mut s = format!(
+                    "voxel #{}\nposition ({x:.4}, {y:.4}, {z:.4})\nSH lmax {lmax}, {basis}, {} coefficients",
+                    self.index,
+                    coefficients.len()
+                );
+                // Order by order, as the files store them (l = 0, 2, 4, …; m from −l to l).
+                let mut at = 0;
+                for l in (0..=*lmax).step_by(2) {
+                    let n = 2 * l as usize + 1;
+                    let row: Vec<String> = coefficients[at..at + n]
+                        .iter()
+                        .map(|c| format!("{c:.3e}"))
+                        .collect();
+                    s += &format!("\n  l={l}: {}", row.join(" "));
+                    at += n;
+                }
+                s += &format!("\npeaks ({})", peaks.len());
+                for (k, p) in peaks.iter().enumerate() {
+                    let [dx, dy, dz] = p.direction;
+                    s += &format!(
+                        "\n  {}: ({dx:+.3}, {dy:+.3}, {dz:+.3})  f = {:.4e}",
+                        k + 1,
+                        p.value
+                    );
+                }
+                s
+            }
+        }
     }
 }
 
@@ -147,8 +238,85 @@ mod tests {
         let g = data.set.glyphs[7];
         assert_eq!(p.index, g.index as usize);
         assert_eq!(p.position, g.centre);
-        assert!((0.0..=1.0).contains(&p.fa));
+        let Detail::Tensor { fa, .. } = p.detail else {
+            panic!("a tensor's pick")
+        };
+        assert!((0.0..=1.0).contains(&fa));
         let text = p.text();
         assert!(text.contains(&format!("glyph #{}", g.index)) && text.contains("FA"));
+    }
+
+    /// An ODF glyph picked in the viewer shows its voxel's place, series and peaks: the peaks
+    /// where DIPY's `peak_directions_nl` finds them (tests/data/sh/expected.json, voxel axes),
+    /// turned to world by the affine DIPY's voxel positions span (a rotation times 2 mm).
+    #[test]
+    fn odf_picks_show_the_voxel_its_series_and_dipys_peaks_in_world() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sh");
+        let name = "dipy_lmax8_descoteaux07_legacy.nii.gz";
+        let data = load_now(
+            &Source::File(dir.join(name)),
+            &ReadOptions::default(),
+            &None,
+            &crate::progress::Silent,
+        )
+        .unwrap();
+        assert!(data.odf.is_some() && data.set.glyphs.is_empty());
+        assert_eq!(data.field.lattice_dims(), Some([4, 4, 4]));
+        let built = crate::staging::build_sh(
+            data.odf.as_ref().unwrap(),
+            name,
+            &crate::staging::Recipe::default(),
+            &crate::progress::Silent,
+        )
+        .unwrap();
+        let text = std::fs::read_to_string(dir.join("expected.json")).unwrap();
+        let exp: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let t = &exp["files"][name];
+        let v3 = |v: &serde_json::Value| {
+            DVec3::from_slice(
+                &v.as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect::<Vec<_>>(),
+            )
+        };
+        let pos: Vec<DVec3> = t["positions"].as_array().unwrap().iter().map(v3).collect();
+        // The affine's columns from neighbouring voxels (x fastest).
+        let a = glam::DMat3::from_cols(pos[1] - pos[0], pos[4] - pos[0], pos[16] - pos[0]);
+        let mut compared = 0;
+        for (id, inst) in built.scene.instances.iter().enumerate() {
+            let v = inst.glyph as usize;
+            let p = PickInfo::of(id as u32 + 1, &built.scene, &built.selected, &data, 0.5).unwrap();
+            assert_eq!(p.index, v);
+            assert!(
+                (DVec3::from(p.position) - pos[v]).length() < 1e-4,
+                "voxel {v}"
+            );
+            let Detail::Odf {
+                lmax,
+                coefficients,
+                peaks,
+                ..
+            } = &p.detail
+            else {
+                panic!("an ODF's pick")
+            };
+            assert_eq!((*lmax, coefficients.len()), (8, 45));
+            let Some(truth) = t["peaks"].get(v.to_string()) else {
+                continue;
+            };
+            let dirs = truth["directions"].as_array().unwrap();
+            assert_eq!(peaks.len(), dirs.len(), "voxel {v}: {peaks:?}");
+            for (d, q) in dirs.iter().zip(peaks) {
+                let want = (a * v3(d)).normalize();
+                let cos = want.dot(DVec3::from(q.direction)).abs().min(1.0);
+                assert!(cos.acos().to_degrees() < 1.0, "voxel {v}: {want} vs {q:?}");
+                compared += 1;
+            }
+            let text = p.text();
+            assert!(text.contains(&format!("voxel #{v}")) && text.contains("l=8:"));
+        }
+        assert!(compared >= 16, "{compared} peaks compared");
     }
 }

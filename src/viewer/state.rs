@@ -10,6 +10,7 @@ use crate::effects::Effects;
 use crate::glyph::GlyphStyle;
 use crate::request::{DrawOptions, FrameRequest, GlyphKind, Method, UnderlayView};
 use crate::scene::UnderlaySource;
+use crate::scene::odf::OdfNormalize;
 use crate::select::{Selection, Slicing};
 
 /// Every option the side panel changes.
@@ -33,6 +34,8 @@ pub struct Settings {
     /// Samples per pixel across of the view (1, or 2: the 2×2 box filter is the texture's
     /// bilinear filter at the pixel centre).
     pub ssaa: u32,
+    /// How the ODF glyphs of a file of SH series are scaled (`render --odf-normalize`).
+    pub odf_normalize: OdfNormalize,
 }
 
 impl Default for Settings {
@@ -49,6 +52,7 @@ impl Default for Settings {
             underlay_view: UnderlayView::default(),
             effects: Effects::default(),
             ssaa: 1,
+            odf_normalize: OdfNormalize::default(),
         }
     }
 }
@@ -61,6 +65,7 @@ pub struct BuildKey {
     pub glyph: GlyphKind,
     pub selection: Selection,
     pub underlay: Option<UnderlaySource>,
+    pub odf_normalize: OdfNormalize,
 }
 
 /// What a drawn frame depends on.
@@ -79,6 +84,7 @@ impl Settings {
             glyph: self.glyph,
             selection: self.selection.clone(),
             underlay: self.underlay.clone(),
+            odf_normalize: self.odf_normalize,
         }
     }
 
@@ -171,6 +177,9 @@ mod tests {
         let mut u = s.clone();
         u.style.min_radius = Some(0.2);
         assert_ne!(s.build_key(1), u.build_key(1));
+        let mut o = s.clone();
+        o.odf_normalize = OdfNormalize::MinMax;
+        assert_ne!(s.build_key(1), o.build_key(1), "ODF scaling rebuilds");
         assert_ne!(s.build_key(1), s.build_key(2), "a new file rebuilds");
     }
 

@@ -15,6 +15,8 @@
 //     DIPY's fit;
 //   - the underlay input: DIPY's FA map under its fit gives the figure of `tensorglyph render
 //     tensors.nii.gz --underlay fa.nii.gz` (>= 99 % of pixels within 3/255);
+//   - SH series: DIPY's CSD fit opens as ODF glyphs whose figure is `tensorglyph render`'s (the
+//     same bound) and a hovered glyph's largest peak is DIPY's, turned to world (within 1°);
 //   - BEP016: a map and its JSON sidecar given together open, and a picked glyph's principal
 //     direction is numpy's in the frame the sidecar names (tests/data/bids);
 //   - without a WebGPU adapter the page names browsers that have one.
@@ -331,6 +333,55 @@ try {
     check(!cmp.size && (await text(page, 'error')) === '', `the fit with its FA underlay opens (${cmp.size || 'no error'})`);
     check(frac >= 0.99, `its figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
     await page.screenshot({ path: path.join(out, 'page_underlay.png') });
+    await page.close();
+  }
+
+  // SH series: DIPY's CSD fit (tests/data/sh) opens as ODF glyphs, its figure is that of
+  // `tensorglyph render FILE`, and a glyph under the pointer shows its voxel's series and its
+  // largest peak where DIPY's peak_directions_nl finds it (expected.json, in voxel axes),
+  // turned to world by the affine DIPY's voxel positions span (a rotation times 2 mm).
+  {
+    const shDir = path.join(repo, 'tests/data/sh');
+    const name = 'dipy_lmax8_descoteaux07_legacy.nii.gz';
+    const file = path.join(shDir, name);
+    const truth = JSON.parse(fs.readFileSync(path.join(shDir, 'expected.json'))).files[name];
+    const { page } = await open('?figure=640x480');
+    await page.waitForFunction(() => document.body.dataset.state === 'ready', null, { timeout: LONG });
+    await page.setInputFiles('#file', file);
+    const src = await figureOf(page);
+    fs.writeFileSync(path.join(out, 'web_odf_640x480.png'), Buffer.from(src.split(',')[1], 'base64'));
+    const cmp = await compare(page, src, nativeFigure('odf', [file]));
+    const frac = cmp.close / cmp.n;
+    check(!cmp.size && (await text(page, 'error')) === '', `the CSD fit opens as ODF glyphs (${cmp.size || 'no error'})`);
+    check(frac >= 0.99, `its figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
+    const p = truth.positions;
+    const col = (j) => p[j].map((x, k) => x - p[0][k]);
+    const a = [col(1), col(4), col(16)];
+    const world = (d) => {
+      const w = [0, 1, 2].map((r) => a[0][r] * d[0] + a[1][r] * d[1] + a[2][r] * d[2]);
+      const n = Math.hypot(...w);
+      return w.map((x) => x / n);
+    };
+    const box = await page.locator('#view').boundingBox();
+    let seen = null;
+    for (let i = 0; i < 48 && !seen; i++) {
+      const [fx, fy] = [0.4 + 0.5 * ((i * 5) % 12) / 12, 0.15 + 0.7 * ((i * 7) % 16) / 16];
+      await page.mouse.move(box.x + box.width * fx, box.y + box.height * fy);
+      await page.waitForTimeout(600);
+      const pick = await text(page, 'pick');
+      const v = /^voxel #(\d+)/.exec(pick);
+      const top = /\n\s+1: \(([-+\d.]+), ([-+\d.]+), ([-+\d.]+)\)/.exec(pick);
+      if (v && top && truth.peaks[v[1]] && /SH lmax 8/.test(pick)) {
+        seen = { voxel: v[1], got: top.slice(1, 4).map(Number), want: world(truth.peaks[v[1]].directions[0]) };
+      }
+    }
+    check(seen !== null, `hovering finds an ODF glyph whose peaks DIPY found (${seen ? `voxel #${seen.voxel}` : 'none'})`);
+    if (seen) {
+      const cos = Math.abs(seen.got.reduce((s, x, k) => s + x * seen.want[k], 0)) / Math.hypot(...seen.got);
+      const deg = (Math.acos(Math.min(cos, 1)) * 180) / Math.PI;
+      check(deg < 1, `its largest peak is DIPY's, in world axes: ${deg.toFixed(3)}°`);
+    }
+    await page.screenshot({ path: path.join(out, 'page_odf.png') });
     await page.close();
   }
 

@@ -23,7 +23,7 @@ use crate::progress::Silent;
 use crate::render::{GpuContext, GpuRenderer};
 use crate::scene::Scene;
 use crate::scene::UnderlaySource;
-use crate::select::Slicing;
+use crate::select::{Selection, Slicing};
 use crate::staging::{self, Recipe, Source};
 use crate::viewer::loader::{Loaded, Loading, main_file};
 use crate::viewer::navigation::{Navigation, axis_view};
@@ -275,14 +275,32 @@ impl ViewerApp {
             odf_normalize: None,
         };
         let volume = data.underlay.as_deref();
-        let built = match staging::build(
-            &data.field,
-            &data.set,
-            data.spacing.clone(),
-            &recipe,
-            volume,
-            &Silent,
-        ) {
+        let built = match &data.odf {
+            // Series are selected by their planes only, and drawn as ODF glyphs.
+            Some(sh) => staging::build_sh(
+                sh,
+                &data.name(),
+                &Recipe {
+                    selection: Selection {
+                        slicing: key.selection.slicing.clone(),
+                        ..Selection::default()
+                    },
+                    underlay: None,
+                    odf_normalize: Some(key.odf_normalize),
+                    ..recipe.clone()
+                },
+                &Silent,
+            ),
+            None => staging::build(
+                &data.field,
+                &data.set,
+                data.spacing.clone(),
+                &recipe,
+                volume,
+                &Silent,
+            ),
+        };
+        let built = match built {
             Ok(b) => b,
             Err(e) => {
                 // Nothing to draw (an empty selection): say why, keep the data.

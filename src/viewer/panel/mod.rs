@@ -102,7 +102,7 @@ pub fn show(
     egui::ScrollArea::vertical().show(ui, |ui| {
         file_section(ui, state, info, &mut actions);
         ui.separator();
-        rendering_section(ui, settings);
+        rendering_section(ui, settings, info.data.is_some_and(|d| d.odf.is_some()));
         ui.separator();
         style_section(ui, settings, state, info);
         ui.separator();
@@ -128,7 +128,34 @@ fn file_section(
     actions: &mut Vec<Action>,
 ) {
     ui.heading("File");
-    if let Some(d) = info.data {
+    if let Some(d) = info.data
+        && let Some(sh) = &d.odf
+    {
+        let name = d.name();
+        ui.add(egui::Label::new(RichText::new(&name).strong()).truncate())
+            .on_hover_text(name);
+        let [x, y, z] = sh.dims;
+        egui::Grid::new("summary").num_columns(2).show(ui, |ui| {
+            ui.label("dataset");
+            ui.label(format!("SH series ({})", sh.format));
+            ui.end_row();
+            ui.label("dims");
+            ui.label(format!("{x} × {y} × {z}"));
+            ui.end_row();
+            ui.label("series");
+            ui.label(format!(
+                "lmax {}, {} coefficients, {}",
+                sh.layout.lmax,
+                sh.layout.count,
+                sh.coefficients.type_name()
+            ));
+            ui.end_row();
+            ui.label("basis");
+            ui.label(sh.layout.basis.to_string())
+                .on_hover_text(&sh.layout.reason);
+            ui.end_row();
+        });
+    } else if let Some(d) = info.data {
         let f = &d.field;
         let s = &d.set.stats;
         let name = d.name();
@@ -212,7 +239,7 @@ fn file_section(
     ui.small("…or drag and drop a file onto the window.");
 }
 
-fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
+fn rendering_section(ui: &mut Ui, settings: &mut Settings, series: bool) {
     ui.heading("Rendering");
     egui::ComboBox::from_label("method")
         .selected_text(settings.method.to_string())
@@ -221,13 +248,20 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings) {
                 ui.selectable_value(&mut settings.method, m, m.to_string());
             }
         });
-    ui.horizontal(|ui| {
-        ui.label("glyph");
-        for &kind in GlyphKind::VALUES {
-            ui.selectable_value(&mut settings.glyph, kind, kind.name());
-        }
-    });
-    let caps = settings.glyph.caps();
+    // SH series have one glyph: their ODF.
+    let kind = if series {
+        ui.label("glyph: odf (a file of SH series)");
+        GlyphKind::Odf
+    } else {
+        ui.horizontal(|ui| {
+            ui.label("glyph");
+            for &kind in GlyphKind::VALUES {
+                ui.selectable_value(&mut settings.glyph, kind, kind.name());
+            }
+        });
+        settings.glyph
+    };
+    let caps = kind.caps();
     if caps.sharpness {
         // A new sharpness rebuilds the scene (it is part of the style).
         ui.add(

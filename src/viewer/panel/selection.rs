@@ -10,6 +10,16 @@ use crate::viewer::state::Settings;
 pub(super) fn selection_section(ui: &mut Ui, settings: &mut Settings, info: &PanelInfo<'_>) {
     ui.heading("Selection");
     let sel = &mut settings.selection;
+    // SH series are selected by their planes only (the FA, stride and ROI are the tensors').
+    let series = info.data.is_some_and(|d| d.odf.is_some());
+    if !series {
+        tensor_controls(ui, sel, info);
+    }
+    slicing_controls(ui, sel, info);
+}
+
+/// FA range, stride and ROI.
+fn tensor_controls(ui: &mut Ui, sel: &mut Selection, info: &PanelInfo<'_>) {
     ui.horizontal(|ui| {
         ui.label("FA");
         ui.add(
@@ -33,6 +43,10 @@ pub(super) fn selection_section(ui: &mut Ui, settings: &mut Settings, info: &Pan
     }
     ui.add(egui::Slider::new(&mut sel.stride, 1..=16).text("stride"));
     roi_controls(ui, sel, info.data.map(|d| d.bounds));
+}
+
+/// Whole, one slice, three slices or the planes given.
+fn slicing_controls(ui: &mut Ui, sel: &mut Selection, info: &PanelInfo<'_>) {
     // Before the data is loaded there is nothing to slice yet: keep the starting selection
     // (`view --slice` is applied once the data is there).
     let Some(data) = info.data else {

@@ -6,6 +6,7 @@ use egui::{Color32, Ui};
 use crate::glyph::style::DEFAULT_MIN_RADIUS;
 use crate::glyph::{ColorScheme, Normalize, Scale, SizeBy};
 use crate::legend::{Legend, legend, short_number};
+use crate::scene::odf::OdfNormalize;
 use crate::tensor::shape::{ShapeClass, barycentric_color};
 use crate::viewer::panel::{PanelInfo, PanelState};
 use crate::viewer::state::Settings;
@@ -16,6 +17,10 @@ pub(super) fn style_section(
     state: &mut PanelState,
     info: &PanelInfo<'_>,
 ) {
+    if let Some(sh) = info.data.and_then(|d| d.odf.as_deref()) {
+        odf_section(ui, settings, sh);
+        return;
+    }
     ui.heading("Glyphs");
     let style = &mut settings.style;
     egui::ComboBox::from_label("colour")
@@ -225,4 +230,29 @@ fn barycentric_color_of(w: [f64; 3]) -> Color32 {
     // λ = (1, 1 − cl, cs) up to scale has cl = λ1 − λ2, cp = λ2 − λ3, cs = λ3 (λ1 = 1).
     let ev = [1.0, 1.0 - w[0], w[2]];
     color32(barycentric_color(ev, true))
+}
+
+/// ODF glyphs of a file of SH series: how each voxel's ODF is scaled (`--odf-normalize`); the
+/// glyphs are coloured by direction, as `render` colours them.
+fn odf_section(ui: &mut Ui, settings: &mut Settings, sh: &crate::field::ShField) {
+    ui.heading("ODF glyphs");
+    let l = &sh.layout;
+    ui.label(format!("SH lmax {}, {} basis", l.lmax, l.basis))
+        .on_hover_text(&l.reason);
+    egui::ComboBox::from_label("normalise")
+        .selected_text(settings.odf_normalize.name())
+        .show_ui(ui, |ui| {
+            for &n in OdfNormalize::VALUES {
+                ui.selectable_value(&mut settings.odf_normalize, n, n.name());
+            }
+        })
+        .response
+        .on_hover_text(
+            "max: each voxel's ODF to its own largest value (DIPY's odf_slicer); minmax: \
+             each voxel's [min, max] to [0, 1] (mrview); none: amplitudes comparable \
+             across voxels",
+        );
+    ui.label(
+        "colour: the direction of each point from the glyph's centre (red x, green y, blue z)",
+    );
 }

@@ -15,6 +15,11 @@ pub(super) fn underlay_section(ui: &mut Ui, settings: &mut Settings, info: &Pane
     let Some(data) = info.data else {
         return;
     };
+    if data.odf.is_some() {
+        // As `render` draws them: ODF glyphs have no tensors to measure an underlay from.
+        ui.label("for tensor fields (ODF glyphs are drawn without one)");
+        return;
+    }
     let Some(dims) = data.field.lattice_dims() else {
         ui.label("needs structured data");
         return;
