@@ -385,6 +385,8 @@ struct CentreRay {
     // A pixel centre (framebuffer coordinates) and o(px0).
     px0: vec2<f32>,
     o0: vec2<f32>,
+    // What rounding left of the centre's view z and of o(px0)'s x and y (thin_pixel_ray).
+    lo: vec3<f32>,
 }
 
 // Row i of the view transform applied to c, in double-f32: hi and lo are the row's four
@@ -420,12 +422,15 @@ fn centre_ray(c: vec3<f32>) -> CentreRay {
     }
     let f = camera.pixels.x;
     let proj = vec2<f32>(camera.pixels.y + f * ax.x, camera.pixels.z - f * ay.x);
+    // df_add's results are normalised: hi + lo rounds to hi, so lo is all rounding left.
+    r.lo.x = cz.y;
     // Clamped so px − px0 stays exact for every pixel of any viewport.
     r.px0 = clamp(floor(proj), vec2<f32>(-16384.0), vec2<f32>(16384.0)) + 0.5;
     let inv_f = camera.pixel_scale.zw;
     let ox = df_add(df_mul_f(inv_f, r.px0.x - camera.pixels.y), -ax);
     let oy = df_add(df_mul_f(inv_f, camera.pixels.z - r.px0.y), -ay);
     r.o0 = vec2<f32>(ox.x + ox.y, oy.x + oy.y);
+    r.lo = vec3<f32>(r.lo.x, ox.y, oy.y);
     return r;
 }
 
@@ -461,7 +466,10 @@ struct ParamRay {
 // The ray of the pixel at framebuffer position px towards the glyph centred at c_view (view
 // space; px0, o0: its centre_ray), whose parameter space is a · view space
 // (a = diag(1/scale) Oᵀ R_viewᵀ).
-fn glyph_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, px0: vec2<f32>, o0: vec2<f32>, a: mat3x3<f32>) -> ParamRay {
+fn glyph_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, px0: vec2<f32>, o0: vec2<f32>, a: mat3x3<f32>, res: Residuals) -> ParamRay {
+    if THIN_EXACT {
+        return thin_pixel_ray(px, c_view, px0, o0, a, res);
+    }
     let o = pixel_offset(px, px0, o0);
     var r: ParamRay;
     if is_ortho() {
@@ -482,6 +490,155 @@ fn glyph_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, px0: vec2<f32>, o0: vec2<f3
     r.off += s * r.d;
     r.t0 += s;
     r.o_t = a * r.off;
+    return r;
+}
+
+// Thin glyphs. A glyph k = r_max/r_min thin sees f32's rounding of every number its rays are
+// made of (the pixel's offset, the map A into parameter space, the glyph-near origin) ~k times
+// magnified across its thin axes: needles at k = 1e5 had normals off by degrees. Chunks holding
+// a glyph thinner than THIN_RATIO are drawn with THIN_EXACT (an override set per pipeline, so
+// other chunks run none of it, which matters on CPU rasterisers that run both sides of every
+// branch): A in double-f32 once per glyph (param_map), and each pixel's ray through it in
+// double-f32 (thin_pixel_ray), down to the parameter-space origin, which is then O(1) and
+// exact to f32's own rounding.
+override THIN_EXACT: bool = false;
+
+// What thin_pixel_ray needs beyond glyph_pixel_ray's f32 arguments: the residuals of the
+// centre's view z and o(px0) (CentreRay.lo) and of A (a_lo, A's layout).
+struct Residuals {
+    lo: vec3<f32>,
+    a_lo: mat3x3<f32>,
+}
+
+fn no_residuals() -> Residuals {
+    return Residuals(vec3<f32>(0.0), mat3x3<f32>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0)));
+}
+
+// A vector of three double-f32 numbers.
+struct DfVec3 {
+    x: vec2<f32>,
+    y: vec2<f32>,
+    z: vec2<f32>,
+}
+
+fn df_dot(a: DfVec3, b: DfVec3) -> vec2<f32> {
+    return df_add(df_add(df_mul(a.x, b.x), df_mul(a.y, b.y)), df_mul(a.z, b.z));
+}
+
+// 2ab, exactly.
+fn twice_prod(a: f32, b: f32) -> vec2<f32> {
+    return 2.0 * two_prod(a, b);
+}
+
+// A = diag(1/scale) Oᵀ R_viewᵀ (view to parameter space) in double-f32: rows hi (r0..r2) and
+// what f32 left of them (l0..l2). O is quat_to_mat3(q) term by term, as the reference forms it
+// in f64 (quat_to_mat3_unnormalised).
+struct ParamMap {
+    r0: vec3<f32>,
+    r1: vec3<f32>,
+    r2: vec3<f32>,
+    l0: vec3<f32>,
+    l1: vec3<f32>,
+    l2: vec3<f32>,
+}
+
+// Row i of A: the frame's column o_i against R_view's rows, over scale_i.
+fn map_row(o: DfVec3, v0: DfVec3, v1: DfVec3, v2: DfVec3, k: f32) -> array<vec3<f32>, 2> {
+    let x = df_mul_f(df_dot(o, v0), k);
+    let y = df_mul_f(df_dot(o, v1), k);
+    let z = df_mul_f(df_dot(o, v2), k);
+    return array<vec3<f32>, 2>(vec3<f32>(x.x, y.x, z.x), vec3<f32>(x.y, y.y, z.y));
+}
+
+fn view_row_df(i: u32) -> DfVec3 {
+    let v = camera.view;
+    let lo = camera.view_lo[i];
+    return DfVec3(vec2<f32>(v[0][i], lo.x), vec2<f32>(v[1][i], lo.y), vec2<f32>(v[2][i], lo.z));
+}
+
+fn param_map(q: vec4<f32>, scale: vec3<f32>) -> ParamMap {
+    df_begin();
+    let xx = twice_prod(q.x, q.x);
+    let yy = twice_prod(q.y, q.y);
+    let zz = twice_prod(q.z, q.z);
+    let xy = twice_prod(q.x, q.y);
+    let xz = twice_prod(q.x, q.z);
+    let yz = twice_prod(q.y, q.z);
+    let wx = twice_prod(q.w, q.x);
+    let wy = twice_prod(q.w, q.y);
+    let wz = twice_prod(q.w, q.z);
+    let one = vec2<f32>(1.0, 0.0);
+    let o0 = DfVec3(df_add(one, -df_add(yy, zz)), df_add(xy, wz), df_add(xz, -wy));
+    let o1 = DfVec3(df_add(xy, -wz), df_add(one, -df_add(xx, zz)), df_add(yz, wx));
+    let o2 = DfVec3(df_add(xz, wy), df_add(yz, -wx), df_add(one, -df_add(xx, yy)));
+    let v0 = view_row_df(0u);
+    let v1 = view_row_df(1u);
+    let v2 = view_row_df(2u);
+    let a0 = map_row(o0, v0, v1, v2, 1.0 / scale.x);
+    let a1 = map_row(o1, v0, v1, v2, 1.0 / scale.y);
+    let a2 = map_row(o2, v0, v1, v2, 1.0 / scale.z);
+    return ParamMap(a0[0], a1[0], a2[0], a0[1], a1[1], a2[1]);
+}
+
+// A's rows hi and lo as glyph_pixel_ray takes them (a, res.a_lo).
+fn map_hi(m: ParamMap) -> mat3x3<f32> {
+    return transpose(mat3x3<f32>(m.r0, m.r1, m.r2));
+}
+
+fn map_lo(m: ParamMap) -> mat3x3<f32> {
+    return transpose(mat3x3<f32>(m.l0, m.l1, m.l2));
+}
+
+// Row i of A·x in double-f32, A = a + a_lo, x's components double-f32.
+fn map_apply(a: mat3x3<f32>, a_lo: mat3x3<f32>, i: u32, x: DfVec3) -> vec2<f32> {
+    let row = DfVec3(vec2<f32>(a[0][i], a_lo[0][i]), vec2<f32>(a[1][i], a_lo[1][i]), vec2<f32>(a[2][i], a_lo[2][i]));
+    return df_dot(row, x);
+}
+
+// glyph_pixel_ray in double-f32 up to the glyph-near origin in parameter space: the pixel's
+// offset o(px) (its exact integer distance from px0 over f, 1/f in double-f32), the ray's
+// point level with the centre, −c_z o (c_z double-f32), the pixel's direction (xy, −1), both
+// mapped by A, and the slide along the ray: the origin comes out O(1) and within an f32 ulp.
+fn thin_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, px0: vec2<f32>, o0: vec2<f32>, a: mat3x3<f32>, res: Residuals) -> ParamRay {
+    df_begin();
+    let inv_f = camera.pixel_scale.zw;
+    let d = px - px0;
+    let ox = df_add(vec2<f32>(o0.x, res.lo.y), df_mul_f(inv_f, d.x));
+    let oy = df_add(vec2<f32>(o0.y, res.lo.z), df_mul_f(inv_f, -d.y));
+    let zero = vec2<f32>(0.0);
+    var off = DfVec3(ox, oy, zero);
+    var dv = DfVec3(zero, zero, vec2<f32>(-1.0, 0.0));
+    var r: ParamRay;
+    var len = 1.0;
+    r.t0 = -c_view.z;
+    if !is_ortho() {
+        let cz = vec2<f32>(-c_view.z, -res.lo.x);
+        off = DfVec3(df_mul(cz, ox), df_mul(cz, oy), zero);
+        dv.x = df_mul_f(inv_f, px.x - camera.pixels.y);
+        dv.y = df_mul_f(inv_f, camera.pixels.z - px.y);
+        len = length(vec3<f32>(dv.x.x, dv.y.x, -1.0));
+        r.t0 = -c_view.z * len;
+    }
+    let a_lo = res.a_lo;
+    let o_0 = map_apply(a, a_lo, 0u, off);
+    let o_1 = map_apply(a, a_lo, 1u, off);
+    let o_2 = map_apply(a, a_lo, 2u, off);
+    let v_0 = map_apply(a, a_lo, 0u, dv);
+    let v_1 = map_apply(a, a_lo, 1u, dv);
+    let v_2 = map_apply(a, a_lo, 2u, dv);
+    let vh = vec3<f32>(v_0.x, v_1.x, v_2.x);
+    // The slide (in units of dv): only its rounding of the origin along the ray, harmless,
+    // is f32's; the sum that cancels is double-f32.
+    let s = -dot(vec3<f32>(o_0.x, o_1.x, o_2.x), vh) / dot(vh, vh);
+    let p0 = df_add(o_0, df_mul_f(v_0, s));
+    let p1 = df_add(o_1, df_mul_f(v_1, s));
+    let p2 = df_add(o_2, df_mul_f(v_2, s));
+    r.o_t = vec3<f32>(p0.x + p0.y, p1.x + p1.y, p2.x + p2.y);
+    let dir = vec3<f32>(dv.x.x, dv.y.x, -1.0);
+    r.d = dir / len;
+    r.v_t = vh / len;
+    r.off = vec3<f32>(off.x.x, off.y.x, 0.0) + s * dir;
+    r.t0 += s * len;
     return r;
 }
 

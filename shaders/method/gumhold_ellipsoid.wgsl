@@ -20,6 +20,14 @@ struct VsOut {
     @location(7) @interpolate(flat) id: u32,
     // The centre ray's pixel px0 (centre_ray in common.wgsl).
     @location(8) @interpolate(flat) px0: vec2<f32>,
+    // THIN_EXACT: A's rows and their residuals, and the centre ray's (PixelCast's a, a_lo, lo),
+    // packed: (a0, l0.x), (a1, l0.y), (a2, l0.z), (l1, lo.x), (l2, lo.y), lo.z.
+    @location(9) @interpolate(flat) a0_l0x: vec4<f32>,
+    @location(10) @interpolate(flat) a1_l0y: vec4<f32>,
+    @location(11) @interpolate(flat) a2_l0z: vec4<f32>,
+    @location(12) @interpolate(flat) l1_lox: vec4<f32>,
+    @location(13) @interpolate(flat) l2_loy: vec4<f32>,
+    @location(14) @interpolate(flat) loz: f32,
 }
 
 // Everything a glyph's proxy vertices need, computed once per glyph: by each vertex in vs_main,
@@ -176,6 +184,16 @@ fn proxy_vertex(f: GlyphFrame, corner: vec2<f32>) -> VsOut {
     out.nz_tzz = vec4<f32>(c.nz, c.tzq.z);
     out.color = f.color;
     out.id = f.id;
+    if THIN_EXACT {
+        let a = transpose(c.a);
+        let l = transpose(c.a_lo);
+        out.a0_l0x = vec4<f32>(a[0], l[0].x);
+        out.a1_l0y = vec4<f32>(a[1], l[0].y);
+        out.a2_l0z = vec4<f32>(a[2], l[0].z);
+        out.l1_lox = vec4<f32>(l[1], c.lo.x);
+        out.l2_loy = vec4<f32>(l[2], c.lo.y);
+        out.loz = c.lo.z;
+    }
     return out;
 }
 
@@ -231,7 +249,16 @@ fn splat_frame(f: GlyphFrame, px: vec4<i32>, second: bool) -> bool {
     for (var y = px.y; y <= px.w; y++) {
         let span = splat_row(setup, y, px.x, px.z);
         for (var x = span.x; x <= span.y; x++) {
-            let depth = cast_depth(setup, splat_q(setup, vec2<f32>(f32(x) + 0.5, f32(y) + 0.5)));
+            let centre = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
+            var depth = -1.0;
+            if THIN_EXACT {
+                let h = thin_hit(setup, centre, 0u);
+                if !h.miss && h.depth >= 0.0 && h.depth <= 1.0 {
+                    depth = h.depth;
+                }
+            } else {
+                depth = cast_depth(setup, splat_q(setup, centre));
+            }
             if depth >= 0.0 {
                 splat_put(pixel_index(x, y), depth, f.id, second);
                 any = true;
@@ -305,6 +332,12 @@ fn ray_cast(in: VsOut) -> Hit {
     c.ny = in.ny_tzy.xyz;
     c.nz = in.nz_tzz.xyz;
     c.tzq = vec3<f32>(in.nx_tzx.w, in.ny_tzy.w, in.nz_tzz.w);
+    if THIN_EXACT {
+        c.a = transpose(mat3x3<f32>(in.a0_l0x.xyz, in.a1_l0y.xyz, in.a2_l0z.xyz));
+        let l0 = vec3<f32>(in.a0_l0x.w, in.a1_l0y.w, in.a2_l0z.w);
+        c.a_lo = transpose(mat3x3<f32>(l0, in.l1_lox.xyz, in.l2_loy.xyz));
+        c.lo = vec3<f32>(in.l1_lox.w, in.l2_loy.w, in.loz);
+    }
     let hit = cast_hit(c, in.position.xy, in.color);
     if hit.miss {
         discard;
@@ -327,6 +360,9 @@ fn cast_z_rel(c: PixelCast, p: vec3<f32>, alpha: f32) -> f32 {
 
 // The front intersection of the ray through pixel centre px (miss: the ray passes the glyph).
 fn cast_hit(c: PixelCast, px: vec2<f32>, color: u32) -> Hit {
+    if THIN_EXACT {
+        return thin_hit(c, px, color);
+    }
     var hit: Hit;
     let q = splat_q(c, px);
     let q2 = dot(q, q);
@@ -378,6 +414,11 @@ struct PixelCast {
     nz: vec3<f32>,
     // tz · x~, tz · y~, tz · z^: the view z relative to the centre, likewise.
     tzq: vec3<f32>,
+    // THIN_EXACT: A = diag(1/r) Oᵀ R_viewᵀ (view to parameter space) in double-f32, and the
+    // centre ray's residuals (param_map, CentreRay.lo), for thin_hit.
+    a: mat3x3<f32>,
+    a_lo: mat3x3<f32>,
+    lo: vec3<f32>,
 }
 
 fn pixel_cast(f: GlyphFrame) -> PixelCast {
@@ -416,6 +457,13 @@ fn pixel_cast(f: GlyphFrame) -> PixelCast {
     s.nz = n * z_hat;
     let tz = vec3<f32>(f.tz_x, f.tz_y, f.tz_z);
     s.tzq = vec3<f32>(dot(tz, f.x_t), dot(tz, f.y_t), dot(tz, z_hat));
+    if THIN_EXACT {
+        let g = load_glyph(f.id - 1u);
+        let m = param_map(g.rotation, g.radii);
+        s.a = map_hi(m);
+        s.a_lo = map_lo(m);
+        s.lo = cr.lo;
+    }
     return s;
 }
 
@@ -439,6 +487,39 @@ fn splat_row(s: PixelCast, y: i32, x0: i32, x1: i32) -> vec2<i32> {
     let d0 = dot(s.g.xy, xy) - s.g.z;
     let dx = s.g.x / camera.pixels.x;
     return splat_span(vec3<f32>(dot(lx, lx) - dx * dx, 2.0 * (dot(l0, lx) - d0 * dx), dot(l0, l0) - d0 * d0), x0, x1);
+}
+
+// THIN_EXACT: the front intersection of the pixel's ray (thin_pixel_ray in common.wgsl) with
+// the unit ball of parameter space, the quad only choosing the pixels: the quad point q~ is a
+// map of the pixel formed in f32, which a needle's k magnifies across its section.
+fn thin_hit(c: PixelCast, px: vec2<f32>, color: u32) -> Hit {
+    var hit: Hit;
+    hit.miss = true;
+    let r = thin_pixel_ray(px, vec3<f32>(0.0, 0.0, c.cz), c.px0, c.o0, c.a, Residuals(c.lo, c.a_lo));
+    let alpha = dot(r.v_t, r.v_t);
+    let beta = dot(r.o_t, r.v_t);
+    let gamma = dot(r.o_t, r.o_t) - 1.0;
+    let disc = beta * beta - alpha * gamma;
+    if !(disc >= 0.0) {
+        return hit;
+    }
+    // The nearer root, as q/α or γ/q (no cancellation).
+    let qq = -(beta + select(-1.0, 1.0, beta >= 0.0) * sqrt(disc));
+    var t = 0.0;
+    if qq != 0.0 {
+        t = min(qq / alpha, gamma / qq);
+    }
+    let p_t = r.o_t + t * r.v_t;
+    // View-space normals from parameter space are Aᵀ.
+    let n_view = normalize(transpose(c.a) * p_t);
+    let ray_view = vec3<f32>(pixel_view_xy(px), -1.0);
+    hit.miss = false;
+    hit.color = vec4<f32>(shade(unpack4x8unorm(color).rgb, n_view, ray_view), 1.0);
+    hit.n_view = n_view;
+    hit.z_rel = (r.off + t * r.d).z;
+    hit.z_proxy_rel = dot(c.tzq, vec3<f32>(splat_q(c, px), -c.u));
+    hit.depth = view_depth(c.cz + hit.z_rel);
+    return hit;
 }
 
 // The hit's depth at quad coordinates q (-1: no hit).

@@ -26,6 +26,11 @@ struct VsOut {
     @location(10) @interpolate(flat) c_view: vec3<f32>,
     // The centre ray's pixel px0 and o(px0) (centre_ray in common.wgsl).
     @location(12) @interpolate(flat) px0_o0: vec4<f32>,
+    // THIN_EXACT: the residuals of the centre ray (CentreRay.lo) and of N's columns.
+    @location(1) @interpolate(flat) lo: vec3<f32>,
+    @location(2) @interpolate(flat) n0_lo: vec3<f32>,
+    @location(11) @interpolate(flat) n1_lo: vec3<f32>,
+    @location(13) @interpolate(flat) n2_lo: vec3<f32>,
 }
 
 // The quad of a glyph's bounding ellipsoid (g, its rotation o, shape_of): corner s at
@@ -131,6 +136,17 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
     let cr = centre_ray(g.centre);
     out.c_view = cr.c_view;
     out.px0_o0 = vec4<f32>(cr.px0, cr.o0);
+    if THIN_EXACT {
+        // N's columns are A's rows (parameter space from view space is Nᵀ).
+        let m = param_map(g.rotation, sc);
+        out.n0 = m.r0;
+        out.n1 = m.r1;
+        out.n2 = m.r2;
+        out.n0_lo = m.l0;
+        out.n1_lo = m.l1;
+        out.n2_lo = m.l2;
+        out.lo = cr.lo;
+    }
     return out;
 }
 
@@ -143,7 +159,8 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
 fn ray_cast(in: VsOut) -> Hit {
     let n = mat3x3<f32>(in.n0, in.n1, in.n2);
     // Parameter space from view space is Nᵀ.
-    let r = glyph_pixel_ray(in.position.xy, in.c_view, in.px0_o0.xy, in.px0_o0.zw, transpose(n));
+    let res = Residuals(in.lo, transpose(mat3x3<f32>(in.n0_lo, in.n1_lo, in.n2_lo)));
+    let r = glyph_pixel_ray(in.position.xy, in.c_view, in.px0_o0.xy, in.px0_o0.zw, transpose(n), res);
     let o_t = r.o_t;
     let v_t = r.v_t;
     let entry = shape_entry(o_t, v_t, in.shape, select(-r.t0, -3.0e38, is_ortho()));

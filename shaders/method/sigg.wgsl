@@ -25,6 +25,11 @@ struct VsOut {
     @location(7) @interpolate(flat) shape: vec4<f32>,
     // The centre ray's pixel px0 and o(px0) (centre_ray in common.wgsl).
     @location(8) @interpolate(flat) px0_o0: vec4<f32>,
+    // THIN_EXACT: the residuals of the centre ray (CentreRay.lo) and of A's rows.
+    @location(9) @interpolate(flat) lo: vec3<f32>,
+    @location(10) @interpolate(flat) a0_lo: vec3<f32>,
+    @location(11) @interpolate(flat) a1_lo: vec3<f32>,
+    @location(12) @interpolate(flat) a2_lo: vec3<f32>,
 }
 
 // The flat per-glyph varyings of glyph g with frame o and parameter-space scale `scale`.
@@ -38,6 +43,16 @@ fn glyph_varyings(out: ptr<function, VsOut>, g: Glyph, o: mat3x3<f32>, scale: ve
     (*out).a0 = rv * o[0] / scale.x;
     (*out).a1 = rv * o[1] / scale.y;
     (*out).a2 = rv * o[2] / scale.z;
+    if THIN_EXACT {
+        let m = param_map(g.rotation, scale);
+        (*out).a0 = m.r0;
+        (*out).a1 = m.r1;
+        (*out).a2 = m.r2;
+        (*out).a0_lo = m.l0;
+        (*out).a1_lo = m.l1;
+        (*out).a2_lo = m.l2;
+        (*out).lo = cr.lo;
+    }
 }
 
 // Corner vi of the strip ((−,−), (+,−), (−,+), (+,+)) of the box, or of the whole viewport at
@@ -64,7 +79,8 @@ fn culled() -> VsOut {
 
 // The fragment's ray (glyph_pixel_ray in common.wgsl, shared with Gumhold's orthographic solids).
 fn pixel_ray(in: VsOut) -> ParamRay {
-    return glyph_pixel_ray(in.position.xy, in.c_view, in.px0_o0.xy, in.px0_o0.zw, transpose(mat3x3<f32>(in.a0, in.a1, in.a2)));
+    let res = Residuals(in.lo, transpose(mat3x3<f32>(in.a0_lo, in.a1_lo, in.a2_lo)));
+    return glyph_pixel_ray(in.position.xy, in.c_view, in.px0_o0.xy, in.px0_o0.zw, transpose(mat3x3<f32>(in.a0, in.a1, in.a2)), res);
 }
 
 // Shade the hit at t' along the ray from the glyph-near origin with parameter-space normal n_t;

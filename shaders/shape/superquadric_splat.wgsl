@@ -135,6 +135,8 @@ struct SqPixels {
     // Exponents and bounding ball (Solid.shape).
     shape: vec4<f32>,
     color: u32,
+    // THIN_EXACT: the centre ray's and nᵀ's residuals.
+    res: Residuals,
 }
 
 fn sq_pixels_of(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SqPixels {
@@ -147,6 +149,12 @@ fn sq_pixels_of(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SqPixels {
     s.n = rv * mat3x3<f32>(o[0] / solid.scale.x, o[1] / solid.scale.y, o[2] / solid.scale.z);
     s.shape = solid.shape;
     s.color = g.color;
+    s.res = no_residuals();
+    if THIN_EXACT {
+        let m = param_map(g.rotation, solid.scale);
+        s.n = mat3x3<f32>(m.r0, m.r1, m.r2);
+        s.res = Residuals(cr.lo, map_lo(m));
+    }
     return s;
 }
 
@@ -214,7 +222,7 @@ fn sq_row(rows: SqRows, y: i32, x1: i32) -> vec2<i32> {
 
 // The glyph's hit on the ray through pixel centre px (framebuffer coordinates), or a miss.
 fn sq_pixel_hit(s: SqPixels, px: vec2<f32>, tol_min: f32) -> Hit {
-    let r = glyph_pixel_ray(px, s.c_view, s.px0, s.o0, transpose(s.n));
+    let r = glyph_pixel_ray(px, s.c_view, s.px0, s.o0, transpose(s.n), s.res);
     // From the eye; orthographic rays are clipped by the depth range.
     let h = sq_first_within(r.o_t, r.v_t, s.shape.xyz, select(-r.t0, -3.0e38, is_ortho()), s.shape.w, tol_min);
     if !h.hit {
@@ -255,7 +263,7 @@ fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
     }
     let g = load_glyph(ii);
     let s = sq_pixels_of(g, quat_to_mat3(g.rotation), shape_of(g, ii));
-    let r = glyph_pixel_ray(px, s.c_view, s.px0, s.o0, transpose(s.n));
+    let r = glyph_pixel_ray(px, s.c_view, s.px0, s.o0, transpose(s.n), s.res);
     // View z from the key, then the ray's t.
     let z = -bitcast<f32>(0xffffffffu - key);
     let t = (z - s.c_view.z - r.off.z) / r.d.z;

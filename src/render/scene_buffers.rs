@@ -37,14 +37,23 @@ pub struct SceneBuffers {
     method_state: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
 }
 
+/// What the glyphs of a chunk need beyond the default pipelines: each is an `override` of the
+/// shaders that have it, set per pipeline, so that chunks without such glyphs run none of it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Needs {
+    /// The kind's general search ([`crate::shape::Shape::is_general`]: a superquadric the
+    /// convex finder cannot draw).
+    pub general: bool,
+    /// The double-f32 rays of thin glyphs (`THIN_EXACT`, [`GlyphInstance::is_thin`]).
+    pub thin: bool,
+}
+
 /// One storage buffer of packed instances and its parameters, bound as group 0.
 pub struct ChunkBuffers {
     pub(crate) base: u32,
     pub(crate) count: u32,
-    /// Whether any instance needs its kind's general search
-    /// ([`crate::shape::Shape::is_general`]: a superquadric the convex finder cannot draw); the
-    /// pipelines leave that search out otherwise.
-    pub(crate) general: bool,
+    /// What its glyphs need of the shaders; the pipelines leave the rest out.
+    pub(crate) needs: Needs,
     _glyphs: wgpu::Buffer,
     _shapes: wgpu::Buffer,
     params: wgpu::Buffer,
@@ -300,7 +309,10 @@ impl ChunkBuffers {
             count: piece.len() as u32,
             bind_group: group(camera_buffer),
             light_bind_group: group(light_buffer),
-            general: piece.iter().any(|g| kind.shape().is_general(g)),
+            needs: Needs {
+                general: piece.iter().any(|g| kind.shape().is_general(g)),
+                thin: piece.iter().any(GlyphInstance::is_thin),
+            },
             _glyphs: glyphs,
             _shapes: shapes,
             params,

@@ -91,6 +91,12 @@ impl ShaderSource {
         self.kind.shape().general_override()
     }
 
+    /// Whether the shader has the double-f32 rays of thin glyphs (`THIN_EXACT`: the ray
+    /// casters, Gumhold's and Sigg's, splats included; common.wgsl's `thin_pixel_ray`).
+    pub fn has_thin_path(self) -> bool {
+        self.method != MethodShader::Mesh
+    }
+
     /// Whether this is Gumhold's ellipsoid, whose exact quad is a method file of its own.
     fn exact_quad(self) -> bool {
         self.method == MethodShader::Gumhold && self.kind == GlyphKind::Ellipsoid

@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use crate::render::context::GpuContext;
 use crate::render::pipeline::{GlyphLayouts, PipelineInput, Variant, glyph_pipeline};
 use crate::render::pipeline_cache::Pipelines;
-use crate::render::scene_buffers::ChunkBuffers;
+use crate::render::scene_buffers::{ChunkBuffers, Needs};
 use crate::render::shaders::{ShaderDefs, ShaderSource};
 use crate::request::Proxy;
 
@@ -19,9 +19,9 @@ pub struct StripRenderer {
     layout: wgpu::PipelineLayout,
     source: ShaderSource,
     modules: [OnceLock<wgpu::ShaderModule>; 2],
-    /// Keyed by variant, proxy, whether the vertices come from `instance_input`, and whether
-    /// the kind's general search is kept ([`crate::shape::Shape::general_override`]).
-    pipelines: Mutex<HashMap<(Variant, Proxy, bool, bool), wgpu::RenderPipeline>>,
+    /// Keyed by variant, proxy, whether the vertices come from `instance_input`, and what the
+    /// chunk's glyphs need ([`Needs`]).
+    pipelines: Mutex<HashMap<(Variant, Proxy, bool, Needs), wgpu::RenderPipeline>>,
     /// Per-instance vertex input of the `vs_frames` entry point, for shaders that have one.
     instance_input: Option<wgpu::VertexBufferLayout<'static>>,
     /// The shader's splats use 64-bit atomics (splat64.wgsl).
@@ -70,9 +70,9 @@ impl StripRenderer {
         })
     }
 
-    /// Values of the shader's `override`s: the proxy's, and whether glyphs needing the kind's
-    /// general search may come (`general`), for the shaders that have them.
-    pub(crate) fn constants(&self, proxy: Proxy, general: bool) -> Vec<(&'static str, f64)> {
+    /// Values of the shader's `override`s: the proxy's, and what the glyphs of a chunk need
+    /// (`needs`), for the shaders that have them.
+    pub(crate) fn constants(&self, proxy: Proxy, needs: Needs) -> Vec<(&'static str, f64)> {
         let mut c = Vec::new();
         if self.source.has_proxy_constants() {
             c.push(("PROXY_VERTICES", f64::from(proxy.vertices())));
@@ -82,29 +82,35 @@ impl StripRenderer {
             ));
         }
         if let Some(name) = self.source.general_override() {
-            c.push((name, if general { 1.0 } else { 0.0 }));
+            c.push((name, if needs.general { 1.0 } else { 0.0 }));
+        }
+        if self.source.has_thin_path() {
+            c.push(("THIN_EXACT", if needs.thin { 1.0 } else { 0.0 }));
         }
         c
     }
 
-    /// `general` as pipelines are keyed: the flag changes only the shaders of kinds with a
-    /// general search, so one pipeline serves both for the others.
-    pub(crate) fn general_key(&self, general: bool) -> bool {
-        general || self.source.general_override().is_none()
+    /// `needs` as pipelines are keyed: a flag changes only the shaders that read it, so one
+    /// pipeline serves both values for the others.
+    pub(crate) fn needs_key(&self, needs: Needs) -> Needs {
+        Needs {
+            general: needs.general || self.source.general_override().is_none(),
+            thin: needs.thin && self.source.has_thin_path(),
+        }
     }
 
     /// The strip pipeline of `variant` and `proxy`; with `from_instances`, its vertices come
-    /// from the per-instance input (`vs_frames`) instead of the glyph storage buffer; without
-    /// `general`, superquadric shaders leave out the search for non-convex glyphs.
+    /// from the per-instance input (`vs_frames`) instead of the glyph storage buffer; `needs`
+    /// says which of the searches and paths of [`Needs`] the shader keeps.
     pub(crate) fn pipeline(
         &self,
         variant: Variant,
         proxy: Proxy,
         from_instances: bool,
-        general: bool,
+        needs: Needs,
     ) -> wgpu::RenderPipeline {
-        let general = self.general_key(general);
-        let key = (variant, proxy, from_instances, general);
+        let needs = self.needs_key(needs);
+        let key = (variant, proxy, from_instances, needs);
         if let Some(p) = self
             .pipelines
             .lock()
@@ -115,7 +121,7 @@ impl StripRenderer {
         }
         // early_depth_test only means something where the fragment writes depth.
         let module = self.module(proxy.early_depth && variant.depth_correction);
-        let constants = self.constants(proxy, general);
+        let constants = self.constants(proxy, needs);
         let instance_buffers = [self.instance_input.clone()];
         let (entry, buffers): (_, &[_]) = if from_instances {
             ("vs_frames", &instance_buffers)
@@ -152,7 +158,7 @@ impl StripRenderer {
         proxy: Proxy,
         chunk: &ChunkBuffers,
     ) {
-        pass.set_pipeline(&self.pipeline(variant, proxy, false, chunk.general));
+        pass.set_pipeline(&self.pipeline(variant, proxy, false, chunk.needs));
         pass.draw(0..proxy.vertices(), chunk.instances());
     }
 }

@@ -55,6 +55,13 @@ impl GlyphInstance {
         }
         self
     }
+
+    /// Whether its radii span more than [`THIN_RATIO`], as the shaders decide it (load_glyph).
+    pub fn is_thin(&self) -> bool {
+        let r = self.radii;
+        let (hi, lo) = (r[0].max(r[1]).max(r[2]), r[0].min(r[1]).min(r[2]));
+        hi > THIN_RATIO * lo
+    }
 }
 
 /// Bits of each of a stored quaternion's three smaller components.
@@ -122,6 +129,11 @@ pub fn unpack_rotation(w: [u32; 2]) -> [f32; 4] {
     }
     q
 }
+
+/// Radii spanning more than this make a glyph thin: its quaternion's fourth component and (in
+/// the shaders with it) its rays are formed in double-f32 (common.wgsl's THIN_RATIO,
+/// THIN_EXACT).
+pub const THIN_RATIO: f32 = 1000.0;
 
 /// A radius ≥ 0 as an unsigned 24-bit float (f32 without sign and the 7 lowest mantissa bits,
 /// rounded to nearest: relative error ≤ 2⁻¹⁷).

@@ -12,7 +12,7 @@ pub mod prepass;
 use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording, record_chunks};
 use crate::render::pipeline::{GlyphLayouts, Variant};
-use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
+use crate::render::scene_buffers::{ChunkBuffers, Needs, SceneBuffers};
 use crate::render::shaders::{MethodShader, ShaderSource};
 use crate::render::strip::StripRenderer;
 use crate::request::{FrameRequest, GlyphKind, Proxy};
@@ -66,13 +66,13 @@ impl GumholdRenderer {
     }
 
     /// The prepass pipelines when `req` asks for the prepass and this glyph has it, for a chunk
-    /// that may (`general`) hold superquadrics that are not convex.
-    fn prepass_pipelines(&self, req: &FrameRequest, general: bool) -> Option<PrepassPipelines> {
+    /// whose glyphs need `needs`.
+    fn prepass_pipelines(&self, req: &FrameRequest, needs: Needs) -> Option<PrepassPipelines> {
         if !req.uses_prepass() {
             return None;
         }
         let cache = self.prepass.as_ref()?;
-        Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy(), general))
+        Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy(), needs))
     }
 
     /// The scene's prepass buffers, made on the first frame drawn with the prepass; the key
@@ -145,7 +145,7 @@ impl Drawer for GumholdRenderer {
         for (k, slice) in prepass.slices.iter().enumerate() {
             let buffers = &frame.buffers.chunks[slice.chunk];
             let pipelines = self
-                .prepass_pipelines(req, buffers.general)
+                .prepass_pipelines(req, buffers.needs)
                 .expect("a glyph with prepass buffers has its pipelines");
             let chunk = frame.group(buffers);
             let compute_stamp =

@@ -24,6 +24,7 @@ use std::sync::Mutex;
 
 use crate::render::context::GpuContext;
 use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeline};
+use crate::render::scene_buffers::Needs;
 use crate::render::strip::StripRenderer;
 use crate::request::Proxy;
 
@@ -203,8 +204,8 @@ type ComputePipelines = (wgpu::ComputePipeline, Option<wgpu::ComputePipeline>);
 /// draw (per variant and `SQ_GENERAL`), built on first use from the glyph's Gumhold shader.
 pub struct PrepassCache {
     pub layouts: PrepassLayouts,
-    compute: Mutex<HashMap<(Proxy, bool), ComputePipelines>>,
-    resolves: Mutex<HashMap<(Variant, bool), wgpu::RenderPipeline>>,
+    compute: Mutex<HashMap<(Proxy, Needs), ComputePipelines>>,
+    resolves: Mutex<HashMap<(Variant, Needs), wgpu::RenderPipeline>>,
     /// Splats with 64-bit atomics (splat64.wgsl).
     int64_atomics: bool,
 }
@@ -219,17 +220,17 @@ impl PrepassCache {
         }
     }
 
-    /// The pipelines of a frame with `variant` and `proxy`, from `strips`' shader; `general`:
-    /// superquadrics that are not convex may come (`SQ_GENERAL`).
+    /// The pipelines of a frame with `variant` and `proxy`, from `strips`' shader, for a chunk
+    /// of glyphs that need `needs`.
     pub fn pipelines(
         &self,
         strips: &StripRenderer,
         variant: Variant,
         proxy: Proxy,
-        general: bool,
+        needs: Needs,
     ) -> PrepassPipelines {
         let layouts = &self.layouts;
-        let general = strips.general_key(general);
+        let needs = strips.needs_key(needs);
         // The frames do not depend on the fragment stage's early-depth declaration.
         let key = Proxy {
             early_depth: false,
@@ -237,9 +238,9 @@ impl PrepassCache {
         };
         let mut compute = self.compute.lock().unwrap_or_else(|e| e.into_inner());
         let (frames, splat_ids) = compute
-            .entry((key, general))
+            .entry((key, needs))
             .or_insert_with(|| {
-                let constants = strips.constants(key, general);
+                let constants = strips.constants(key, needs);
                 let make = |entry| {
                     strips.builder.compute(&wgpu::ComputePipelineDescriptor {
                         label: Some(entry),
@@ -263,10 +264,10 @@ impl PrepassCache {
             .resolves
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .get(&(variant, general))
+            .get(&(variant, needs))
             .cloned();
         let resolve = resolve.unwrap_or_else(|| {
-            let constants = strips.constants(key, general);
+            let constants = strips.constants(key, needs);
             let p = glyph_pipeline(
                 &strips.builder,
                 &layouts.resolve,
@@ -288,13 +289,13 @@ impl PrepassCache {
             self.resolves
                 .lock()
                 .unwrap_or_else(|e| e.into_inner())
-                .insert((variant, general), p.clone());
+                .insert((variant, needs), p.clone());
             p
         });
         PrepassPipelines {
             frames,
             splat_ids,
-            draw: strips.pipeline(variant, proxy, true, general),
+            draw: strips.pipeline(variant, proxy, true, needs),
             resolve,
         }
     }

@@ -8,6 +8,8 @@ pass through their neighbours.
   mixed.vtk    discs and needles, k drawn from 1e3, 1e4, 1e5, 1e6
   needle_field.vtk  1000 needles (10x10x10), k = 1e4: enough pixels at 1024x768 (200 to 1300)
                     for a normal p99 that is not one pixel's
+  needle_field_1e5.vtk, needle_field_1e6.vtk  the same at k = 1e5 and 1e6 (seeds 41, 42): each
+                    needle is thinner than a pixel (5 to 260 pixel centres meet them at 1024x768)
 
 Run: python3 make_extremes.py (standard library only).
 """
@@ -64,3 +66,5 @@ write("discs.vtk", lambda rng: (1.0, 1.0, 1e-5), 37)
 write("needles.vtk", lambda rng: (1.0, 1e-4, 1e-4), 38)
 write("mixed.vtk", mixed, 39)
 write("needle_field.vtk", lambda rng: (1.0, 1e-4, 1e-4), 40, n=10)
+write("needle_field_1e5.vtk", lambda rng: (1.0, 1e-5, 1e-5), 41, n=10)
+write("needle_field_1e6.vtk", lambda rng: (1.0, 1e-6, 1e-6), 42, n=10)
