@@ -15,6 +15,7 @@ mod brain_report;
 mod commands;
 mod container;
 mod report;
+mod report_odf;
 mod scaling;
 mod selection;
 mod stress_fields;
