@@ -1,22 +1,42 @@
-//! The BEP016 tensor maps of a BIDS derivatives folder, participant by participant, as a BIDS
-//! App finds its inputs (`bids_dir output_dir participant [--participant-label L …]`).
+//! The BEP016 tensor and ODF maps of a BIDS derivatives folder, participant by participant, as a
+//! BIDS App finds its inputs (`bids_dir output_dir participant [--participant-label L …]`).
 //!
-//! A participant is a `sub-<label>` folder; its maps are the files of `dwi/` (and of each
-//! `ses-<label>/dwi/`) named `…_model-DTI[_param-tensor]_dwimap.nii[.gz]`, or `…_param-tensor_…`
-//! of any model ([`crate::field::bep016`] reads them). Nothing is read but folder listings;
-//! the order is the labels' (sorted), so that a run is the same on every machine.
+//! A participant is a `sub-<label>` folder; its maps are files of `dwi/` (and of each
+//! `ses-<label>/dwi/`):
+//! - **tensor maps**, named `…_model-DTI[_param-tensor]_dwimap.nii[.gz]`, or `…_param-tensor_…`
+//!   of any model ([`crate::field::bep016`] reads them);
+//! - **ODF maps** (SH coefficients: a CSD fit's fibre ODFs), any name with the entity
+//!   `param-fod` or `param-sh` (of any model) that ends `_dwimap.nii[.gz]` or is an MRtrix
+//!   image (`.mif[.gz]`), e.g. `sub-01_model-CSD_param-fod_dwimap.nii.gz`,
+//!   `sub-01_model-CSD_param-fod.mif`. Both spellings are taken
+//!   because pipelines differ in which they write. The name only proposes: the report confirms
+//!   each by its header ([`crate::field::holds_sh`]) and fails on one that holds no SH series,
+//!   naming it, rather than passing it over in silence.
+//!
+//! No file is both (an ODF name has a `param-` that is not `tensor`). Nothing is read but folder
+//! listings; the order is the labels' (sorted), then per folder its tensor maps and then its ODF
+//! maps, each by name, so that a run is the same on every machine.
 
 use std::path::{Path, PathBuf};
 
 use crate::error::escape_path;
 use crate::field::bep016::is_bep016_name;
 
-/// One tensor map found.
+/// What a map holds, as its name says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapKind {
+    Tensor,
+    /// SH coefficients (fibre ODFs).
+    Odf,
+}
+
+/// One map found.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Map {
     /// The session label (without `ses-`), if the map is in a session folder.
     pub session: Option<String>,
     pub path: PathBuf,
+    pub kind: MapKind,
 }
 
 /// A participant and its maps (none: the participant is there but has nothing to report on).
@@ -109,22 +129,43 @@ fn is_tensor_map(name: &str) -> bool {
     }
 }
 
-/// The tensor maps in the folder `dwi` (none if it is not there), sorted by name.
+/// Whether a name is an ODF map's ([module doc](self)).
+pub fn is_odf_map(name: &str) -> bool {
+    let base = [".nii.gz", ".nii"]
+        .iter()
+        .find_map(|e| name.strip_suffix(e)?.strip_suffix("_dwimap"))
+        .or_else(|| {
+            [".mif.gz", ".mif"]
+                .iter()
+                .find_map(|e| name.strip_suffix(e))
+        });
+    base.is_some_and(|b| b.split('_').any(|e| e == "param-fod" || e == "param-sh"))
+}
+
+/// The maps in the folder `dwi` (none if it is not there): its tensor maps, then its ODF maps,
+/// each sorted by name.
 fn maps_in(dwi: &Path, session: Option<String>) -> Result<Vec<Map>, FindError> {
     if !dwi.is_dir() {
         return Ok(Vec::new());
     }
-    let mut names: Vec<String> = entries(dwi)?
+    let mut names: Vec<(bool, String)> = entries(dwi)?
         .into_iter()
-        .filter(|(n, dir)| !dir && is_bep016_name(Path::new(n)) && is_tensor_map(n))
-        .map(|(n, _)| n)
+        .filter(|(_, dir)| !dir)
+        .filter_map(|(n, _)| {
+            if is_bep016_name(Path::new(&n)) && is_tensor_map(&n) {
+                Some((false, n))
+            } else {
+                is_odf_map(&n).then_some((true, n))
+            }
+        })
         .collect();
     names.sort();
     Ok(names
         .into_iter()
-        .map(|n| Map {
+        .map(|(odf, n)| Map {
             session: session.clone(),
             path: dwi.join(n),
+            kind: if odf { MapKind::Odf } else { MapKind::Tensor },
         })
         .collect())
 }
@@ -219,5 +260,41 @@ mod tests {
         );
         let e = participants(&dwi, &[]).unwrap_err().to_string();
         assert!(e.ends_with("no participant (no sub-<label> folder)"), "{e}");
+    }
+
+    #[test]
+    fn odf_maps_by_name_after_the_tensor_maps() {
+        let dir = tempfile::tempdir().unwrap();
+        let dwi = dir.path().join("sub-a").join("dwi");
+        std::fs::create_dir_all(&dwi).unwrap();
+        for n in [
+            "sub-a_model-CSD_param-fod_dwimap.nii.gz",
+            "sub-a_model-DTI_param-tensor_dwimap.nii.gz",
+            "sub-a_model-msmt_param-sh_dwimap.nii",
+            "sub-a_model-CSD_param-fod.mif",
+            "sub-a_model-CSD_param-fod.mif.gz",
+            // Not ODF maps: no SH parameter, no map suffix, a sidecar.
+            "sub-a_model-CSD_param-peaks_dwimap.nii.gz",
+            "sub-a_model-CSD_param-fod_dwi.nii.gz",
+            "sub-a_model-CSD_param-fod_dwimap.json",
+            "sub-a_model-CSD_dwimap.mif",
+            "sub-a_model-CSD_param-fodx_dwimap.nii.gz",
+        ] {
+            std::fs::write(dwi.join(n), b"").unwrap();
+        }
+        let p = participants(dir.path(), &[]).unwrap();
+        assert_eq!(
+            names(&p[0]),
+            [
+                "sub-a_model-DTI_param-tensor_dwimap.nii.gz",
+                "sub-a_model-CSD_param-fod.mif",
+                "sub-a_model-CSD_param-fod.mif.gz",
+                "sub-a_model-CSD_param-fod_dwimap.nii.gz",
+                "sub-a_model-msmt_param-sh_dwimap.nii",
+            ]
+        );
+        let kinds: Vec<MapKind> = p[0].maps.iter().map(|m| m.kind).collect();
+        assert_eq!(kinds[0], MapKind::Tensor);
+        assert!(kinds[1..].iter().all(|k| *k == MapKind::Odf));
     }
 }

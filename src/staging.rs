@@ -626,16 +626,7 @@ pub fn build_sh(
         }));
     }
     let face = match opts.planes.as_deref() {
-        Some([plane]) => field.frame.voxel_to_world.and_then(|m| {
-            let steps = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
-            let toward = underlay::face_on_steps(steps, *plane)?;
-            Some(FaceOn {
-                toward,
-                centre: scene.centre,
-                radius: scene.radius,
-                half: scene.half,
-            })
-        }),
+        Some([plane]) => sh_face_on(field, *plane, &scene),
         _ => None,
     };
     Ok(Built {
@@ -648,6 +639,21 @@ pub fn build_sh(
         frame_half: scene.half,
         style: recipe.style.resolve(&GlyphSet::default(), 1.0),
         scene,
+    })
+}
+
+/// How to see lattice plane `plane` of an SH field face-on, framing `scene` (its ODF glyphs);
+/// `None` without an affine or for a degenerate one. `render` and `report` frame ODF slices
+/// with it alike.
+pub fn sh_face_on(field: &crate::field::ShField, plane: Plane, scene: &Scene) -> Option<FaceOn> {
+    let m = field.frame.voxel_to_world?;
+    let steps = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
+    let toward = underlay::face_on_steps(steps, plane)?;
+    Some(FaceOn {
+        toward,
+        centre: scene.centre,
+        radius: scene.radius,
+        half: scene.half,
     })
 }
 

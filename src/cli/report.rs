@@ -1,9 +1,9 @@
 //! `tensorglyph report`: the arguments of the two forms and the output lines; the reports are
 //! [`crate::report`]'s.
 //!
-//! - `report FILE... -o OUT_DIR`: one report per tensor file.
+//! - `report FILE... -o OUT_DIR`: one report per file (of tensors, or of SH series: ODFs).
 //! - `report BIDS_DIR OUT_DIR participant [--participant-label L …]`: one per participant of a
-//!   BIDS derivatives folder of BEP016 tensor maps, as a BIDS App is called.
+//!   BIDS derivatives folder of BEP016 tensor maps and ODF maps, as a BIDS App is called.
 
 use std::path::PathBuf;
 
@@ -17,9 +17,10 @@ use crate::request::Method;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
-    /// Tensor files (with -o), or BIDS_DIR OUT_DIR participant: a BIDS derivatives folder
-    /// holding BEP016 tensor maps (sub-LABEL/[ses-LABEL/]dwi/), where the reports go, and the
-    /// analysis level (participant: one page per participant).
+    /// Tensor files or files of SH series (with -o), or BIDS_DIR OUT_DIR participant: a BIDS
+    /// derivatives folder holding BEP016 tensor maps and ODF maps (_param-fod_, _param-sh_) in
+    /// sub-LABEL/[ses-LABEL/]dwi/, where the reports go, and the analysis level (participant:
+    /// one page per participant).
     #[arg(required = true, value_name = "FILE... | BIDS_DIR OUT_DIR participant")]
     pub paths: Vec<PathBuf>,
     /// Where the reports of the files named go: NAME.html and NAME/figures/ per file.

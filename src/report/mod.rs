@@ -1,7 +1,8 @@
 //! Glyph reports for pipelines: per participant of a BIDS derivatives folder (its BEP016 tensor
-//! maps), or per tensor file, PNG mosaics (axial, coronal and sagittal rows of slices, each
-//! with a zoomed inset where the glyphs' shapes can be read: [`inset`]) and one self-contained
-//! HTML page stating what was read, assumed and measured.
+//! maps and its ODF maps: [`crate::bids`]), or per file (of tensors or of SH series), PNG
+//! mosaics (axial, coronal and sagittal rows of slices; a tensor map's each with a zoomed inset
+//! where the glyphs' shapes can be read: [`inset`]; an ODF map's rows of ODF glyphs: [`odf`])
+//! and one self-contained HTML page stating what was read, assumed and measured.
 //!
 //! Each map is read and decomposed once, and every figure drawn from that with the caller's one
 //! back end. A report is made in memory and then written file by file (each to a temporary
@@ -10,6 +11,7 @@
 
 pub mod inset;
 pub mod mosaic;
+pub mod odf;
 pub mod page;
 pub mod stats;
 
@@ -19,9 +21,9 @@ use serde::Serialize;
 use web_time::Instant;
 
 use crate::backend::Backend;
-use crate::bids::{self, FindError};
+use crate::bids::{self, FindError, MapKind};
 use crate::error::{LoadError, escape_path};
-use crate::field::{Inputs, ReadOptions};
+use crate::field::{Inputs, ReadOptions, ShField};
 use crate::image_out::{encode_png, write_atomic};
 use crate::info::{Skipped, info_report, why_text};
 use crate::progress::Progress;
@@ -33,7 +35,8 @@ use stats::Summary;
 /// What to report on.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Job {
-    /// One report per file (any tensor file a reader reads), named after it.
+    /// One report per file (any tensor file a reader reads, or a file of SH series), named
+    /// after it.
     Files(Vec<PathBuf>),
     /// One report per participant of a BIDS derivatives folder (those of `labels` when it
     /// names some, with or without `sub-`), as a BIDS App's `participant` level.
@@ -84,9 +87,18 @@ pub enum ReportError {
 #[derive(Debug, thiserror::Error)]
 pub enum UnitError {
     #[error(
-        "no BEP016 tensor map (sub-{0}/[ses-*/]dwi/*_model-DTI[_param-tensor]_dwimap.nii[.gz])"
+        "no BEP016 tensor map (sub-{0}/[ses-*/]dwi/*_model-DTI[_param-tensor]_dwimap.nii[.gz]) \
+         and no ODF map (*_param-fod_dwimap.nii[.gz], *_param-sh_*, *_param-fod*.mif[.gz] …)"
     )]
     NoMap(String),
+    #[error(
+        "{}: named as an ODF map but holds no SH series ({count} values per voxel; SH series \
+         have 15, 28, 45, 66, 91 … for lmax 4, 6, 8, 10, 12 …, and 6 are a tensor's)",
+        escape_path(.path)
+    )]
+    NotSh { path: PathBuf, count: usize },
+    #[error("{}: no ODF to draw: every voxel's SH series is all zero", escape_path(.0))]
+    NoOdf(PathBuf),
     #[error(transparent)]
     Load(#[from] LoadError),
     #[error(transparent)]
@@ -150,7 +162,46 @@ pub struct FigureReport {
     pub underlay_missing: Option<String>,
 }
 
-/// One map's part of a report.
+/// One map's part of a report: a tensor map's or an ODF map's.
+pub enum Section {
+    Tensor(MapReport),
+    Odf(OdfReport),
+}
+
+impl Section {
+    pub fn figures(&self) -> &[FigureReport] {
+        match self {
+            Section::Tensor(m) => &m.figures,
+            Section::Odf(m) => &m.figures,
+        }
+    }
+}
+
+/// An ODF map's part of a report.
+pub struct OdfReport {
+    pub name: String,
+    pub path: String,
+    pub session: Option<String>,
+    pub format: String,
+    pub lmax: u32,
+    /// Coefficients per voxel.
+    pub count: usize,
+    pub basis: String,
+    /// Why that basis (`field.layout.reason`), and why the file was read as SH.
+    pub basis_reason: String,
+    pub recognised: String,
+    /// The axes the series' directions are in, and the world and its source.
+    pub frame: String,
+    pub anatomical: bool,
+    pub dims: [usize; 3],
+    /// Voxels whose series is not all zero (those drawn).
+    pub held: usize,
+    pub normalize: crate::scene::odf::OdfNormalize,
+    pub read_ms: f64,
+    pub figures: Vec<FigureReport>,
+}
+
+/// One tensor map's part of a report.
 pub struct MapReport {
     pub name: String,
     pub path: String,
@@ -180,7 +231,7 @@ pub struct MapReport {
 /// output folder) and its maps (with their sessions).
 struct Unit {
     name: String,
-    maps: Vec<(PathBuf, Option<String>)>,
+    maps: Vec<(PathBuf, Option<String>, MapKind)>,
     /// A participant with no map: its label (the report fails, naming it).
     missing: Option<String>,
 }
@@ -228,7 +279,16 @@ fn units(job: &Job) -> Result<Vec<Unit>, ReportError> {
             .iter()
             .map(|f| Unit {
                 name: file_stem(f),
-                maps: vec![(f.clone(), None)],
+                // A header probe: a file of SH series is drawn as ODFs, as `render` draws it.
+                maps: vec![(
+                    f.clone(),
+                    None,
+                    if crate::field::holds_sh(f, &ReadOptions::default()) {
+                        MapKind::Odf
+                    } else {
+                        MapKind::Tensor
+                    },
+                )],
                 missing: None,
             })
             .collect(),
@@ -237,7 +297,11 @@ fn units(job: &Job) -> Result<Vec<Unit>, ReportError> {
             .map(|p| Unit {
                 name: format!("sub-{}", p.label),
                 missing: p.maps.is_empty().then(|| p.label.clone()),
-                maps: p.maps.into_iter().map(|m| (m.path, m.session)).collect(),
+                maps: p
+                    .maps
+                    .into_iter()
+                    .map(|m| (m.path, m.session, m.kind))
+                    .collect(),
             })
             .collect(),
     };
@@ -363,15 +427,16 @@ fn report(
     }
     let mut maps = Vec::new();
     let mut read = Vec::new();
-    for (path, session) in &unit.maps {
-        maps.push(map(
-            path,
-            session.clone(),
-            options,
-            backend,
-            progress,
-            &mut read,
-        )?);
+    for (path, session, kind) in &unit.maps {
+        let session = session.clone();
+        maps.push(match kind {
+            MapKind::Tensor => {
+                Section::Tensor(map(path, session, options, backend, progress, &mut read)?)
+            }
+            MapKind::Odf => Section::Odf(odf_map(
+                path, session, options, backend, progress, &mut read,
+            )?),
+        });
     }
     let run = RunInfo {
         backend: backend_name(backend),
@@ -388,7 +453,7 @@ fn report(
             path: folder.clone(),
             source,
         })?;
-        for f in maps.iter().flat_map(|m| &m.figures) {
+        for f in maps.iter().flat_map(Section::figures) {
             let path = folder.join(&f.file);
             write_bytes(&path, &inputs, &f.png)?;
             written.push(path);
@@ -459,27 +524,7 @@ fn map(
         let m = mosaic::render(
             &field, &set, dims, o, anatomical, options, backend, progress,
         )?;
-        let mut png = Vec::new();
-        encode_png(&mut png, m.width, m.height, &m.rgba, None).map_err(|source| {
-            UnitError::Write {
-                path: path.to_path_buf(),
-                source,
-            }
-        })?;
-        figures.push(FigureReport {
-            orientation: o.name,
-            file: format!("{stem}_{}.png", o.name),
-            width: m.width,
-            height: m.height,
-            png,
-            lattice_axis: m.lattice_axis,
-            slices: m.slices,
-            glyphs_drawn: m.glyphs_drawn,
-            overview_px_per_voxel: m.overview_px_per_voxel,
-            inset: m.inset,
-            ms: m.ms,
-            underlay_missing: m.underlay_missing.map(|e| e.to_string()),
-        });
+        figures.push(figure(path, &stem, o.name, m)?);
     }
     let sidecar_axes = info
         .bep016_sidecar
@@ -526,6 +571,109 @@ fn map(
         md,
         read_ms,
         decompose_ms,
+        figures,
+    })
+}
+
+/// The figure `m` of the map at `path` (`stem`, its name without extensions), encoded.
+fn figure(
+    path: &Path,
+    stem: &str,
+    orientation: &'static str,
+    m: mosaic::Mosaic,
+) -> Result<FigureReport, UnitError> {
+    let mut png = Vec::new();
+    encode_png(&mut png, m.width, m.height, &m.rgba, None).map_err(|source| UnitError::Write {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    Ok(FigureReport {
+        orientation,
+        file: format!("{stem}_{orientation}.png"),
+        width: m.width,
+        height: m.height,
+        png,
+        lattice_axis: m.lattice_axis,
+        slices: m.slices,
+        glyphs_drawn: m.glyphs_drawn,
+        overview_px_per_voxel: m.overview_px_per_voxel,
+        inset: m.inset,
+        ms: m.ms,
+        underlay_missing: m.underlay_missing.map(|e| e.to_string()),
+    })
+}
+
+/// Read the ODF map at `path` once (confirmed by its header to hold SH series: a name proposes
+/// only) and draw its figures.
+fn odf_map(
+    path: &Path,
+    session: Option<String>,
+    options: &Options,
+    backend: &Backend,
+    progress: &dyn Progress,
+    read: &mut Vec<PathBuf>,
+) -> Result<OdfReport, UnitError> {
+    let inputs = Inputs::file_system();
+    let opts = ReadOptions::default();
+    let t = Instant::now();
+    let sh = crate::field::holds_sh_from(&inputs, path, &opts);
+    let field: ShField = crate::field::read_sh_field_from(&inputs, path, &opts)?;
+    // The reader takes any SH count (6 is lmax 2); the probe, as `render`, reads 6 as tensors.
+    if !sh {
+        return Err(UnitError::NotSh {
+            path: path.to_path_buf(),
+            count: field.layout.count,
+        });
+    }
+    let read_ms = staging::ms(t);
+    read.extend(inputs.paths_read());
+    let held_voxels = odf::held(&field);
+    let held = held_voxels.iter().filter(|h| **h).count();
+    if held == 0 {
+        return Err(UnitError::NoOdf(path.to_path_buf()));
+    }
+    let anatomical = field.frame.world == "RAS";
+    let normalize = crate::scene::odf::OdfNormalize::default();
+    let stem = file_stem(path);
+    let mut figures = Vec::new();
+    for o in ORIENTATIONS {
+        let m = odf::render(
+            &field,
+            &held_voxels,
+            o,
+            anatomical,
+            normalize,
+            options.tile,
+            backend,
+            progress,
+        )?;
+        figures.push(figure(path, &stem, o.name, m)?);
+    }
+    let f = &field.frame;
+    Ok(OdfReport {
+        name: path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        path: path.display().to_string(),
+        session,
+        format: field.format.clone(),
+        lmax: field.layout.lmax,
+        count: field.layout.count,
+        basis: field.layout.basis.name().to_string(),
+        basis_reason: field.layout.reason.clone(),
+        recognised: field.layout.recognised.clone(),
+        frame: format!(
+            "directions in {} axes; world {} from {}",
+            f.tensor_frame.name(),
+            f.world,
+            f.source
+        ),
+        anatomical,
+        dims: field.dims,
+        held,
+        normalize,
+        read_ms,
         figures,
     })
 }

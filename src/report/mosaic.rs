@@ -31,15 +31,15 @@ use crate::staging::{self, FaceOn, Recipe, StageError, Timings, field_spacing};
 use crate::tensor::measure::Measure;
 
 /// The labels' text height, in pixels, whatever the tiles' size.
-const LABEL_PX: f32 = 16.0;
+pub(super) const LABEL_PX: f32 = 16.0;
 /// The inset's outline on the overview and around the inset: a colour the DEC glyphs (scaled
 /// by FA, shaded) and the grey underlay do not reach.
 pub const OUTLINE: [f64; 3] = [0.0, 1.0, 1.0];
 /// Slices per row.
 pub const SLICES: usize = 5;
 /// The legend panel's width, in pixels.
-const LEGEND_WIDTH: u32 = 200;
-const BLACK: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
+pub(super) const LEGEND_WIDTH: u32 = 200;
+pub(super) const BLACK: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
 
 /// A row's orientation: its name and the world axis (x, y, z) its slices are normal to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -110,7 +110,21 @@ pub(crate) fn style() -> GlyphStyle {
 /// The lattice axis whose steps run most nearly along world axis `world`: the axis whose
 /// slices are this orientation's, whatever order the voxels are stored in.
 pub fn lattice_axis(field: &TensorField, dims: [usize; 3], world: usize) -> usize {
-    let at = |c: [usize; 3]| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])]);
+    lattice_axis_of(position_in(field, dims), dims, world)
+}
+
+/// The world position of lattice voxel (i, j, k) of `field`.
+fn position_in(field: &TensorField, dims: [usize; 3]) -> impl Fn([usize; 3]) -> DVec3 + '_ {
+    move |c| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])])
+}
+
+/// [`lattice_axis`] of any lattice, its voxels' world positions given by `at` (an SH field
+/// has an affine, not a list of positions).
+pub(super) fn lattice_axis_of(
+    at: impl Fn([usize; 3]) -> DVec3,
+    dims: [usize; 3],
+    world: usize,
+) -> usize {
     let origin = at([0, 0, 0]);
     (0..3)
         .max_by(|&a, &b| {
@@ -130,7 +144,11 @@ pub fn lattice_axis(field: &TensorField, dims: [usize; 3], world: usize) -> usiz
 
 /// The box (centre, half extents) of the lattice's voxels, corners to corners.
 fn lattice_box(field: &TensorField, dims: [usize; 3]) -> (DVec3, DVec3) {
-    let at = |c: [usize; 3]| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])]);
+    lattice_box_of(position_in(field, dims), dims)
+}
+
+/// [`lattice_box`] of a lattice whose voxels' world positions `at` gives.
+pub(super) fn lattice_box_of(at: impl Fn([usize; 3]) -> DVec3, dims: [usize; 3]) -> (DVec3, DVec3) {
     let corners: Vec<DVec3> = (0..8)
         .map(|k| at([0, 1, 2].map(|a| if k >> a & 1 == 1 { dims[a] - 1 } else { 0 })))
         .collect();
@@ -156,6 +174,11 @@ pub fn slices(set: &GlyphSet, dims: [usize; 3], axis: usize, n: usize) -> Vec<us
     for g in &set.glyphs {
         count[lattice_coords(g.index as usize, dims)[axis]] += 1;
     }
+    slices_of(&count, n)
+}
+
+/// [`slices`] of the slices whose glyph counts are `count`, one per slice.
+pub(super) fn slices_of(count: &[usize], n: usize) -> Vec<usize> {
     let held: Vec<usize> = (0..count.len()).filter(|&i| count[i] > 0).collect();
     let (Some(&lo), Some(&hi)) = (held.first(), held.last()) else {
         return Vec::new();
@@ -263,8 +286,27 @@ fn draw_slice(
     };
     let camera = frame_it(face.toward, &face);
     let mut scene = built.scene;
-    scene.sort_front_to_back(&camera);
     let window = window.or(scene.underlay.as_ref().map(|u| u.window));
+    let (frame, glyphs_drawn) = draw_scene(&mut scene, &camera, window, backend, progress)?;
+    Ok(Some(Drawn {
+        frame,
+        camera,
+        window: scene.underlay.as_ref().and(window),
+        glyphs_drawn,
+    }))
+}
+
+/// Draw `scene` (sorted front to back for the splats) as every report tile is drawn: on black,
+/// one frame, its underlay (if any) in `window`; the frame and the glyphs drawn (those in view,
+/// not culled).
+pub(super) fn draw_scene(
+    scene: &mut crate::scene::Scene,
+    camera: &Camera,
+    window: Option<[f32; 2]>,
+    backend: &Backend,
+    progress: &dyn Progress,
+) -> Result<(Frame, usize), FigureError> {
+    scene.sort_front_to_back(camera);
     let req = backend.adapt(
         FrameRequest {
             background: BLACK,
@@ -276,19 +318,14 @@ fn draw_slice(
             effects: Effects::default().resolved(),
             ..FrameRequest::preset(Method::Gumhold, true, Preset::Splat)
         },
-        &scene,
-        &camera,
+        scene,
+        camera,
     );
-    let frame = backend.render(&scene, &camera, &req, &mut Timings::default(), progress)?;
-    let v = scene.visibility(&camera, req.cull, req.min_pixel_radius);
+    let frame = backend.render(scene, camera, &req, &mut Timings::default(), progress)?;
+    let v = scene.visibility(camera, req.cull, req.min_pixel_radius);
     let glyphs_drawn =
         scene.instances.len() - v.eye_inside - v.behind_camera - v.degenerate - v.culled;
-    Ok(Some(Drawn {
-        frame,
-        camera,
-        window: scene.underlay.as_ref().and(window),
-        glyphs_drawn,
-    }))
+    Ok((frame, glyphs_drawn))
 }
 
 /// Draw `region`'s glyphs (and nothing else of the slice) face-on in the inset's square, under
@@ -337,7 +374,7 @@ pub fn inset_region(
 }
 
 /// Copy `frame` into the figure at (`x0`, 0).
-fn blit(rgba: &mut [u8], width: u32, frame: &Frame, x0: u32) {
+pub(super) fn blit(rgba: &mut [u8], width: u32, frame: &Frame, x0: u32) {
     let row_bytes = (frame.width * 4) as usize;
     for row in 0..frame.height {
         let src = &frame.color[row as usize * row_bytes..][..row_bytes];
@@ -400,20 +437,7 @@ pub fn render(
             &mut underlay_missing,
             backend,
             progress,
-            |toward, face| {
-                // The lattice's box moved onto this slice, seen without perspective: every
-                // tile of the row at one scale.
-                let normal = toward.0;
-                let centre = lattice.0 + normal * normal.dot(face.centre - lattice.0);
-                let framing = Framing {
-                    toward: Some(toward),
-                    ortho: true,
-                    // Room at the edges for the labels.
-                    zoom: 0.8,
-                    ..Framing::default()
-                };
-                Camera::frame_box(&framing, centre, lattice.1, tile, tile)
-            },
+            |toward, face| tile_camera(lattice, toward, face.centre, tile),
         )?
         else {
             continue;
@@ -532,6 +556,27 @@ pub fn render(
     })
 }
 
+/// The camera of an overview tile of `tile` pixels showing the slice seen along `toward` whose
+/// glyphs are centred at `centre`: the lattice's box moved onto this slice, seen without
+/// perspective, so that every tile of a row is at one scale.
+pub(super) fn tile_camera(
+    lattice: (DVec3, DVec3),
+    toward: (DVec3, DVec3),
+    centre: DVec3,
+    tile: u32,
+) -> Camera {
+    let normal = toward.0;
+    let centre = lattice.0 + normal * normal.dot(centre - lattice.0);
+    let framing = Framing {
+        toward: Some(toward),
+        ortho: true,
+        // Room at the edges for the labels.
+        zoom: 0.8,
+        ..Framing::default()
+    };
+    Camera::frame_box(&framing, centre, lattice.1, tile, tile)
+}
+
 /// A slice's name: its lattice index, and where it is in the world along the row's axis.
 fn slice_place(
     field: &TensorField,
@@ -541,9 +586,26 @@ fn slice_place(
     orientation: Orientation,
     anatomical: bool,
 ) -> [String; 2] {
+    slice_place_of(
+        position_in(field, dims),
+        axis,
+        index,
+        orientation,
+        anatomical,
+    )
+}
+
+/// [`slice_place`] of a lattice whose voxels' world positions `at` gives.
+pub(super) fn slice_place_of(
+    at: impl Fn([usize; 3]) -> DVec3,
+    axis: usize,
+    index: usize,
+    orientation: Orientation,
+    anatomical: bool,
+) -> [String; 2] {
     let mut c = [0; 3];
     c[axis] = index;
-    let p = field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])];
+    let p = at(c);
     let w = orientation.world_axis;
     let unit = if anatomical { " mm" } else { "" };
     [
@@ -553,7 +615,7 @@ fn slice_place(
 }
 
 /// White text with a black rim, readable on glyphs and on the underlay.
-fn text(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, s: &str, c: [f64; 3]) {
+pub(super) fn text(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, s: &str, c: [f64; 3]) {
     for (dx, dy) in [(-1.0, 0.0), (1.0, 0.0), (0.0, -1.0), (0.0, 1.0)] {
         pen.draw(canvas, x + dx, y + dy, s, [0.0; 3]);
     }
@@ -563,7 +625,7 @@ fn text(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, s: &str, c: [f64
 /// The labels of the square tile at `x0` of side `side`: the world directions at its edges
 /// (for a camera looking along `forward` with `up`) and `place`'s two lines at its top and
 /// bottom left.
-fn label_tile(
+pub(super) fn label_tile(
     canvas: &mut Canvas<'_>,
     pen: &Pen<'_>,
     (x0, side): (u32, u32),

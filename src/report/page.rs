@@ -7,7 +7,7 @@ use base64::Engine as _;
 
 use super::mosaic::InsetInfo;
 use super::stats::Summary;
-use super::{MapReport, RunInfo};
+use super::{FigureReport, MapReport, OdfReport, RunInfo, Section};
 
 /// `s` as HTML text.
 pub fn esc(s: &str) -> String {
@@ -142,15 +142,8 @@ fn section(page: &mut String, map: &MapReport) {
                 esc(why.trim_start_matches("--underlay "))
             )
         });
-        let _ = writeln!(
-            page,
-            "<figure><img alt=\"{o}\" width=\"{w}\" height=\"{h}\" \
-             src=\"data:image/png;base64,{b64}\"><figcaption>{o}: slices {axis} = {s}; {n} \
-             glyphs drawn{underlay}; {scale}{inset}</figcaption></figure>",
-            o = f.orientation,
-            w = f.width,
-            h = f.height,
-            b64 = base64::engine::general_purpose::STANDARD.encode(&f.png),
+        let caption = format!(
+            "slices {axis} = {s}; {n} glyphs drawn{underlay}; {scale}{inset}",
             s = slices.join(", "),
             n = f.glyphs_drawn,
             scale = overview_scale(f.overview_px_per_voxel),
@@ -159,14 +152,125 @@ fn section(page: &mut String, map: &MapReport) {
                 .as_ref()
                 .map_or(String::new(), |i| inset(i, map.anatomical)),
         );
+        embed(page, f, &caption);
+    }
+}
+
+/// A figure, embedded, with its caption.
+fn embed(page: &mut String, f: &FigureReport, caption: &str) {
+    let _ = writeln!(
+        page,
+        "<figure><img alt=\"{o}\" width=\"{w}\" height=\"{h}\" \
+         src=\"data:image/png;base64,{b64}\"><figcaption>{o}: {caption}</figcaption></figure>",
+        o = f.orientation,
+        w = f.width,
+        h = f.height,
+        b64 = base64::engine::general_purpose::STANDARD.encode(&f.png),
+    );
+}
+
+fn odf_section(page: &mut String, map: &OdfReport) {
+    let _ = writeln!(page, "<h2>{}</h2>\n<table>", esc(&map.name));
+    let mut row = |k: &str, v: String| {
+        let _ = writeln!(page, "<tr><th>{k}</th><td>{v}</td></tr>");
+    };
+    row("input", esc(&map.path));
+    if let Some(s) = &map.session {
+        row("session", esc(s));
+    }
+    row("format", esc(&map.format));
+    row("content", "ODF map: SH coefficients (fibre ODFs)".into());
+    row(
+        "series",
+        format!(
+            "lmax {}, {} coefficients per voxel; {}",
+            map.lmax,
+            map.count,
+            esc(&map.recognised)
+        ),
+    );
+    row(
+        "basis",
+        format!("{} ({})", esc(&map.basis), esc(&map.basis_reason)),
+    );
+    row("frame", esc(&map.frame));
+    let [nx, ny, nz] = map.dims;
+    row(
+        "voxels",
+        format!(
+            "{} ({nx}×{ny}×{nz}): {} with an ODF (a series not all zero), drawn",
+            nx * ny * nz,
+            map.held
+        ),
+    );
+    row(
+        "normalisation",
+        format!(
+            "{}: {}",
+            map.normalize.name(),
+            match map.normalize {
+                crate::scene::odf::OdfNormalize::Max =>
+                    "each voxel's ODF scaled to its own largest value (DIPY's odf_slicer norm)",
+                crate::scene::odf::OdfNormalize::MinMax =>
+                    "each voxel's [min, max] mapped to [0, 1]",
+                crate::scene::odf::OdfNormalize::None => "one scale for every voxel",
+            }
+        ),
+    );
+    let figures: Vec<String> = map
+        .figures
+        .iter()
+        .map(|f| format!("{} {:.0} ms", f.orientation, f.ms))
+        .collect();
+    row(
+        "timings",
+        format!(
+            "read {:.0} ms; figures: {}",
+            map.read_ms,
+            figures.join(", ")
+        ),
+    );
+    let _ = writeln!(page, "</table>");
+    for f in &map.figures {
+        let axis = ["i", "j", "k"][f.lattice_axis];
+        let slices: Vec<String> = f.slices.iter().map(|s| s.to_string()).collect();
+        let caption = format!(
+            "ODF glyphs (lmax {}, {}, normalised {}), slices {axis} = {}; {} glyphs drawn; \
+             no underlay, no inset; {}",
+            map.lmax,
+            esc(&map.basis),
+            map.normalize.name(),
+            slices.join(", "),
+            f.glyphs_drawn,
+            overview_scale(f.overview_px_per_voxel)
+        );
+        embed(page, f, &caption);
     }
 }
 
 /// The page of `label` (a participant's `sub-<label>`, or a file's name) and its maps.
-pub fn html(title: &str, maps: &[MapReport], run: &RunInfo) -> String {
+pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
     let mut body = String::new();
     for m in maps {
-        section(&mut body, m);
+        match m {
+            Section::Tensor(m) => section(&mut body, m),
+            Section::Odf(m) => odf_section(&mut body, m),
+        }
+    }
+    let mut glyphs = String::new();
+    if maps.iter().any(|m| matches!(m, Section::Tensor(_))) {
+        glyphs.push_str(
+            "A tensor map's glyphs are ellipsoids of the same size, coloured by the direction \
+             of the largest eigenvector (DEC: red R–L, green A–P, blue S–I, scaled by FA), over \
+             the FA of each slice. ",
+        );
+    }
+    if maps.iter().any(|m| matches!(m, Section::Odf(_))) {
+        glyphs.push_str(
+            "An ODF map's glyphs are each voxel's fibre ODF (its SH series' radius in every \
+             direction, negative values not drawn), sized to the voxel and coloured by \
+             direction (red R–L, green A–P, blue S–I), on black. ",
+        );
     }
     let peak = run
         .peak_rss_bytes
@@ -179,9 +283,7 @@ pub fn html(title: &str, maps: &[MapReport], run: &RunInfo) -> String {
          margin:2em;max-width:1600px}}th{{text-align:left;padding-right:1em;\
          vertical-align:top}}figure{{margin:1em 0}}img{{background:#000;max-width:100%;\
          height:auto}}</style></head><body>\n<h1>{title}</h1>\n\
-         <p>tensorglyph {version}; rendered with {backend}. Glyphs are ellipsoids of the \
-         same size, coloured by the direction of the largest eigenvector (DEC: red R–L, green \
-         A–P, blue S–I, scaled by FA), over the FA of each slice. Views follow the \
+         <p>tensorglyph {version}; rendered with {backend}. {glyphs}Views follow the \
          neurological convention: the subject's right on the image's right in axial and \
          coronal slices, anterior on the left in sagittal ones; the letters at each tile's \
          edges name the world directions (RAS, from the file's affine) that lie there.</p>\n\

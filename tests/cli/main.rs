@@ -1,5 +1,5 @@
 //! The `tensorglyph` binary as a user runs it: outputs, JSON reports, exit status and one-line
-//! errors, the selection flags, scaling on real fields, stress fields against VTK's yield criteria, `bench --large`, the viewer under Xvfb,
+//! errors, `report` on tensor and ODF maps, the selection flags, scaling on real fields, stress fields against VTK's yield criteria, `bench --large`, the viewer under Xvfb,
 //! `render --glyph superquadric` against Teem's `tend glyph`, and `report`/`render` in a bare
 //! container (no driver, display or writable HOME) against the same run on lavapipe. tests/README.md is the map.
 
@@ -15,6 +15,7 @@ mod brain_report;
 mod commands;
 mod container;
 mod report;
+mod report_odf;
 mod scaling;
 mod selection;
 mod stress_fields;

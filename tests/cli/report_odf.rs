@@ -1,0 +1,253 @@
+//! `tensorglyph report` on ODF maps (issue 39): a BIDS folder whose participants hold DIPY's CSD
+//! fit of tests/data/sh under a BEP016 name (`_model-CSD_param-fod_dwimap`) beside a tensor map,
+//! alone, with half its voxels zeroed, or where the name lies (a tensor map's six volumes,
+//! bytes that are no image). The ODF figures are where the fit's non-zero voxels are (the
+//! half-zeroed fit's figure is the whole fit's with the glyphs of the zeroed voxels gone), the
+//! page states the file, lmax, basis and why, and a bad ODF map fails its participant in one
+//! line naming the file while the others are written. And the files form of an MRtrix image.
+
+use std::io::Read as _;
+use std::path::Path;
+
+use crate::cli::{stderr, tg};
+
+const FIT: &str = "sh/dipy_lmax8_descoteaux07_legacy.nii.gz";
+const ODF_NAME: &str = "model-CSD_param-fod_dwimap";
+
+/// The fit's NIfTI bytes, uncompressed.
+fn fit_bytes() -> Vec<u8> {
+    let gz = std::fs::read(crate::data::path(FIT)).unwrap();
+    let mut out = Vec::new();
+    flate2::read::GzDecoder::new(&gz[..])
+        .read_to_end(&mut out)
+        .unwrap();
+    out
+}
+
+/// The fit with every coefficient of the voxels with i < 2 set to zero (float64 values,
+/// coefficient after coefficient, x fastest, as NIfTI stores them).
+fn half_fit() -> Vec<u8> {
+    let mut b = fit_bytes();
+    let dim: Vec<usize> = (0..5)
+        .map(|k| i16::from_le_bytes([b[40 + 2 * k], b[41 + 2 * k]]) as usize)
+        .collect();
+    assert_eq!((dim[1], dim[2], dim[3], dim[4]), (4, 4, 4, 45));
+    assert_eq!(i16::from_le_bytes([b[70], b[71]]), 64, "float64");
+    let offset = f32::from_le_bytes(b[108..112].try_into().unwrap()) as usize;
+    for c in 0..45 {
+        for v in (0..64).filter(|v| v % 4 < 2) {
+            let at = offset + (c * 64 + v) * 8;
+            b[at..at + 8].copy_from_slice(&0f64.to_le_bytes());
+        }
+    }
+    b
+}
+
+fn dwi(root: &Path, sub: &str) -> std::path::PathBuf {
+    let d = root.join(sub).join("dwi");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// sub-01: the tensor map of tests/data/bids' sub-01 and the fit; sub-02: the fit with half
+/// its voxels zeroed, alone; sub-03: the tensor map and, under the ODF name, a copy of the
+/// tensor map (six volumes); sub-04: an ODF-named MRtrix image that is not one.
+fn folder(root: &Path) {
+    let bids = crate::data::path("bids/derivatives/sub-01/dwi");
+    for sub in ["sub-01", "sub-03"] {
+        let d = dwi(root, sub);
+        for e in std::fs::read_dir(&bids).unwrap() {
+            let e = e.unwrap();
+            let name = e.file_name().to_string_lossy().replace("sub-01", sub);
+            std::fs::copy(e.path(), d.join(name)).unwrap();
+        }
+    }
+    std::fs::copy(
+        crate::data::path(FIT),
+        dwi(root, "sub-01").join(format!("sub-01_{ODF_NAME}.nii.gz")),
+    )
+    .unwrap();
+    std::fs::write(
+        dwi(root, "sub-02").join(format!("sub-02_{ODF_NAME}.nii")),
+        half_fit(),
+    )
+    .unwrap();
+    std::fs::copy(
+        bids.join("sub-01_model-DTI_param-tensor_dwimap.nii.gz"),
+        dwi(root, "sub-03").join(format!("sub-03_{ODF_NAME}.nii.gz")),
+    )
+    .unwrap();
+    std::fs::write(
+        dwi(root, "sub-04").join("sub-04_model-CSD_param-fod.mif"),
+        b"mrtrix image\nnot really\n",
+    )
+    .unwrap();
+}
+
+/// Pixels of the figure's tiles (the legend panel, 200 px at the right, left out) that glyphs
+/// cover: brighter than the black background and not the labels' white or yellow.
+fn glyph_pixels(img: &image::RgbaImage) -> Vec<(u32, u32)> {
+    let mut out = Vec::new();
+    for y in 0..img.height() {
+        for x in 0..img.width() - 200 {
+            let p = img.get_pixel(x, y).0;
+            if p[0].max(p[1]).max(p[2]) > 24 {
+                out.push((x, y));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn odf_maps_are_drawn_beside_tensor_maps_and_a_bad_one_is_named() {
+    let input = tempfile::tempdir().unwrap();
+    folder(input.path());
+    let out = tempfile::tempdir().unwrap();
+    let o = tg(&[
+        "report",
+        input.path().to_str().unwrap(),
+        out.path().to_str().unwrap(),
+        "participant",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 2, "{err}");
+    assert!(
+        errors[0].starts_with("error: sub-03: ")
+            && errors[0].contains(&format!("sub-03_{ODF_NAME}.nii.gz"))
+            && errors[0].contains("holds no SH series (6 values per voxel"),
+        "{err}"
+    );
+    assert!(
+        errors[1].starts_with("error: sub-04: ")
+            && errors[1].contains("sub-04_model-CSD_param-fod.mif"),
+        "{err}"
+    );
+    for sub in ["sub-03", "sub-04"] {
+        assert!(!out.path().join(format!("{sub}.html")).exists());
+        assert!(!out.path().join(sub).exists());
+    }
+
+    // Both maps, the tensor map's section first.
+    let html = std::fs::read_to_string(out.path().join("sub-01.html")).unwrap();
+    let sections: Vec<&str> = html.split("<h2>").skip(1).collect();
+    assert_eq!(sections.len(), 2);
+    assert!(sections[0].starts_with("sub-01_model-DTI_param-tensor_dwimap.nii.gz"));
+    let odf = sections[1];
+    assert!(
+        odf.starts_with(&format!("sub-01_{ODF_NAME}.nii.gz</h2>")),
+        "{odf}"
+    );
+    for want in [
+        "lmax 8, 45 coefficients per voxel",
+        "<th>basis</th><td>descoteaux07-legacy (",
+        "<th>normalisation</th><td>max: ",
+        "64 (4×4×4): 64 with an ODF",
+        "directions in voxel axes; world RAS from sform",
+    ] {
+        assert!(
+            odf.contains(want),
+            "{want}: {}",
+            &odf[..odf.find("<figure>").unwrap()]
+        );
+    }
+    assert_eq!(html.matches("<img ").count(), 6);
+    assert!(html.contains("An ODF map's glyphs are each voxel's fibre ODF"));
+    let figures = out.path().join("sub-01/figures");
+    for o in ["axial", "coronal", "sagittal"] {
+        assert!(figures.join(format!("sub-01_{ODF_NAME}_{o}.png")).exists());
+    }
+
+    // A participant with an ODF map only.
+    let half_html = std::fs::read_to_string(out.path().join("sub-02.html")).unwrap();
+    assert_eq!(half_html.matches("<h2>").count(), 1);
+    assert!(half_html.contains("64 (4×4×4): 32 with an ODF"));
+    assert!(!half_html.contains("ellipsoids"));
+
+    // The glyphs are where the fit's non-zero voxels are: with half the voxels (i < 2) zeroed,
+    // a row across i is the whole fit's (same slices, framing, labels) with those glyphs gone,
+    // and the row along i keeps only the slices i = 2, 3.
+    let mut compared = 0;
+    for o in ["axial", "coronal", "sagittal"] {
+        let (full_slices, half_slices) = (slices_of(&html, o), slices_of(&half_html, o));
+        if half_slices != full_slices {
+            assert_eq!(full_slices, "i = 0, 1, 2, 3", "{o}");
+            assert_eq!(half_slices, "i = 2, 3", "{o}");
+            continue;
+        }
+        let full = image::open(figures.join(format!("sub-01_{ODF_NAME}_{o}.png")))
+            .unwrap()
+            .to_rgba8();
+        let half = image::open(
+            out.path()
+                .join(format!("sub-02/figures/sub-02_{ODF_NAME}_{o}.png")),
+        )
+        .unwrap()
+        .to_rgba8();
+        assert_eq!(full.dimensions(), half.dimensions(), "{o}");
+        let (gf, gh) = (glyph_pixels(&full), glyph_pixels(&half));
+        let tiles = f64::from((full.width() - 200) * full.height());
+        assert!(
+            gf.len() as f64 > 0.02 * tiles,
+            "{o}: {} glyph pixels",
+            gf.len()
+        );
+        let share = gh.len() as f64 / gf.len() as f64;
+        assert!((0.3..0.7).contains(&share), "{o}: {share}");
+        // Where the half figure is not black it is the whole one's, but at glyph edges that
+        // a neighbour's silhouette or the splats' order changes.
+        let differing = gh
+            .iter()
+            .filter(|&&(x, y)| half.get_pixel(x, y).0 != full.get_pixel(x, y).0)
+            .count();
+        assert!(
+            (differing as f64) < 0.01 * gh.len() as f64,
+            "{o}: {differing} pixels of {} differ",
+            gh.len()
+        );
+        compared += 1;
+    }
+    assert!(compared >= 2, "{compared}");
+}
+
+/// The slices the page's figure of orientation `o` shows: `k = 0, 1, 2, 3`.
+fn slices_of(html: &str, o: &str) -> String {
+    let caption = html
+        .split(&format!("<figcaption>{o}: ODF glyphs"))
+        .nth(1)
+        .unwrap_or_else(|| panic!("no ODF figure {o}"));
+    let at = caption.find("slices ").unwrap() + "slices ".len();
+    caption[at..at + caption[at..].find(';').unwrap()].to_string()
+}
+
+#[test]
+fn the_files_form_draws_a_file_of_sh_series_as_odfs() {
+    let out = tempfile::tempdir().unwrap();
+    let mif = crate::data::path("sh/mrtrix_lmax8.mif");
+    let o = tg(&[
+        "report",
+        mif.to_str().unwrap(),
+        "-o",
+        out.path().to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let html = std::fs::read_to_string(out.path().join("mrtrix_lmax8.html")).unwrap();
+    let table = &html[..html.find("<figure>").unwrap()];
+    for want in [
+        "lmax 8, 45 coefficients per voxel",
+        "<th>basis</th><td>tournier07 (",
+        "<th>format</th><td>mif</td>",
+    ] {
+        assert!(table.contains(want), "{want}: {table}");
+    }
+    assert_eq!(html.matches("<img ").count(), 3);
+    let axial = image::open(
+        out.path()
+            .join("mrtrix_lmax8/figures/mrtrix_lmax8_axial.png"),
+    )
+    .unwrap()
+    .to_rgba8();
+    assert!(glyph_pixels(&axial).len() > 1000);
+}
