@@ -74,9 +74,10 @@ struct Glyph {
     radii: vec3<f32>,
 }
 
-// Radii spanning more than this make a glyph thin: its quaternion is decoded exactly as the CPU
-// decodes it (quat_largest).
-const THIN_RATIO: f32 = 1000.0;
+// Radii spanning more than this make a glyph thin (src/shape/geometry.rs THIN_RATIO): its
+// quaternion is decoded exactly as the CPU decodes it (quat_largest), and its chunk is drawn
+// with THIN_EXACT. The default --min-radius (0.01) keeps every glyph at or under it.
+const THIN_RATIO: f32 = 100.0;
 
 // 1.5 · 2⁻²⁰: one step of a stored quaternion component, (n − 2¹⁹) · QUAT_STEP, exact in f32
 // (src/shape/geometry.rs QUAT_STEP; the reference casts the same decoded glyph).
@@ -595,6 +596,12 @@ fn map_apply(a: mat3x3<f32>, a_lo: mat3x3<f32>, i: u32, x: DfVec3) -> vec2<f32> 
     return df_dot(row, x);
 }
 
+// What rounding left of thin_pixel_ray's o_t and v_t (o_t + thin_o_lo, v_t + thin_v_lo are its
+// double-f32 values), for shapes whose own solve moves the origin far along the ray (capsules:
+// capsule_cast_thin); set by every thin_pixel_ray.
+var<private> thin_o_lo: vec3<f32>;
+var<private> thin_v_lo: vec3<f32>;
+
 // glyph_pixel_ray in double-f32 up to the glyph-near origin in parameter space: the pixel's
 // offset o(px) (its exact integer distance from px0 over f, 1/f in double-f32), the ray's
 // point level with the centre, −c_z o (c_z double-f32), the pixel's direction (xy, −1), both
@@ -633,10 +640,17 @@ fn thin_pixel_ray(px: vec2<f32>, c_view: vec3<f32>, px0: vec2<f32>, o0: vec2<f32
     let p0 = df_add(o_0, df_mul_f(v_0, s));
     let p1 = df_add(o_1, df_mul_f(v_1, s));
     let p2 = df_add(o_2, df_mul_f(v_2, s));
-    r.o_t = vec3<f32>(p0.x + p0.y, p1.x + p1.y, p2.x + p2.y);
+    // Normalised double-f32 sums: hi + lo rounds to hi.
+    r.o_t = vec3<f32>(p0.x, p1.x, p2.x);
+    thin_o_lo = vec3<f32>(p0.y, p1.y, p2.y);
     let dir = vec3<f32>(dv.x.x, dv.y.x, -1.0);
     r.d = dir / len;
     r.v_t = vh / len;
+    // v_t's residual: (v' − v_t len) / len, v_t len exactly.
+    let e0 = df_add(v_0, -two_prod(r.v_t.x, len));
+    let e1 = df_add(v_1, -two_prod(r.v_t.y, len));
+    let e2 = df_add(v_2, -two_prod(r.v_t.z, len));
+    thin_v_lo = vec3<f32>(e0.x, e1.x, e2.x) / len;
     r.off = vec3<f32>(off.x.x, off.y.x, 0.0) + s * dir;
     r.t0 += s * len;
     return r;

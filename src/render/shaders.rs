@@ -200,6 +200,25 @@ mod tests {
         }
     }
 
+    /// common.wgsl's constants that the CPU twins share have the CPU's values.
+    #[test]
+    fn shared_constants_match_the_cpu() {
+        let m = wgpu::naga::front::wgsl::parse_str(COMMON).unwrap();
+        let value = |name: &str| {
+            let (_, c) = m
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name))
+                .unwrap_or_else(|| panic!("{name} in common.wgsl"));
+            match m.global_expressions[c.init] {
+                Expression::Literal(wgpu::naga::Literal::F32(v)) => v,
+                ref e => panic!("{name} = {e:?}"),
+            }
+        };
+        assert_eq!(value("THIN_RATIO"), crate::shape::geometry::THIN_RATIO);
+        assert_eq!(value("QUAT_STEP"), crate::shape::geometry::QUAT_STEP);
+    }
+
     use wgpu::naga::{AddressSpace, Block, Expression, Function, Handle, Module, Statement};
 
     /// What `e` in `f` depends on: `None` if on something varying, else whether on some

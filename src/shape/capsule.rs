@@ -2,7 +2,7 @@
 //! (cylinder-capsule.md §4–§6). In capsule space, the local frame scaled by the ball's radius R,
 //! the solid is every point within 1 of the segment |x| ≤ h.
 
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 use super::cylinder::cylinder_frame;
 use super::geometry::bounding_radius;
@@ -50,11 +50,11 @@ impl Shape for Kind {
     }
 
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact> {
-        Box::new(Capsule::of(geo))
+        Box::new(StoredCapsule::of(geo))
     }
 
     fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        Capsule::of(geo).contains(p)
+        StoredCapsule::of(geo).contains(p)
     }
 
     fn unit_mesh(&self, level: u8) -> Mesh {
@@ -197,6 +197,73 @@ impl Capsule {
     }
 }
 
+/// The capsule an instance is drawn as, in its parameter space as the shaders have it:
+/// p~ = Oᵀ (p − c) / R with the frame O as stored (its quaternion's matrix, unnormalised, as
+/// every kind's reference has it), where it is the unit capsule of half-length h/R along x. A
+/// quaternion stored to f32 is 1 + ~2⁻²⁴ long, which turns O's columns by as much; a capsule
+/// k thin is h/R = k radii long, so casting it about the normalised axis instead put its ends
+/// ~2⁻²⁴·k radii from where the shaders draw them (normal p99 0.2–4° at k ≥ 1e5).
+#[derive(Debug, Clone, Copy)]
+pub struct StoredCapsule {
+    pub c: DVec3,
+    pub frame: DMat3,
+    pub r: f64,
+    /// The unit capsule of parameter space.
+    unit: Capsule,
+}
+
+impl StoredCapsule {
+    pub fn of(geo: &GlyphGeometry) -> Self {
+        let (h, r) = capsule_of(geo.radii);
+        Self {
+            c: geo.centre,
+            frame: geo.frame,
+            r,
+            unit: Capsule {
+                c: DVec3::ZERO,
+                axis: DVec3::X,
+                // A degenerate glyph (r = 0, culled before it is cast) keeps a finite segment.
+                h: Some(h / r).filter(|h| h.is_finite()).unwrap_or(0.0),
+                r: 1.0,
+            },
+        }
+    }
+
+    fn local(&self, p: DVec3) -> DVec3 {
+        self.frame.transpose() * p / self.r
+    }
+}
+
+impl Exact for StoredCapsule {
+    fn centre(&self) -> DVec3 {
+        self.c
+    }
+
+    fn half_extents(&self) -> DVec3 {
+        (self.frame.x_axis * (self.unit.h * self.r)).abs()
+            + self.r * self.frame.x_axis.length().max(1.0)
+    }
+
+    fn contains(&self, p: DVec3) -> bool {
+        self.unit.contains(self.local(p - self.c))
+    }
+
+    /// The unit capsule's crossing of the ray mapped into parameter space (its direction
+    /// made unit there, t scaled back), the normal by the inverse transpose (O n~).
+    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
+        let v = self.local(d);
+        let len = v.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return None;
+        }
+        let hit = self.unit.intersect(self.local(o - self.c), v / len)?;
+        Some(RayHit {
+            t: hit.t / len,
+            normal: (self.frame * hit.normal).normalize(),
+        })
+    }
+}
+
 impl Exact for Capsule {
     fn centre(&self) -> DVec3 {
         self.c
@@ -281,6 +348,61 @@ mod tests {
     use super::*;
     use crate::test_vectors::{cases, v3};
     use glam::{DMat3, DQuat};
+
+    /// In parameter space with an orthonormal frame, the stored capsule is the capsule about
+    /// its axis: the same crossings and normals; with the frame of a quaternion 1 + 1e-7 long
+    /// (as f32 stores one), a needle k = 1e5 thin has its ends where the shaders put them,
+    /// ~1e-7·k radii from the normalised axis's.
+    #[test]
+    fn stored_capsule_is_the_capsule_in_parameter_space() {
+        let q = DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 0.7);
+        let geo = |q: DQuat, radii: DVec3| GlyphGeometry {
+            centre: DVec3::new(1.0, 2.0, -0.5),
+            frame: crate::shape::geometry::quat_to_mat3_unnormalised(q),
+            radii,
+            exponents: DVec3::ZERO,
+            params: [0; 2],
+        };
+        let g = geo(q, DVec3::new(2.0, 0.5, 0.4));
+        let (stored, plain) = (StoredCapsule::of(&g), Capsule::of(&g));
+        let mut hits = 0;
+        for k in 0..300 {
+            let a = f64::from(k) * 0.37;
+            let o = g.centre + DVec3::new(a.cos(), (1.3 * a).sin(), 0.5 * a.sin()) * 6.0;
+            let aim =
+                g.centre + DVec3::new((2.1 * a).sin(), 0.4 * a.cos(), 0.4 * (0.9 * a).cos()) * 1.5;
+            let d = (aim - o).normalize();
+            let (s, p) = (stored.intersect(o, d), plain.intersect(o, d));
+            assert_eq!(s.is_some(), p.is_some(), "ray {k}");
+            if let (Some(s), Some(p)) = (s, p) {
+                assert!(
+                    (s.t - p.t).abs() <= 1e-12 * p.t,
+                    "ray {k}: {} vs {}",
+                    s.t,
+                    p.t
+                );
+                assert!((s.normal - p.normal).length() <= 1e-9, "ray {k}");
+                hits += 1;
+            }
+            let inside = g.centre + (aim - g.centre) * 0.3;
+            assert_eq!(stored.contains(inside), plain.contains(inside), "point {k}");
+        }
+        assert!(hits > 100, "{hits} hits");
+        // A needle whose quaternion is 1 + 1e-7 long: its end moves along (and off) the axis.
+        let long = DQuat::from_xyzw(q.x, q.y, q.z, q.w) * (1.0 + 1e-7f64).sqrt();
+        let n = geo(long, DVec3::new(1.0, 1e-5, 1e-5));
+        let tip = StoredCapsule::of(&n);
+        let end = n.frame * DVec3::X;
+        // The shaders' end ball: centre at (h/R, 0, 0) in p~ = Oᵀ(p − c)/R.
+        let (h, r) = capsule_of(n.radii);
+        let centre = n.centre + tip.frame.transpose().inverse() * DVec3::new(h, 0.0, 0.0);
+        assert!(tip.contains(centre + end.normalize() * (0.99 * r)));
+        let normalised = Capsule::of(&n);
+        assert!(
+            (normalised.c + normalised.axis * h - centre).length() > 1e-3 * r,
+            "the normalised axis's end is apart from the stored frame's"
+        );
+    }
 
     /// With no segment the capsule is the ball: every ray meets it where it meets the sphere.
     #[test]

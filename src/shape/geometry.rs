@@ -133,7 +133,7 @@ pub fn unpack_rotation(w: [u32; 2]) -> [f32; 4] {
 /// Radii spanning more than this make a glyph thin: its quaternion's fourth component and (in
 /// the shaders with it) its rays are formed in double-f32 (common.wgsl's THIN_RATIO,
 /// THIN_EXACT).
-pub const THIN_RATIO: f32 = 1000.0;
+pub const THIN_RATIO: f32 = 100.0;
 
 /// A radius ≥ 0 as an unsigned 24-bit float (f32 without sign and the 7 lowest mantissa bits,
 /// rounded to nearest: relative error ≤ 2⁻¹⁷).
@@ -220,7 +220,7 @@ pub fn bounding_radius(r: [f32; 3]) -> f64 {
 }
 
 /// The same formula as `quat_to_mat3` in common.wgsl.
-fn quat_to_mat3_unnormalised(q: DQuat) -> DMat3 {
+pub(crate) fn quat_to_mat3_unnormalised(q: DQuat) -> DMat3 {
     let (x2, y2, z2) = (q.x + q.x, q.y + q.y, q.z + q.z);
     let (xx, xy, xz) = (q.x * x2, q.x * y2, q.x * z2);
     let (yy, yz, zz) = (q.y * y2, q.y * z2, q.z * z2);
