@@ -225,6 +225,21 @@ const PROXY_MARGIN_PX: f32 = 0.125;
 // Outside the clip volume (z < 0): every corner of a culled glyph is clipped away.
 const CULLED_POSITION: vec4<f32> = vec4<f32>(0.0, 0.0, -2.0, 1.0);
 
+// The factors on a proxy quad's half axes x, y (world) about a glyph centred at c that widen it
+// by PROXY_MARGIN_PX on each side: its half widths measured in pixels on the view plane
+// through the centre. A quad thinner than a pixel (a needle's) otherwise covers pixel centres
+// at the rasteriser's whim (SwiftShader drew 0 of 28 pixels of k = 1e5 needles' Gumhold
+// cylinders).
+fn margin_growth(c: vec3<f32>, x: vec3<f32>, y: vec3<f32>) -> vec2<f32> {
+    var w = 1.0;
+    if !is_ortho() {
+        w = max(dot(c - camera.eye.xyz, camera.forward.xyz), 1e-30);
+    }
+    let hx = length((camera.view * vec4<f32>(x, 0.0)).xy) * camera.pixels.x / w;
+    let hy = length((camera.view * vec4<f32>(y, 0.0)).xy) * camera.pixels.x / w;
+    return 1.0 + PROXY_MARGIN_PX / max(vec2<f32>(hx, hy), vec2<f32>(1e-30));
+}
+
 fn quat_to_mat3(q: vec4<f32>) -> mat3x3<f32> {
     let x2 = q.x + q.x;
     let y2 = q.y + q.y;

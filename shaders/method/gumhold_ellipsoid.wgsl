@@ -149,13 +149,7 @@ fn glyph_frame(ii: u32) -> FrameOrSkip {
 // widths T x~, T y~ measured in pixels on the view plane through the centre.
 fn proxy_growth(f: GlyphFrame) -> vec2<f32> {
     let t = mat3x3<f32>(f.t0, f.t1, f.t2);
-    var w = 1.0;
-    if !is_ortho() {
-        w = max(dot(f.centre - camera.eye.xyz, camera.forward.xyz), 1e-30);
-    }
-    let hx = length((camera.view * vec4<f32>(t * f.x_t, 0.0)).xy) * camera.pixels.x / w;
-    let hy = length((camera.view * vec4<f32>(t * f.y_t, 0.0)).xy) * camera.pixels.x / w;
-    return 1.0 + PROXY_MARGIN_PX / max(vec2<f32>(hx, hy), vec2<f32>(1e-30));
+    return margin_growth(f.centre, t * f.x_t, t * f.y_t);
 }
 
 // Proxy vertex `corner` (a corner of the polygon around the unit circle) of a glyph.

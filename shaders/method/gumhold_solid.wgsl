@@ -112,7 +112,7 @@ fn solid_vertex(vi: u32, ii: u32) -> VsOut {
     }
     let ot = transpose(o);
     let sc = solid.scale;
-    let s = proxy_corner(vi);
+    let s = proxy_corner(vi) * margin_growth(g.centre, q.x, q.y);
     var v = q.m + s.x * q.x + s.y * q.y;
     if q.near {
         v = near_plane_point(near_plane_ndc(vi));
