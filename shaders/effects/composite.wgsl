@@ -95,25 +95,44 @@ fn clamp_px(p: vec2<i32>) -> vec2<i32> {
     return clamp(p, vec2<i32>(0), vec2<i32>(fx.viewport.xy) - 1);
 }
 
+// The view distance a pixel's depth puts on its ray: a projection's view z and w depend on its
+// depth alone (the x and y terms of inv_proj's rows 2 and 3 are zero, off-centre tiles
+// included), so two rows of the matrix, not a whole product.
+fn view_distance(px: vec2<i32>) -> f32 {
+    let d = textureLoad(depth, px, 0);
+    let z = fx.inv_proj[2].z * d + fx.inv_proj[3].z;
+    let w = fx.inv_proj[2].w * d + fx.inv_proj[3].w;
+    return -z / w;
+}
+
 // The outline filter of src/effects/outline.rs: another glyph (or none) among the 3×3 samples
-// `reach` apart, else the Sobel gradient of the normal or of the relative view distance.
+// `reach` apart, else the Sobel gradient of the normal or of the relative view distance. The ids
+// are read first (most outline pixels end there), and the centre's weights are zero, so its
+// normal and depth are not read.
 fn is_outline(px: vec2<i32>, id: u32, distance: f32) -> bool {
     let k = i32(max(fx.params.x, 1u));
+    for (var j = -1; j <= 1; j++) {
+        for (var i = -1; i <= 1; i++) {
+            if (i != 0 || j != 0) && textureLoad(ids, clamp_px(px + vec2<i32>(i, j) * k), 0).r != id {
+                return true;
+            }
+        }
+    }
     var gx_n = vec3<f32>(0.0);
     var gy_n = vec3<f32>(0.0);
     var gx_d = 0.0;
     var gy_d = 0.0;
     for (var j = -1; j <= 1; j++) {
         for (var i = -1; i <= 1; i++) {
-            let q = clamp_px(px + vec2<i32>(i, j) * k);
-            if textureLoad(ids, q, 0).r != id {
-                return true;
+            if i == 0 && j == 0 {
+                continue;
             }
+            let q = clamp_px(px + vec2<i32>(i, j) * k);
             // Sobel: the x weight is i times 2 on the centre row, 1 off it.
             let wx = f32(i) * f32(2 - abs(j));
             let wy = f32(j) * f32(2 - abs(i));
             let n = textureLoad(aux, q, 0).xyz;
-            let s = -view_position(q).z;
+            let s = view_distance(q);
             gx_n += n * wx;
             gy_n += n * wy;
             gx_d += s * wx;
