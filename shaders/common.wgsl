@@ -761,6 +761,16 @@ struct OutFlat {
     @location(1) id: u32,
 }
 
+// The shadow map: glyph id and depth only (the colour target is masked).
+struct OutShadow {
+    @location(1) id: u32,
+    @builtin(frag_depth) depth: f32,
+}
+
+struct OutShadowFlat {
+    @location(1) id: u32,
+}
+
 struct OutFlatAux {
     @location(0) color: vec4<f32>,
     @location(1) id: u32,

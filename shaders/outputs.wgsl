@@ -34,3 +34,17 @@ fn fs_flat_aux(in: VsOut) -> OutFlatAux {
     // The depth buffer holds the proxy's depth, so report the proxy's view z.
     return OutFlatAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_proxy_rel));
 }
+
+// The shadow map's entry points: what ray_cast shades is dead code here, which the compiler
+// drops, so a texel costs the intersection alone.
+@fragment
+fn fs_shadow(in: VsOut) -> OutShadow {
+    let hit = corrected(in);
+    return OutShadow(in.id, hit.depth);
+}
+
+@fragment
+fn fs_shadow_flat(in: VsOut) -> OutShadowFlat {
+    let hit = ray_cast(in);
+    return OutShadowFlat(in.id);
+}

@@ -132,6 +132,19 @@ fn fs_splat_aux(@builtin(position) position: vec4<f32>) -> OutDepthAux {
     return OutDepthAux(hit.color, hit.id, vec4<f32>(hit.n_view, hit.z_rel), hit.depth);
 }
 
+// The shadow map's splats: the compute passes' id and exact depth, written as they are (the
+// depth key is the depth's bits), with no ray cast again for a colour and normal the map does
+// not keep.
+@fragment
+fn fs_splat_shadow(@builtin(position) position: vec4<f32>) -> OutShadow {
+    let i = pixel_index(i32(position.x), i32(position.y));
+    let id = splat_id(i);
+    if id == 0u {
+        discard;
+    }
+    return OutShadow(id, key_depth(splat_depth_key(i)));
+}
+
 // The pixels (first and last, inclusive) whose centres lie within the points' screen rectangle
 // (clip positions), or none (x > z) when a point is behind the eye, in front of the near plane
 // or projected near infinity or NaN: too big to splat.
@@ -179,6 +192,11 @@ fn splat_span(q: vec3<f32>, x0: i32, x1: i32) -> vec2<i32> {
 // Ordered like depths, larger for nearer (0: nothing); depths in [0, 1] order as their bits.
 fn depth_key(depth: f32) -> u32 {
     return 0xffffffffu - bitcast<u32>(depth);
+}
+
+// The depth whose key is `key`.
+fn key_depth(key: u32) -> f32 {
+    return bitcast<f32>(0xffffffffu - key);
 }
 
 fn pixel_index(x: i32, y: i32) -> u32 {

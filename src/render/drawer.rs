@@ -34,6 +34,11 @@ impl FrameRecording<'_> {
         }
     }
 
+    /// The outputs this recording's pipelines write ([`Variant::of_pass`]).
+    pub fn variant(&self) -> Variant {
+        Variant::of_pass(self.req, self.light)
+    }
+
     /// Timestamp writes of a render pass that begins and/or ends the frame.
     pub fn pass_timestamps(
         &self,
@@ -95,7 +100,7 @@ pub fn record_chunks<D: Drawer + ?Sized>(
     }
     for c in frame.buffers.chunks.iter().filter(|c| c.count > 0) {
         pass.set_bind_group(0, frame.group(c), &[]);
-        drawer.draw(&mut pass, Variant::of(req), req.proxy(), c);
+        drawer.draw(&mut pass, frame.variant(), req.proxy(), c);
     }
     if frame.stats.is_some() {
         pass.end_pipeline_statistics_query();

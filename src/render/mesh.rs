@@ -82,7 +82,7 @@ pub struct MeshRenderer {
     /// `MESH_BOX`'s value.
     boxes: bool,
     /// Per variant ([`Variant::index`]), built on first use.
-    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; 4],
+    pipelines: [std::sync::OnceLock<wgpu::RenderPipeline>; Variant::COUNT],
     vertices: wgpu::Buffer,
     indices: wgpu::Buffer,
     index_count: u32,

@@ -12,35 +12,25 @@ pub struct Variant {
     pub depth_correction: bool,
     /// Also write the aux target (view normal, view z) for accuracy checks.
     pub aux: bool,
+    /// The key light's shadow map: only the glyph id and depth are written (the colour target
+    /// is masked), so the shaders never compute a colour the map would not keep.
+    pub shadow: bool,
 }
 
 impl Variant {
-    pub const ALL: [Variant; 4] = [
-        Variant {
-            depth_correction: true,
-            aux: false,
-        },
-        Variant {
-            depth_correction: true,
-            aux: true,
-        },
-        Variant {
-            depth_correction: false,
-            aux: false,
-        },
-        Variant {
-            depth_correction: false,
-            aux: true,
-        },
-    ];
+    /// Pipelines per method and proxy: the eye's four ([`Self::index`] 0–3) and the shadow
+    /// map's two.
+    pub const COUNT: usize = 6;
 
     /// The fragment entry point of this variant (same names in every method's shader).
     pub fn fragment_entry(self) -> &'static str {
-        match (self.depth_correction, self.aux) {
-            (true, false) => "fs_depth",
-            (true, true) => "fs_depth_aux",
-            (false, false) => "fs_flat",
-            (false, true) => "fs_flat_aux",
+        match (self.shadow, self.depth_correction, self.aux) {
+            (true, true, _) => "fs_shadow",
+            (true, false, _) => "fs_shadow_flat",
+            (false, true, false) => "fs_depth",
+            (false, true, true) => "fs_depth_aux",
+            (false, false, false) => "fs_flat",
+            (false, false, true) => "fs_flat_aux",
         }
     }
 
@@ -49,11 +39,30 @@ impl Variant {
         Self {
             depth_correction: req.depth_correction(),
             aux: req.writes_aux(),
+            shadow: false,
         }
     }
 
+    /// The outputs of `req` drawn into the key light's shadow map (`light`), else `req`'s own.
+    pub fn of_pass(req: &crate::request::FrameRequest, light: bool) -> Self {
+        if light {
+            Self {
+                depth_correction: req.depth_correction(),
+                aux: false,
+                shadow: true,
+            }
+        } else {
+            Self::of(req)
+        }
+    }
+
+    /// Index in `0..COUNT`.
     pub fn index(self) -> usize {
-        usize::from(self.depth_correction) * 2 + usize::from(self.aux)
+        if self.shadow {
+            4 + usize::from(self.depth_correction)
+        } else {
+            usize::from(self.depth_correction) * 2 + usize::from(self.aux)
+        }
     }
 }
 
@@ -146,11 +155,18 @@ pub fn glyph_pipeline(
         constants: input.constants,
         ..Default::default()
     };
+    // The shadow map's pass keeps the targets (one render pass layout) but not the colour: its
+    // fragment entry points have no colour output, which a masked target allows.
+    let color_mask = if variant.shadow {
+        wgpu::ColorWrites::empty()
+    } else {
+        wgpu::ColorWrites::ALL
+    };
     let mut targets = vec![
         Some(wgpu::ColorTargetState {
             format: COLOR_FORMAT,
             blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
+            write_mask: color_mask,
         }),
         Some(wgpu::ColorTargetState {
             format: ID_FORMAT,

@@ -67,12 +67,17 @@ impl GumholdRenderer {
 
     /// The prepass pipelines when `req` asks for the prepass and this glyph has it, for a chunk
     /// whose glyphs need `needs`.
-    fn prepass_pipelines(&self, req: &FrameRequest, needs: Needs) -> Option<PrepassPipelines> {
+    fn prepass_pipelines(
+        &self,
+        req: &FrameRequest,
+        variant: Variant,
+        needs: Needs,
+    ) -> Option<PrepassPipelines> {
         if !req.uses_prepass() {
             return None;
         }
         let cache = self.prepass.as_ref()?;
-        Some(cache.pipelines(&self.strips, Variant::of(req), req.proxy(), needs))
+        Some(cache.pipelines(&self.strips, variant, req.proxy(), needs))
     }
 
     /// The scene's prepass buffers, made on the first frame drawn with the prepass; the key
@@ -145,7 +150,7 @@ impl Drawer for GumholdRenderer {
         for (k, slice) in prepass.slices.iter().enumerate() {
             let buffers = &frame.buffers.chunks[slice.chunk];
             let pipelines = self
-                .prepass_pipelines(req, buffers.needs)
+                .prepass_pipelines(req, frame.variant(), buffers.needs)
                 .expect("a glyph with prepass buffers has its pipelines");
             let chunk = frame.group(buffers);
             let compute_stamp =

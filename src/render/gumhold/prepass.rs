@@ -277,10 +277,10 @@ impl PrepassCache {
                 variant,
                 &PipelineInput {
                     vertex_entry: Some("vs_splat_tile"),
-                    fragment_entry: Some(if variant.aux {
-                        "fs_splat_aux"
-                    } else {
-                        "fs_splat"
+                    fragment_entry: Some(match (variant.shadow, variant.aux) {
+                        (true, _) => "fs_splat_shadow",
+                        (false, true) => "fs_splat_aux",
+                        (false, false) => "fs_splat",
                     }),
                     constants: &constants,
                     ..Default::default()
