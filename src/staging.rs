@@ -19,12 +19,13 @@ use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::field::{Inputs, ReadOptions, read_field_from};
 use crate::glyph::style::{Spacing, local_spacing, units_in_name};
-use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
+use crate::glyph::{ColorScheme, GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
 use crate::request::GlyphKind;
 use crate::scene::Scene;
 use crate::scene::underlay::{self, UnderlayError, UnderlaySource, Values};
 use crate::select::{Plane, Selection, SelectionError, Slicing};
+use crate::shape::odf::OdfColoring;
 
 /// A built-in analytic field: `grid40` (the canonical 64,000-glyph demo) or `grid:N`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -606,9 +607,28 @@ pub fn build_sh(
             d[0], d[1], d[2]
         )))));
     }
+    // An ODF is coloured per pixel (direction, amplitude) or by one colour; the tensors'
+    // colourings have nothing to read in a series.
+    let mut style = recipe.style.clone();
+    let coloring = match style.color {
+        ColorScheme::Auto | ColorScheme::Dec => {
+            style.color = ColorScheme::Dec;
+            OdfColoring::Direction
+        }
+        ColorScheme::Amplitude => OdfColoring::Amplitude,
+        ColorScheme::Solid => OdfColoring::Base,
+        other => {
+            return Err(of(StageError::Selection(SelectionError(format!(
+                "--color {other}: a file of SH series is coloured by dec, amplitude or solid"
+            )))));
+        }
+    };
+    let [r, g, b] = style.solid_color;
     let opts = crate::scene::odf::OdfOptions {
         planes: planes.clone(),
         normalize: recipe.odf_normalize.unwrap_or_default(),
+        coloring,
+        color: [r, g, b, 255],
         ..Default::default()
     };
     let scene = run_stage(progress, "scene", None, || {
@@ -637,7 +657,7 @@ pub fn build_sh(
         frame_centre: scene.centre,
         frame_radius: scene.radius,
         frame_half: scene.half,
-        style: recipe.style.resolve(&GlyphSet::default(), 1.0),
+        style: style.resolve(&GlyphSet::default(), 1.0),
         scene,
     })
 }

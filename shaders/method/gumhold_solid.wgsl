@@ -176,7 +176,8 @@ fn ray_cast(in: VsOut) -> Hit {
     hit.depth = view_depth(p_view.z);
     let n_view = normalize(n * entry.yzw);
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
-    let base = shape_tint(transpose(rv) * (n * (o_t + t * v_t)), in.shape, unpack4x8unorm(in.color).rgb);
+    let local = o_t + t * v_t;
+    let base = shape_tint(transpose(rv) * (n * local), local, in.shape, unpack4x8unorm(in.color).rgb);
     hit.color = vec4<f32>(shade(base, n_view, p_view), 1.0);
     hit.n_view = n_view;
     // The flat variants leave the quad's depth, so the proxy's z stays V's.

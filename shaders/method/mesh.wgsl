@@ -19,6 +19,8 @@ struct VsOut {
     // kind's per-pixel colour (shape_tint).
     @location(5) dir: vec3<f32>,
     @location(6) @interpolate(flat) shape: vec4<f32>,
+    // The same offset in the glyph's axes.
+    @location(7) local: vec3<f32>,
 }
 
 // The box baseline (MeshRenderer sets it for `box`): the unit cube scaled by the kind's
@@ -67,6 +69,7 @@ fn vs_main(
     out.id = ii + 1u;
     out.color = g.color;
     out.dir = o * local;
+    out.local = local;
     out.shape = solid.shape;
     return out;
 }
@@ -75,7 +78,7 @@ fn vs_main(
 fn ray_cast(in: VsOut) -> Hit {
     let n_view = normalize(in.n_view);
     var hit: Hit;
-    let base = shape_tint(in.dir, in.shape, unpack4x8unorm(in.color).rgb);
+    let base = shape_tint(in.dir, in.local, in.shape, unpack4x8unorm(in.color).rgb);
     hit.color = vec4<f32>(shade(base, n_view, in.v_view), 1.0);
     hit.n_view = n_view;
     hit.z_rel = in.z_rel;

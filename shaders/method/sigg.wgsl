@@ -91,7 +91,8 @@ fn finish(in: VsOut, r: ParamRay, tp: f32, n_t: vec3<f32>) -> Hit {
     var hit: Hit;
     let a = mat3x3<f32>(in.a0, in.a1, in.a2);
     let rv = mat3x3<f32>(camera.view[0].xyz, camera.view[1].xyz, camera.view[2].xyz);
-    let base = shape_tint(transpose(rv) * (a * (r.o_t + tp * r.v_t)), in.shape, unpack4x8unorm(in.color).rgb);
+    let local = r.o_t + tp * r.v_t;
+    let base = shape_tint(transpose(rv) * (a * local), local, in.shape, unpack4x8unorm(in.color).rgb);
     hit.color = vec4<f32>(shade(base, n_view, p_view), 1.0);
     hit.n_view = n_view;
     hit.z_rel = (r.off + tp * r.d).z;

@@ -72,6 +72,6 @@ fn shape_box_half(g: Glyph, solid: Solid) -> vec3<f32> {
 }
 
 // One colour per glyph (only ODF glyphs colour their pixels by direction).
-fn shape_tint(dir: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
+fn shape_tint(dir: vec3<f32>, local: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
     return base;
 }

@@ -5,8 +5,9 @@
 // both, the bounds and the marcher; the upload in src/render/scene_buffers.rs lays the buffer
 // out). Twin: src/twin/odf.rs; the f64 marcher: shape::odf::first_crossing.
 //
-// The shape vector: x = 0 (profile) or 2 (series), plus 1 when coloured by direction; a profile
-// then holds (a₁, a₂, a₃), a series (its first word's index, G, lmax).
+// The shape vector: x = 0 (profile) or 4 (series), plus the colouring (0 the instance's colour,
+// 1 direction, 2 amplitude: word 1's flags, OdfColoring in src/shape/odf.rs); a profile then
+// holds (a₁, a₂, a₃), a series (its first word's index, G, lmax).
 
 // The marcher's smallest step (GPU_EPS in src/shape/odf.rs) and its step cap.
 const ODF_EPS: f32 = 0.00012207031;
@@ -22,10 +23,11 @@ fn shape_radius(radii: vec3<f32>) -> f32 {
 fn shape_of(g: Glyph, ii: u32) -> Solid {
     let w = load_shape_words(ii);
     let big = shape_radius(g.radii);
-    let colour = f32(w.y & 1u);
+    // Direction wins over amplitude, as OdfColoring::of_flags.
+    let colour = select(f32(w.y & 2u), 1.0, (w.y & 1u) != 0u);
     var shape = vec4<f32>(colour, g.radii / big);
     if w.x != 0u {
-        shape = vec4<f32>(2.0 + colour, f32(w.x), bitcast<f32>(shapes[w.x].x), f32((w.y >> 8u) & 0xffu));
+        shape = vec4<f32>(4.0 + colour, f32(w.x), bitcast<f32>(shapes[w.x].x), f32((w.y >> 8u) & 0xffu));
     }
     return Solid(vec3<f32>(big), vec3<f32>(1.0), shape);
 }
@@ -37,7 +39,7 @@ fn odf_word(start: u32, k: u32) -> f32 {
 
 // G: a bound of |∇_S r~| on the sphere.
 fn odf_gradient_bound(shape: vec4<f32>) -> f32 {
-    if shape.x < 1.5 {
+    if shape.x < 3.5 {
         return max(shape.y, max(shape.z, shape.w)) - min(shape.y, min(shape.z, shape.w));
     }
     return shape.z;
@@ -46,7 +48,7 @@ fn odf_gradient_bound(shape: vec4<f32>) -> f32 {
 // f~(u) (x) and the gradient of its polynomial extension (yzw), u unit: the plain series
 // (plain_value_gradient in src/shape/odf.rs, term by term).
 fn odf_eval(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
-    if shape.x < 1.5 {
+    if shape.x < 3.5 {
         let a = shape.yzw;
         return vec4<f32>(dot(a * u, u), 2.0 * a * u);
     }
@@ -259,10 +261,27 @@ fn shape_box_half(g: Glyph, solid: Solid) -> vec3<f32> {
     return solid.scale;
 }
 
-// Coloured by direction: the hit's direction from the centre (world), as mrview's DEC.
-fn shape_tint(dir: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
-    if fract(shape.x * 0.5) > 0.25 {
-        return abs(dir) / max(length(dir), 1e-30);
+// The amplitude colouring's scale: 1 for a profile, the series' word past its coefficients.
+fn odf_amplitude_scale(shape: vec4<f32>) -> f32 {
+    if shape.x < 3.5 {
+        return 1.0;
     }
-    return base;
+    let lmax = u32(shape.w);
+    return odf_word(u32(shape.y), 1u + (lmax + 1u) * (lmax + 2u) / 2u);
+}
+
+// Coloured by direction, the hit's direction `dir` from the centre (world), as mrview's DEC; or
+// by amplitude, viridis at r~ in that direction (`local`: the same point in the glyph's axes)
+// times the scale. The twin: Odf::tint in src/shape/odf.rs.
+fn shape_tint(dir: vec3<f32>, local: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
+    let mode = u32(shape.x) & 3u;
+    let len = length(dir);
+    if mode == 0u || !(len > 0.0) {
+        return base;
+    }
+    if mode == 1u {
+        return abs(dir) / len;
+    }
+    let u = local / max(length(local), 1e-30);
+    return viridis(max(odf_eval(u, shape, false).x, 0.0) * odf_amplitude_scale(shape));
 }

@@ -56,9 +56,10 @@ pub struct SceneArgs {
     pub sh_basis: Option<ShBasis>,
     /// Colour scheme: shape classes, dec (direction), a scalar through a colour bar (fa, md;
     /// the stress measures von-mises, tresca, sigma1, sigma2, sigma3, mean, triaxiality), sign
-    /// (tension red, compression blue) or solid. Default: auto (von-mises for stress fields,
-    /// whose tensors are mostly indefinite, else shape); sign for --glyph principal; dec for
-    /// DTI files, NIfTI and NRRD.
+    /// (tension red, compression blue), solid, or amplitude (ODF glyphs: the ODF's value in
+    /// each direction, viridis). Default: auto (von-mises for stress fields, whose tensors are
+    /// mostly indefinite, else shape); sign for --glyph principal; dec for DTI files, NIfTI and
+    /// NRRD, and for files of SH series (dec, amplitude or solid).
     #[arg(long, value_parser = one_of::<ColorScheme>(ColorScheme::NAMES))]
     pub color: Option<ColorScheme>,
     /// The range a scalar colouring maps: LO and below take the colour bar's start, HI and
@@ -184,6 +185,11 @@ impl SceneArgs {
             kinds_with(|c| c.arrows)
         );
         let mut style = self.style(defaults)?;
+        ensure!(
+            style.color.colours(glyph),
+            "--color {} applies to --glyph odf",
+            style.color
+        );
         if let (None, Some(color)) = (self.color, glyph.shape().default_color()) {
             style.color = color;
         }

@@ -36,6 +36,46 @@ pub fn viridis(t: f64) -> [f64; 3] {
     std::array::from_fn(|k| f64::from(a[k]) + f * (f64::from(b[k]) - f64::from(a[k])))
 }
 
+/// [`viridis`] as a WGSL function `viridis(t: f32) -> vec3<f32>` for the shaders that colour per
+/// pixel (odf.wgsl's amplitude), made from the same table so that the two cannot drift. Each
+/// node is a literal picked by comparisons: lavapipe copies a constant array out at every
+/// run-time index, which made a table of constants 20x slower in odf.wgsl.
+pub fn viridis_wgsl() -> &'static str {
+    static TEXT: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+        let node = |k: usize| {
+            let [r, g, b] = VIRIDIS[k];
+            format!("vec3<f32>({r:?}, {g:?}, {b:?})")
+        };
+        let mut s = String::from(
+            "// Viridis at t in [0, 1] (clamped; NaN maps to 0): src/glyph/colormap.rs's table.\n\
+             fn viridis(t: f32) -> vec3<f32> {\n    \
+             let x = select(0.0, clamp(t, 0.0, 1.0), t == t) * 255.0;\n",
+        );
+        s += &format!(
+            "    var lo = {};\n    var hi = {};\n    var x0 = 0.0;\n    var x1 = 16.0;\n",
+            node(0),
+            node(1)
+        );
+        for seg in 1..16 {
+            let x1 = if seg == 15 {
+                255.0
+            } else {
+                (seg * 16 + 16) as f64
+            };
+            s += &format!(
+                "    if x >= {:?} {{ lo = {}; hi = {}; x0 = {:?}; x1 = {x1:?}; }}\n",
+                (seg * 16) as f64,
+                node(seg),
+                node(seg + 1),
+                (seg * 16) as f64,
+            );
+        }
+        s += "    return mix(lo, hi, clamp((x - x0) / (x1 - x0), 0.0, 1.0));\n}\n";
+        s
+    });
+    TEXT.as_str()
+}
+
 /// Diverging blue–white–red at `s` in [−1, 1]: −1 blue (compression), 0 white, +1 red (tension).
 pub fn diverging(s: f64) -> [f64; 3] {
     let s = if s.is_nan() { 0.0 } else { s.clamp(-1.0, 1.0) };

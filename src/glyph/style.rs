@@ -55,6 +55,9 @@ pub enum ColorScheme {
     Sign,
     /// One colour for all glyphs.
     Solid,
+    /// ODF glyphs (`--glyph odf`, files of SH series) only: each point by the ODF's value in
+    /// its direction, as a share of the glyph's full radius, through viridis.
+    Amplitude,
 }
 
 crate::names::named_values!(ColorScheme {
@@ -72,6 +75,7 @@ crate::names::named_values!(ColorScheme {
     Triaxiality => "triaxiality",
     Sign => "sign",
     Solid => "solid",
+    Amplitude => "amplitude",
 });
 
 impl ColorScheme {
@@ -89,6 +93,11 @@ impl ColorScheme {
             ColorScheme::Triaxiality => Measure::Triaxiality,
             _ => return None,
         })
+    }
+
+    /// Whether glyphs of `kind` can be coloured this way (amplitude: ODF glyphs only).
+    pub fn colours(self, kind: crate::shape::GlyphKind) -> bool {
+        self != ColorScheme::Amplitude || kind == crate::shape::GlyphKind::Odf
     }
 }
 
@@ -620,6 +629,8 @@ impl ResolvedStyle {
                 let [r, g, b] = self.solid_color;
                 [r, g, b, 255]
             }
+            // Coloured per pixel (shape::odf::AMPLITUDE_COLOUR); the instance's is unused.
+            ColorScheme::Amplitude => [200, 200, 200, 255],
             _ => unreachable!("scalar colourings are mapped above"),
         }
     }
@@ -758,7 +769,8 @@ mod tests {
                 "mean",
                 "triaxiality",
                 "sign",
-                "solid"
+                "solid",
+                "amplitude"
             ]
         );
         // Each scalar colouring's measure has the colouring's name.

@@ -47,6 +47,10 @@ impl Legend {
     }
 }
 
+/// The amplitude colouring's bar title: 1 is the glyph's full radius, which the normalisation
+/// gives each voxel's largest value (`max`), or the field's (`none`).
+pub const AMPLITUDE_TITLE: &str = "ODF amplitude (1: full radius)";
+
 /// The legend of `scheme` coloured over `range` (a scalar colouring's), in `units`.
 pub fn legend(scheme: ColorScheme, range: [f64; 2], units: Option<&str>) -> Legend {
     if let Some(m) = scheme.measure() {
@@ -58,6 +62,12 @@ pub fn legend(scheme: ColorScheme, range: [f64; 2], units: Option<&str>) -> Lege
         };
     }
     match scheme {
+        ColorScheme::Amplitude => Legend::Bar {
+            lo: 0.0,
+            hi: 1.0,
+            title: AMPLITUDE_TITLE.into(),
+            diverging: false,
+        },
         ColorScheme::Sign => Legend::Sign,
         ColorScheme::Dec => Legend::Dec,
         ColorScheme::Solid => Legend::Solid,
@@ -142,12 +152,22 @@ mod tests {
             }
         );
         assert_eq!(legend(ColorScheme::Sign, [0.0, 1.0], None), Legend::Sign);
-        // Every scalar colouring has a bar, and its bar shows its colours.
+        assert_eq!(
+            legend(ColorScheme::Amplitude, [-3.0, 9.0], None),
+            Legend::Bar {
+                lo: 0.0,
+                hi: 1.0,
+                title: AMPLITUDE_TITLE.into(),
+                diverging: false,
+            }
+        );
+        // Every scalar colouring has a bar, and its bar shows its colours; the amplitude's
+        // bar is 0 to 1 whatever the range.
         for &c in ColorScheme::VALUES {
             let l = legend(c, [-2.0, 6.0], None);
             assert_eq!(
                 matches!(l, Legend::Bar { .. }),
-                c.measure().is_some(),
+                c.measure().is_some() || c == ColorScheme::Amplitude,
                 "{c}"
             );
             if let Legend::Bar { diverging, .. } = l {

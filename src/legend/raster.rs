@@ -44,7 +44,12 @@ impl Caption {
         } else {
             format!("radius = {} × size", style.k)
         };
-        let mut lines = vec![format!("{scale}, size by {}", style.size_by)];
+        // A scene of SH series is sized by its ODFs' normalisation, not the tensors' scale.
+        let mut lines = vec![if scene.payload.is_some() {
+            "ODFs: full radius half a voxel".to_string()
+        } else {
+            format!("{scale}, size by {}", style.size_by)
+        }];
         if clamped > 0 && style.local.is_some() {
             lines.push(format!(
                 "{clamped} clamped to the 98th percentile or their room"

@@ -22,7 +22,7 @@ use crate::field::ShField;
 use crate::field::frame::tensor_rotation;
 use crate::select::Plane;
 use crate::shape::Payload;
-use crate::shape::odf::{DIRECTION_COLOUR, plain_of, rigorous_bounds, sampled_range};
+use crate::shape::odf::{OdfColoring, plain_of, rigorous_bounds, sampled_range};
 
 /// How each voxel's ODF is scaled ([module doc](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
@@ -49,8 +49,9 @@ pub struct OdfOptions {
     pub scale: f64,
     /// Keep only voxels on these lattice planes (`--slice`); `None`: every voxel.
     pub planes: Option<Vec<Plane>>,
-    /// Colour each pixel by its direction from the glyph's centre (DEC); else `color`.
-    pub by_direction: bool,
+    /// How each pixel is coloured: by its direction from the glyph's centre (DEC, the default),
+    /// by the amplitude there, or `color`.
+    pub coloring: OdfColoring,
     pub color: [u8; 4],
 }
 
@@ -60,7 +61,7 @@ impl Default for OdfOptions {
             normalize: OdfNormalize::Max,
             scale: 0.5,
             planes: None,
-            by_direction: true,
+            coloring: OdfColoring::Direction,
             color: [200, 200, 200, 255],
         }
     }
@@ -200,7 +201,7 @@ pub fn series_scene(
     };
     let mut payload = Payload::new(lmax).expect("a field's lmax is checked when read");
     payload.values.reserve(made.len() * payload.stride());
-    let flags = (u32::from(opts.by_direction) * DIRECTION_COLOUR) | (lmax << 8);
+    let flags = opts.coloring.flags() | (lmax << 8);
     let q = [
         rotation.x as f32,
         rotation.y as f32,
@@ -211,7 +212,8 @@ pub fn series_scene(
         .iter()
         .map(|g| {
             let plain: Vec<f64> = g.plain.iter().map(|x| x / g.r).collect();
-            let k = payload.push(&plain, g.g / g.r);
+            // The amplitude colouring's 1 is the normalised 1 (`size`), not the bound R.
+            let k = payload.push(&plain, g.g / g.r, g.r / size);
             let c = g.centre - origin;
             let r = g.r as f32;
             GlyphInstance {
@@ -373,6 +375,7 @@ mod tests {
         for normalize in [OdfNormalize::MinMax, OdfNormalize::None] {
             let opts = OdfOptions {
                 normalize,
+                coloring: OdfColoring::Amplitude,
                 ..OdfOptions::default()
             };
             let scene = odf_scene(&f, &opts);
@@ -399,6 +402,14 @@ mod tests {
                     assert!(
                         (got - want).abs() <= 5e-3 * want.abs().max(0.1),
                         "{normalize:?} along {w}: {got} {want}"
+                    );
+                    // Coloured by amplitude: the normalised value (the full radius is 1 here)
+                    // through viridis, whatever the series' bound R.
+                    let colour = odf.tint(geo.centre + w, DVec3::ZERO);
+                    let [r, g, b] = crate::glyph::colormap::viridis(want);
+                    assert!(
+                        (colour - DVec3::new(r, g, b)).abs().max_element() <= 1e-2,
+                        "{normalize:?} along {w}: colour {colour} for amplitude {want}"
                     );
                 }
             }

@@ -41,7 +41,7 @@ use glam::{DMat3, DVec3};
 use super::ellipsoid::icosphere;
 use super::mesh::Mesh;
 use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape};
-use crate::glyph::{Glyph, ResolvedStyle};
+use crate::glyph::{ColorScheme, Glyph, ResolvedStyle};
 use crate::sh::{ShBasis, ShError, convert, degrees, lmax_of_count};
 
 pub const WGSL: &str = include_str!("../../shaders/shape/odf.wgsl");
@@ -49,6 +49,43 @@ pub const WGSL: &str = include_str!("../../shaders/shape/odf.wgsl");
 /// The parameter word flag (word 1, bit 0) by which a series glyph is coloured per pixel by the
 /// direction of its surface point from its centre (DEC, as mrview colours ODFs).
 pub const DIRECTION_COLOUR: u32 = 1;
+/// The parameter word flag (word 1, bit 1) by which a glyph is coloured per pixel by its
+/// amplitude: r~(u) times the series' amplitude scale ([`Payload::amplitude_scale`]; 1 for a
+/// tensor's profile) through viridis, as DIPY's `odf_slicer` colours by the normalised values.
+pub const AMPLITUDE_COLOUR: u32 = 2;
+
+/// How an ODF glyph is coloured per pixel (its parameter word 1's flags).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OdfColoring {
+    /// The instance's own colour.
+    Base,
+    /// The direction of the point from the centre (DEC).
+    Direction,
+    /// The amplitude at the point's direction through viridis.
+    Amplitude,
+}
+
+impl OdfColoring {
+    /// The flags of parameter word 1.
+    pub fn flags(self) -> u32 {
+        match self {
+            OdfColoring::Base => 0,
+            OdfColoring::Direction => DIRECTION_COLOUR,
+            OdfColoring::Amplitude => AMPLITUDE_COLOUR,
+        }
+    }
+
+    /// The colouring of parameter word 1 `word` (direction wins over amplitude).
+    pub fn of_flags(word: u32) -> Self {
+        if word & DIRECTION_COLOUR != 0 {
+            OdfColoring::Direction
+        } else if word & AMPLITUDE_COLOUR != 0 {
+            OdfColoring::Amplitude
+        } else {
+            OdfColoring::Base
+        }
+    }
+}
 
 /// The marcher's smallest step, in units of R: the reference's and the shader's.
 pub const REFERENCE_EPS: f64 = 1e-7;
@@ -63,7 +100,8 @@ pub struct Payload {
     pub lmax: u32,
     /// Coefficients per series.
     pub count: usize,
-    /// Per series, `stride()` floats: G, then the `count` plain coefficients of r~, then zeros.
+    /// Per series, `stride()` floats: G, then the `count` plain coefficients of r~, then its
+    /// amplitude scale, then zeros.
     pub values: Vec<f32>,
 }
 
@@ -78,7 +116,7 @@ impl Payload {
 
     /// Floats per series: a multiple of 4 (a series starts on a 16-byte boundary).
     pub fn stride(&self) -> usize {
-        (self.count + 1).div_ceil(4) * 4
+        (self.count + 2).div_ceil(4) * 4
     }
 
     pub fn len(&self) -> usize {
@@ -95,11 +133,20 @@ impl Payload {
         &self.values[k * s..k * s + 1 + self.count]
     }
 
-    /// Append a series of r~ (plain coefficients, f64) with its gradient bound; its index.
-    pub fn push(&mut self, plain: &[f64], g: f64) -> usize {
+    /// What r~ is multiplied by for the amplitude colouring of series `k`: R over the glyph's
+    /// full radius, so that the colour's 1 is the normalisation's 1 (the voxel's largest value,
+    /// or the field's with no normalisation) and not the series' own bound.
+    pub fn amplitude_scale(&self, k: usize) -> f32 {
+        self.values[k * self.stride() + 1 + self.count]
+    }
+
+    /// Append a series of r~ (plain coefficients, f64) with its gradient bound and amplitude
+    /// scale; its index.
+    pub fn push(&mut self, plain: &[f64], g: f64, amplitude_scale: f64) -> usize {
         let k = self.len();
         self.values.push(g as f32);
         self.values.extend(plain.iter().map(|&c| c as f32));
+        self.values.push(amplitude_scale as f32);
         self.values.resize((k + 1) * self.stride(), 0.0);
         k
     }
@@ -125,9 +172,20 @@ impl Shape for Kind {
         }
     }
 
-    /// A tensor's profile: the eigenvector frame and the style's radii, no series.
+    /// A tensor's profile: the eigenvector frame and the style's radii, no series; coloured by
+    /// amplitude when the style says so.
     fn place(&self, g: &Glyph, _part: usize, style: &ResolvedStyle) -> Option<Part> {
-        Some(Part::whole(g, style, (g.rotation, style.radii(g)), [0; 2]))
+        let flags = if style.color == ColorScheme::Amplitude {
+            AMPLITUDE_COLOUR
+        } else {
+            0
+        };
+        Some(Part::whole(
+            g,
+            style,
+            (g.rotation, style.radii(g)),
+            [0, flags],
+        ))
     }
 
     fn bounds(&self, geo: &GlyphGeometry) -> DVec3 {
@@ -156,8 +214,11 @@ impl Shape for Kind {
         (10 * f + 2, 20 * f)
     }
 
+    /// odf.wgsl after the amplitude colouring's viridis.
     fn wgsl(&self) -> &'static [&'static str] {
-        &[WGSL]
+        static PARTS: std::sync::LazyLock<[&'static str; 2]> =
+            std::sync::LazyLock::new(|| [crate::glyph::colormap::viridis_wgsl(), WGSL]);
+        &*PARTS
     }
 }
 
@@ -201,8 +262,10 @@ pub struct Odf {
     pub profile: Profile,
     /// G: the gradient bound of r~ on the sphere.
     pub g: f64,
-    /// Coloured per point by its direction from the centre ([`DIRECTION_COLOUR`]).
-    pub by_direction: bool,
+    /// How each point is coloured ([`OdfColoring::of_flags`]).
+    pub coloring: OdfColoring,
+    /// [`Payload::amplitude_scale`] (1 for a profile).
+    pub amplitude_scale: f64,
 }
 
 impl Odf {
@@ -210,11 +273,11 @@ impl Odf {
     /// or past its end, is drawn as nothing (r~ = 0): the scene builder writes both together.
     pub fn of(geo: &GlyphGeometry, payload: Option<&Arc<Payload>>) -> Self {
         let scale = geo.max_radius();
-        let (profile, g) = match geo.params[0] {
+        let (profile, g, amplitude_scale) = match geo.params[0] {
             0 => {
                 let a = (geo.radii / scale).to_array();
                 let (hi, lo) = (a[0].max(a[1]).max(a[2]), a[0].min(a[1]).min(a[2]));
-                (Profile::Quadratic(a), hi - lo)
+                (Profile::Quadratic(a), hi - lo, 1.0)
             }
             k => match payload.filter(|p| (k as usize) <= p.len()) {
                 Some(p) => {
@@ -226,9 +289,10 @@ impl Odf {
                             plain,
                         },
                         f64::from(s[0]),
+                        f64::from(p.amplitude_scale(k as usize - 1)),
                     )
                 }
-                None => (Profile::Quadratic([0.0; 3]), 0.0),
+                None => (Profile::Quadratic([0.0; 3]), 0.0, 1.0),
             },
         };
         Self {
@@ -237,7 +301,8 @@ impl Odf {
             scale,
             profile,
             g,
-            by_direction: geo.params[1] & DIRECTION_COLOUR != 0,
+            coloring: OdfColoring::of_flags(geo.params[1]),
+            amplitude_scale,
         }
     }
 
@@ -261,13 +326,21 @@ impl Exact for Odf {
         n == 0.0 || n <= self.profile.value(q / n)
     }
 
-    /// |w| / ‖w‖ for the direction w of `p` from the centre (DEC), as odf.wgsl's `shape_tint`.
+    /// As odf.wgsl's `shape_tint`: |w| / ‖w‖ for the direction w of `p` from the centre (DEC),
+    /// or viridis at the amplitude in that direction (r~ in the glyph's axes times its scale).
     fn tint(&self, p: DVec3, base: DVec3) -> DVec3 {
         let w = p - self.centre;
-        if self.by_direction && w.length() > 0.0 {
-            w.abs() / w.length()
-        } else {
-            base
+        if w.length() == 0.0 {
+            return base;
+        }
+        match self.coloring {
+            OdfColoring::Base => base,
+            OdfColoring::Direction => w.abs() / w.length(),
+            OdfColoring::Amplitude => {
+                let u = self.frame.transpose() * w / w.length();
+                let t = self.profile.value(u).max(0.0) * self.amplitude_scale;
+                DVec3::from(crate::glyph::colormap::viridis(t))
+            }
         }
     }
 

@@ -393,6 +393,10 @@ mod tests {
                 ..Default::default()
             },
             odf_normalize: Some(crate::scene::odf::OdfNormalize::MinMax),
+            style: crate::glyph::GlyphStyle {
+                color: crate::glyph::ColorScheme::Dec,
+                ..Default::default()
+            },
             ..Default::default()
         };
         let viewer = crate::staging::build_sh(

@@ -265,7 +265,13 @@ mod tests {
         let built = crate::staging::build_sh(
             data.odf.as_ref().unwrap(),
             name,
-            &crate::staging::Recipe::default(),
+            &crate::staging::Recipe {
+                style: crate::glyph::GlyphStyle {
+                    color: crate::glyph::ColorScheme::Dec,
+                    ..Default::default()
+                },
+                ..Default::default()
+            },
             &crate::progress::Silent,
         )
         .unwrap();

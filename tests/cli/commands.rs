@@ -214,6 +214,30 @@ fn bad_options_exit_2_with_a_clear_message() {
             ],
             "--slice z=9: the lattice is 4x4x4",
         ),
+        // An ODF is coloured by direction, amplitude or one colour; amplitude is ODFs' alone.
+        (
+            &[
+                "render",
+                "tests/data/sh/mrtrix_lmax8.mif",
+                "-o",
+                o,
+                "--color",
+                "fa",
+            ],
+            "mrtrix_lmax8.mif: --color fa: a file of SH series is coloured by dec, amplitude or solid",
+        ),
+        (
+            &[
+                "render",
+                "--demo",
+                "grid:3",
+                "-o",
+                o,
+                "--color",
+                "amplitude",
+            ],
+            "--color amplitude applies to --glyph odf",
+        ),
         (
             &[
                 "render",

@@ -116,3 +116,67 @@ fn csd_fits_match_the_reference() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Coloured by amplitude (`--color amplitude`): each pixel's colour is viridis at the ODF's
+/// normalised value in its direction, on the GPU as in the f64 twin (which evaluates the same
+/// series in f64; `scene::odf`'s unit tests check its colour against the series read by
+/// ShEval), for every method that ray casts the series, in each normalisation, and for a
+/// tensor's profile; an image coloured by direction instead would miss the bound by far.
+#[test]
+fn amplitude_colours_match_the_reference() {
+    let mut failures = Vec::new();
+    let cases: [&[&str]; 6] = [
+        &["tests/data/sh/mrtrix_lmax8.mif", "--method", "gumhold"],
+        &["tests/data/sh/mrtrix_lmax8.mif", "--method", "sigg"],
+        &[
+            "tests/data/sh/dipy_lmax8_descoteaux07_legacy.nii.gz",
+            "--odf-normalize",
+            "none",
+        ],
+        &[
+            "tests/data/sh/dipy_lmax8_descoteaux07_legacy.nii.gz",
+            "--odf-normalize",
+            "minmax",
+            "--slice",
+            "x=2",
+            "--ortho",
+            "--view",
+            "+x",
+        ],
+        &["--demo", "grid:4", "--glyph", "odf"],
+        &["--demo", "grid:4", "--glyph", "odf", "--method", "sigg"],
+    ];
+    for case in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("x.png");
+        let mut args = vec!["render"];
+        args.extend_from_slice(case);
+        args.extend_from_slice(&[
+            "--color",
+            "amplitude",
+            "--size",
+            "320x240",
+            "-o",
+            out.to_str().unwrap(),
+            "--json",
+            "--reference-check",
+            "-q",
+        ]);
+        let r = tg(&args);
+        assert!(r.status.success(), "{args:?}: {}", stderr(&r));
+        let j = json(&r);
+        let v = |k: &str| j[k].as_f64().unwrap_or(f64::NAN);
+        eprintln!(
+            "{case:?}: coverage {:.2e} psnr {:.1} dB",
+            v("coverage_mismatch"),
+            v("color_psnr_db")
+        );
+        if !(j["covered_pixels"].as_u64().unwrap() > 1000
+            && v("coverage_mismatch") <= LMAX8.coverage
+            && v("color_psnr_db") >= LMAX8.psnr_db)
+        {
+            failures.push(format!("{case:?}: {j}"));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

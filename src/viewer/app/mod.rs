@@ -19,6 +19,7 @@ use crate::defaults::DataKind;
 use crate::field::Inputs;
 use crate::field::vtk::ReadOptions;
 use crate::glyph::style::ResolvedStyle;
+use crate::glyph::{ColorScheme, GlyphStyle};
 use crate::progress::Silent;
 use crate::render::{GpuContext, GpuRenderer};
 use crate::scene::Scene;
@@ -287,6 +288,15 @@ impl ViewerApp {
                     },
                     underlay: None,
                     odf_normalize: Some(key.odf_normalize),
+                    // A tensor colouring kept from an earlier file has nothing to read in a
+                    // series: such a file opens coloured by direction, as `render` colours it.
+                    style: GlyphStyle {
+                        color: match key.style.color {
+                            c @ (ColorScheme::Amplitude | ColorScheme::Solid) => c,
+                            _ => ColorScheme::Dec,
+                        },
+                        ..key.style.clone()
+                    },
                     ..recipe.clone()
                 },
                 &Silent,

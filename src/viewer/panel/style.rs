@@ -26,7 +26,10 @@ pub(super) fn style_section(
     egui::ComboBox::from_label("colour")
         .selected_text(style.color.name())
         .show_ui(ui, |ui| {
-            for &c in ColorScheme::VALUES {
+            for &c in ColorScheme::VALUES
+                .iter()
+                .filter(|c| c.colours(settings.glyph))
+            {
                 ui.selectable_value(&mut style.color, c, c.name());
             }
         });
@@ -232,8 +235,8 @@ fn barycentric_color_of(w: [f64; 3]) -> Color32 {
     color32(barycentric_color(ev, true))
 }
 
-/// ODF glyphs of a file of SH series: how each voxel's ODF is scaled (`--odf-normalize`); the
-/// glyphs are coloured by direction, as `render` colours them.
+/// ODF glyphs of a file of SH series: how each voxel's ODF is scaled (`--odf-normalize`) and
+/// coloured (`--color dec`, `amplitude` or `solid`), as `render` does.
 fn odf_section(ui: &mut Ui, settings: &mut Settings, sh: &crate::field::ShField) {
     ui.heading("ODF glyphs");
     let l = &sh.layout;
@@ -252,7 +255,22 @@ fn odf_section(ui: &mut Ui, settings: &mut Settings, sh: &crate::field::ShField)
              each voxel's [min, max] to [0, 1] (mrview); none: amplitudes comparable \
              across voxels",
         );
-    ui.label(
-        "colour: the direction of each point from the glyph's centre (red x, green y, blue z)",
-    );
+    egui::ComboBox::from_label("colour")
+        .selected_text(settings.style.color.name())
+        .show_ui(ui, |ui| {
+            for c in ODF_COLORS {
+                ui.selectable_value(&mut settings.style.color, c, c.name());
+            }
+        })
+        .response
+        .on_hover_text(
+            "dec: the direction of each point from the glyph's centre (red x, green y, blue \
+             z); amplitude: the ODF's value there (1: the full radius); solid: one colour",
+        );
+    if settings.style.color == ColorScheme::Amplitude {
+        draw_legend(ui, legend(ColorScheme::Amplitude, [0.0, 1.0], None));
+    }
 }
+
+/// The colourings of ODF glyphs of SH series (`render --color` for such a file).
+const ODF_COLORS: [ColorScheme; 3] = [ColorScheme::Dec, ColorScheme::Amplitude, ColorScheme::Solid];
