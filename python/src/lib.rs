@@ -629,9 +629,9 @@ impl Renderer {
     /// participants of the BIDS derivatives folder `bids_dir` (those of `participant_label`
     /// when it names some), in `out_dir`. Returns JSON: `written` (name, page, figures) and
     /// `failed` (name, the command line's error line without `error: `). `tile_size` and
-    /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`; a bad one raises,
-    /// naming the keyword.
-    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None))]
+    /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`, `sh_basis` is
+    /// `--sh-basis`; a bad one raises, naming the keyword.
+    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None))]
     #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
@@ -642,6 +642,7 @@ impl Renderer {
         participant_label: Vec<String>,
         tile_size: Option<u32>,
         zoom_region: Option<String>,
+        sh_basis: Option<String>,
     ) -> PyResult<String> {
         use tensorglyph::report::inset;
         let mut options = tensorglyph::report::Options::default();
@@ -653,6 +654,12 @@ impl Renderer {
             options.zoom = Some(
                 z.parse::<inset::ZoomRegion>()
                     .map_err(|e| Failure::value(format!("zoom_region={e}")).into_py(py))?,
+            );
+        }
+        if let Some(b) = sh_basis {
+            options.sh_basis = Some(
+                b.parse::<tensorglyph::sh::ShBasis>()
+                    .map_err(|e| Failure::value(format!("sh_basis={e}")).into_py(py))?,
             );
         }
         let job = match (files, bids_dir) {

@@ -492,6 +492,7 @@ def report(
     participant_label: "Sequence[str] | str | None" = None,
     tile_size: Optional[int] = None,
     zoom_region: "str | Sequence[int] | None" = None,
+    sh_basis: Optional[str] = None,
     renderer: Optional[Renderer] = None,
 ) -> dict:
     """Glyph reports, as ``tensorglyph report`` makes them: ``report(files, out_dir)`` writes one
@@ -508,7 +509,9 @@ def report(
     ``tile_size`` is ``--tile-size``: the overview tiles' side in pixels (128 to 1024, default
     256). ``zoom_region`` is ``--zoom-region``: the voxel each figure's zoomed inset is centred
     on and its side in voxels, as ``"I,J,K:SIZE"`` or ``(i, j, k, size)``; by default the
-    48-voxel square of each row's middle slice where FA is highest."""
+    48-voxel square of each row's middle slice where FA is highest. ``sh_basis`` is
+    ``--sh-basis``: the basis of the files of SH series (``"tournier07"``, ``"descoteaux07"``,
+    ``"descoteaux07-legacy"``); by default each file's writer's."""
     if out_dir is None:
         raise Error("report needs out_dir, the folder the reports go to")
     if isinstance(files, (str, os.PathLike)):
@@ -527,6 +530,8 @@ def report(
                 f"zoom_region={zoom_region!r}: give 'I,J,K:SIZE' or (i, j, k, size)"
             ) from None
         zoom_region = f"{i},{j},{k}:{size}"
+    if sh_basis is not None and not isinstance(sh_basis, str):
+        raise Error(f"sh_basis={sh_basis!r}: give a basis's name, e.g. 'tournier07'")
     text = (renderer or _renderer())._inner.report(
         os.fspath(out_dir),
         files=None if files is None else [os.fspath(f) for f in files],
@@ -534,6 +539,7 @@ def report(
         participant_label=list(participant_label or []),
         tile_size=tile_size,
         zoom_region=zoom_region,
+        sh_basis=sh_basis,
     )
     done = json.loads(text)
     return {

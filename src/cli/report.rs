@@ -10,10 +10,12 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::Args;
 
+use super::args::one_of;
 use super::progress::Terminal;
 use crate::backend::Backend;
 use crate::report::{self, Job, Options, Outcome, Plan};
 use crate::request::Method;
+use crate::sh::ShBasis;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
@@ -40,6 +42,12 @@ pub struct ReportArgs {
     /// where FA is highest.
     #[arg(long = "zoom-region", value_name = "I,J,K:SIZE")]
     pub zoom_region: Option<report::inset::ZoomRegion>,
+    /// The basis of the files of SH series (tournier07, descoteaux07, descoteaux07-legacy),
+    /// as `render --sh-basis`; default: each file's writer's (MRtrix: tournier07, others:
+    /// descoteaux07-legacy). Which files are SH is their volume count's to say (15, 28, 45, …;
+    /// a 6-volume file stays a tensor map).
+    #[arg(long, value_parser = one_of::<ShBasis>(ShBasis::NAMES))]
+    pub sh_basis: Option<ShBasis>,
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {
@@ -55,6 +63,7 @@ pub fn options(args: &ReportArgs) -> Options {
     Options {
         tile: args.tile_size,
         zoom: args.zoom_region,
+        sh_basis: args.sh_basis,
     }
 }
 

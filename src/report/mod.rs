@@ -51,6 +51,10 @@ pub struct Options {
     /// The region each row's inset shows (its slices through the voxel asked for); `None`:
     /// where FA is highest on the row's middle slice.
     pub zoom: Option<ZoomRegion>,
+    /// The basis of the maps read as SH series (`--sh-basis`); `None`: each file's writer's.
+    /// It does not make a tensor map SH: which maps are ODF maps is their count's (or, in a
+    /// BIDS folder, their name's) to say.
+    pub sh_basis: Option<crate::sh::ShBasis>,
 }
 
 impl Default for Options {
@@ -58,6 +62,7 @@ impl Default for Options {
         Self {
             tile: inset::DEFAULT_TILE,
             zoom: None,
+            sh_basis: None,
         }
     }
 }
@@ -614,9 +619,14 @@ fn odf_map(
     read: &mut Vec<PathBuf>,
 ) -> Result<OdfReport, UnitError> {
     let inputs = Inputs::file_system();
-    let opts = ReadOptions::default();
+    let opts = ReadOptions {
+        sh_basis: options.sh_basis,
+        ..ReadOptions::default()
+    };
     let t = Instant::now();
-    let sh = crate::field::holds_sh_from(&inputs, path, &opts);
+    // Its count says whether it holds series, as for the report's files; --sh-basis only names
+    // their basis.
+    let sh = crate::field::holds_sh_from(&inputs, path, &ReadOptions::default());
     let field: ShField = crate::field::read_sh_field_from(&inputs, path, &opts)?;
     // The reader takes any SH count (6 is lmax 2); the probe, as `render`, reads 6 as tensors.
     if !sh {

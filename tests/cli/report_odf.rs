@@ -251,3 +251,74 @@ fn the_files_form_draws_a_file_of_sh_series_as_odfs() {
     .to_rgba8();
     assert!(glyph_pixels(&axial).len() > 1000);
 }
+
+/// `--sh-basis` names the basis of the report's SH files: DIPY's fit saved in the non-legacy
+/// descoteaux07 basis (`dipy_lmax8_descoteaux07.nii.gz`, `convert_sh_from_legacy` of the legacy
+/// file's coefficients) reported with `--sh-basis descoteaux07` draws the figures of the legacy
+/// file reported by default (DIPY's own basis), the page naming the basis asked for; read in the
+/// default basis it draws other ODFs.
+#[test]
+fn sh_basis_names_the_basis_of_the_reports_series() {
+    let report = |file: &str, basis: Option<&str>| {
+        let out = tempfile::tempdir().unwrap();
+        let path = crate::data::path(&format!("sh/{file}.nii.gz"));
+        let mut args = vec![
+            "report",
+            path.to_str().unwrap(),
+            "-o",
+            out.path().to_str().unwrap(),
+        ];
+        if let Some(b) = basis {
+            args.extend(["--sh-basis", b]);
+        }
+        let o = tg(&args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+        let html = std::fs::read_to_string(out.path().join(format!("{file}.html"))).unwrap();
+        let axial = image::open(out.path().join(format!("{file}/figures/{file}_axial.png")))
+            .unwrap()
+            .to_rgba8();
+        (html, axial)
+    };
+    // The tiles' pixels (the legend panel, which names the basis, left out) that differ.
+    let differing = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        assert_eq!(a.dimensions(), b.dimensions());
+        let tiles = a.width() - 200;
+        let mut n = 0;
+        for y in 0..a.height() {
+            for x in 0..tiles {
+                let (p, q) = (a.get_pixel(x, y).0, b.get_pixel(x, y).0);
+                n += usize::from(p.iter().zip(q).any(|(x, y)| x.abs_diff(y) > 2));
+            }
+        }
+        n as f64 / f64::from(tiles * a.height())
+    };
+    let (_, truth) = report("dipy_lmax8_descoteaux07_legacy", None);
+    let (html, asked) = report("dipy_lmax8_descoteaux07", Some("descoteaux07"));
+    let table = &html[..html.find("<figure>").unwrap()];
+    assert!(
+        table.contains("<th>basis</th><td>descoteaux07 ("),
+        "{table}"
+    );
+    let (_, default) = report("dipy_lmax8_descoteaux07", None);
+    let same = differing(&truth, &asked);
+    let other = differing(&truth, &default);
+    assert!(same <= 1e-4, "with --sh-basis: {same} of the pixels differ");
+    assert!(
+        other >= 1e-2,
+        "in the default basis: only {other} of the pixels differ"
+    );
+    let o = tg(&[
+        "report",
+        "x.mif",
+        "-o",
+        "/nonexistent",
+        "--sh-basis",
+        "mrtrix",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("invalid value 'mrtrix' for '--sh-basis"),
+        "{}",
+        stderr(&o)
+    );
+}
