@@ -2,8 +2,8 @@
 //! (unlit base colour, id, view normal in the aux target, exact ray-cast depth), and after them
 //! and the underlay
 //! 1. with shadows, the method draws the scene again from the key light into a shadow map, with
-//!    the same fragment shaders, so the map holds the glyphs' ray-cast depth and not their
-//!    proxies';
+//!    the same ray casting in its depth-only variant ([`crate::render::pipeline::Variant`]'s
+//!    `shadow`), so the map holds the glyphs' ray-cast depth and ids and not their proxies';
 //! 2. the colour target is copied out as the base colour;
 //! 3. one full-screen pass (`shaders/composite.wgsl`) shades every covered pixel once, with the
 //!    outline filter and percentage-closer filtered shadows, and writes each pixel's lit
