@@ -74,11 +74,19 @@ pub fn run(args: ViewArgs) -> Result<()> {
         .map_or(DataKind::General, DataKind::of)
         .defaults();
     let [r, g, b, _] = defaults.background;
+    let style = args.scene.style(&defaults)?;
+    // A file of SH series is drawn as ODF glyphs whatever --glyph says, as `render` draws it.
+    let sh = source
+        .as_ref()
+        .is_some_and(|s| s.holds_sh(&args.scene.read_options()));
+    if !sh && !style.color.colours(cam.glyph) {
+        bail!("--color {} applies to --glyph odf", style.color);
+    }
     let settings = Settings {
         method: cam.method,
         glyph: cam.glyph,
         depth_correction,
-        style: args.scene.style(&defaults)?,
+        style,
         background: [r, g, b].map(|c| c as f32),
         selection: args.select.selection()?,
         draw: args.draw.options(cam.method, cam.glyph, depth_correction)?,

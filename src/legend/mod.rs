@@ -26,6 +26,9 @@ pub enum Legend {
     Sign,
     /// Direction encoding: |e1| as RGB, scaled by FA.
     Dec,
+    /// Direction encoding of each point of an ODF glyph: |u| as RGB for its direction u from
+    /// the glyph's centre (no FA: a series has none).
+    Direction,
     Solid,
 }
 
@@ -33,6 +36,15 @@ impl Legend {
     /// The legend of a style whose field's numbers are fixed.
     pub fn of(style: &ResolvedStyle) -> Self {
         legend(style.color, style.color_range, style.units.as_deref())
+    }
+
+    /// The legend of a scene of ODF glyphs of SH series coloured by `scheme`: a point's
+    /// direction, not a tensor's e1 and FA.
+    pub fn of_odf(scheme: ColorScheme) -> Self {
+        match scheme {
+            ColorScheme::Dec => Legend::Direction,
+            other => legend(other, [0.0, 1.0], None),
+        }
     }
 
     /// A bar's colour at `t` in [0, 1] along it (`None` for legends without a bar).
@@ -152,6 +164,13 @@ mod tests {
             }
         );
         assert_eq!(legend(ColorScheme::Sign, [0.0, 1.0], None), Legend::Sign);
+        // An ODF scene's direction key is the point's direction, not e1 and FA.
+        assert_eq!(Legend::of_odf(ColorScheme::Dec), Legend::Direction);
+        assert_eq!(
+            Legend::of_odf(ColorScheme::Amplitude),
+            legend(ColorScheme::Amplitude, [0.0, 1.0], None)
+        );
+        assert_eq!(Legend::of_odf(ColorScheme::Solid), Legend::Solid);
         assert_eq!(
             legend(ColorScheme::Amplitude, [-3.0, 9.0], None),
             Legend::Bar {

@@ -62,7 +62,11 @@ impl Caption {
             lines.push(format!("under: {} {lo:.3} – {hi:.3}", u.label));
         }
         Caption {
-            legend: Legend::of(style),
+            legend: if scene.payload.is_some() {
+                Legend::of_odf(style.color)
+            } else {
+                Legend::of(style)
+            },
             lines,
             axes: Some((camera.forward(), camera.up, anatomical)),
             class_threshold: style.class_threshold,
@@ -221,9 +225,16 @@ fn rows(caption: &Caption) -> Vec<Row> {
             rows.push(Row::Bar);
             rows.push(Row::Ends("compression".into(), "tension".into()));
         }
-        Legend::Dec => {
+        Legend::Dec | Legend::Direction => {
             let anatomical = caption.axes.is_some_and(|a| a.2);
-            rows.push(Row::Text("colour = |e1| × FA".into()));
+            rows.push(Row::Text(
+                if caption.legend == Legend::Dec {
+                    "colour = |e1| × FA"
+                } else {
+                    "colour = |direction|"
+                }
+                .into(),
+            ));
             let names = if anatomical {
                 ["R–L", "A–P", "S–I"]
             } else {

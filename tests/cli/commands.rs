@@ -239,6 +239,10 @@ fn bad_options_exit_2_with_a_clear_message() {
             "--color amplitude applies to --glyph odf",
         ),
         (
+            &["view", "--demo", "grid:3", "--color", "amplitude"],
+            "--color amplitude applies to --glyph odf",
+        ),
+        (
             &[
                 "render",
                 "tests/data/extremes/needles.vtk",

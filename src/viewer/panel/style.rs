@@ -137,6 +137,9 @@ fn draw_legend(ui: &mut Ui, l: Legend) {
         Legend::Dec => {
             ui.label("RGB = |e₁| (x, y, z) × FA");
         }
+        Legend::Direction => {
+            ui.label("RGB = |u| (x, y, z), u the point's direction from the centre");
+        }
         Legend::Solid => {}
     }
 }
