@@ -629,9 +629,10 @@ impl Renderer {
     /// participants of the BIDS derivatives folder `bids_dir` (those of `participant_label`
     /// when it names some), in `out_dir`. Returns JSON: `written` (name, page, figures) and
     /// `failed` (name, the command line's error line without `error: `). `tile_size` and
-    /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`, `sh_basis` is
-    /// `--sh-basis`; a bad one raises, naming the keyword.
-    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None))]
+    /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`, `sh_basis` and
+    /// `odf_normalize` are `--sh-basis` and `--odf-normalize`; a bad one raises, naming the
+    /// keyword.
+    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None, odf_normalize=None))]
     #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
@@ -643,6 +644,7 @@ impl Renderer {
         tile_size: Option<u32>,
         zoom_region: Option<String>,
         sh_basis: Option<String>,
+        odf_normalize: Option<String>,
     ) -> PyResult<String> {
         use tensorglyph::report::inset;
         let mut options = tensorglyph::report::Options::default();
@@ -661,6 +663,11 @@ impl Renderer {
                 b.parse::<tensorglyph::sh::ShBasis>()
                     .map_err(|e| Failure::value(format!("sh_basis={e}")).into_py(py))?,
             );
+        }
+        if let Some(n) = odf_normalize {
+            options.odf_normalize = n
+                .parse::<tensorglyph::scene::odf::OdfNormalize>()
+                .map_err(|e| Failure::value(format!("odf_normalize={e}")).into_py(py))?;
         }
         let job = match (files, bids_dir) {
             (Some(files), None) if participant_label.is_empty() => {

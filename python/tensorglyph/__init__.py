@@ -493,6 +493,7 @@ def report(
     tile_size: Optional[int] = None,
     zoom_region: "str | Sequence[int] | None" = None,
     sh_basis: Optional[str] = None,
+    odf_normalize: Optional[str] = None,
     renderer: Optional[Renderer] = None,
 ) -> dict:
     """Glyph reports, as ``tensorglyph report`` makes them: ``report(files, out_dir)`` writes one
@@ -511,7 +512,9 @@ def report(
     on and its side in voxels, as ``"I,J,K:SIZE"`` or ``(i, j, k, size)``; by default the
     48-voxel square of each row's middle slice where FA is highest. ``sh_basis`` is
     ``--sh-basis``: the basis of the files of SH series (``"tournier07"``, ``"descoteaux07"``,
-    ``"descoteaux07-legacy"``); by default each file's writer's."""
+    ``"descoteaux07-legacy"``); by default each file's writer's. ``odf_normalize`` is
+    ``--odf-normalize`` for the ODF maps' figures (``"max"``, the default, ``"minmax"``,
+    ``"none"``)."""
     if out_dir is None:
         raise Error("report needs out_dir, the folder the reports go to")
     if isinstance(files, (str, os.PathLike)):
@@ -532,6 +535,8 @@ def report(
         zoom_region = f"{i},{j},{k}:{size}"
     if sh_basis is not None and not isinstance(sh_basis, str):
         raise Error(f"sh_basis={sh_basis!r}: give a basis's name, e.g. 'tournier07'")
+    if odf_normalize is not None and not isinstance(odf_normalize, str):
+        raise Error(f"odf_normalize={odf_normalize!r}: give 'max', 'minmax' or 'none'")
     text = (renderer or _renderer())._inner.report(
         os.fspath(out_dir),
         files=None if files is None else [os.fspath(f) for f in files],
@@ -540,6 +545,7 @@ def report(
         tile_size=tile_size,
         zoom_region=zoom_region,
         sh_basis=sh_basis,
+        odf_normalize=odf_normalize,
     )
     done = json.loads(text)
     return {

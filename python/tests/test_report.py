@@ -117,6 +117,7 @@ def test_the_figure_options_are_the_command_lines(tmp_path):
         ({"zoom_region": (-1, 5, 2, 6)}, "zoom_region"),
         ({"sh_basis": "mrtrix"}, "sh_basis"),
         ({"sh_basis": 8}, "sh_basis"),
+        ({"odf_normalize": "mean"}, "odf_normalize"),
     ],
 )
 def test_bad_figure_options_raise_naming_the_keyword(tmp_path, options, keyword):

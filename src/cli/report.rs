@@ -15,6 +15,7 @@ use super::progress::Terminal;
 use crate::backend::Backend;
 use crate::report::{self, Job, Options, Outcome, Plan};
 use crate::request::Method;
+use crate::scene::odf::OdfNormalize;
 use crate::sh::ShBasis;
 
 #[derive(Args, Debug)]
@@ -48,6 +49,11 @@ pub struct ReportArgs {
     /// a 6-volume file stays a tensor map).
     #[arg(long, value_parser = one_of::<ShBasis>(ShBasis::NAMES))]
     pub sh_basis: Option<ShBasis>,
+    /// How each voxel's ODF is scaled in the ODF maps' figures, as `render --odf-normalize`:
+    /// max (each to its own largest value), minmax (its range to the full radius, as mrview),
+    /// none (sizes comparable across voxels).
+    #[arg(long, default_value = "max", value_parser = one_of::<OdfNormalize>(OdfNormalize::NAMES))]
+    pub odf_normalize: OdfNormalize,
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {
@@ -64,6 +70,7 @@ pub fn options(args: &ReportArgs) -> Options {
         tile: args.tile_size,
         zoom: args.zoom_region,
         sh_basis: args.sh_basis,
+        odf_normalize: args.odf_normalize,
     }
 }
 

@@ -55,6 +55,8 @@ pub struct Options {
     /// It does not make a tensor map SH: which maps are ODF maps is their count's (or, in a
     /// BIDS folder, their name's) to say.
     pub sh_basis: Option<crate::sh::ShBasis>,
+    /// How each voxel's ODF is scaled in the ODF maps' figures (`--odf-normalize`).
+    pub odf_normalize: crate::scene::odf::OdfNormalize,
 }
 
 impl Default for Options {
@@ -63,6 +65,7 @@ impl Default for Options {
             tile: inset::DEFAULT_TILE,
             zoom: None,
             sh_basis: None,
+            odf_normalize: crate::scene::odf::OdfNormalize::default(),
         }
     }
 }
@@ -643,7 +646,7 @@ fn odf_map(
         return Err(UnitError::NoOdf(path.to_path_buf()));
     }
     let anatomical = field.frame.world == "RAS";
-    let normalize = crate::scene::odf::OdfNormalize::default();
+    let normalize = options.odf_normalize;
     let stem = file_stem(path);
     let mut figures = Vec::new();
     for o in ORIENTATIONS {

@@ -307,6 +307,33 @@ fn sh_basis_names_the_basis_of_the_reports_series() {
         other >= 1e-2,
         "in the default basis: only {other} of the pixels differ"
     );
+    // --odf-normalize scales the figures' ODFs as render's does, and the page says how.
+    let out = tempfile::tempdir().unwrap();
+    let legacy = crate::data::path("sh/dipy_lmax8_descoteaux07_legacy.nii.gz");
+    let o = tg(&[
+        "report",
+        legacy.to_str().unwrap(),
+        "-o",
+        out.path().to_str().unwrap(),
+        "--odf-normalize",
+        "minmax",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let stem = "dipy_lmax8_descoteaux07_legacy";
+    let html = std::fs::read_to_string(out.path().join(format!("{stem}.html"))).unwrap();
+    assert!(
+        html.contains("<th>normalisation</th><td>minmax: "),
+        "{}",
+        &html[..html.find("<figure>").unwrap()]
+    );
+    let minmax = image::open(out.path().join(format!("{stem}/figures/{stem}_axial.png")))
+        .unwrap()
+        .to_rgba8();
+    let changed = differing(&truth, &minmax);
+    assert!(
+        changed >= 1e-2,
+        "minmax changed only {changed} of the pixels"
+    );
     let o = tg(&[
         "report",
         "x.mif",
