@@ -62,10 +62,11 @@ const FLAG_AO: u32 = 32u;
 
 @vertex
 fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
-    // One triangle covering the viewport.
+    // One triangle covering the viewport, on the far plane: the pass's depth test (greater,
+    // against the glyphs' depth, src/render/effects.rs) keeps the pixels something covers.
     let x = f32((i << 1u) & 2u);
     let y = f32(i & 2u);
-    return vec4<f32>(x * 2.0 - 1.0, 1.0 - y * 2.0, 0.0, 1.0);
+    return vec4<f32>(x * 2.0 - 1.0, 1.0 - y * 2.0, 1.0, 1.0);
 }
 
 // The effects a pipeline is built for (src/render/effects.rs): what a frame does not ask for is
