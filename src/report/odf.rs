@@ -6,9 +6,10 @@
 //! The tiles are the tensor rows' ([`super::mosaic`]): the same slice choice (up to
 //! [`mosaic::SLICES`] through the voxels that hold a series), the same framing (every tile of a
 //! row at one scale), labels and back end. There is no FA underlay (an SH series has none) and
-//! no zoomed inset: each ODF slice costs its scene (every voxel's ODF sampled for its size and
-//! bounds, about a millisecond a voxel in the dev build: 15 s for a whole-brain axial slice)
-//! and a ray-marched frame, and an inset would add both again for every row.
+//! no zoomed inset yet: each ODF slice costs its scene (every voxel's ODF sampled for its size
+//! and bounds: about 30 µs a voxel in the release build since the sampling became a table's dot
+//! products) and a ray-marched frame (the dearer part on a CPU rasteriser), and an inset would
+//! add both again for every row.
 
 use glam::DVec3;
 use web_time::Instant;
