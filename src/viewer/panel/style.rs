@@ -258,6 +258,11 @@ fn odf_section(ui: &mut Ui, settings: &mut Settings, sh: &crate::field::ShField)
              each voxel's [min, max] to [0, 1] (mrview); none: amplitudes comparable \
              across voxels",
         );
+    // A tensor colouring kept from an earlier file is drawn as dec (the app builds it so):
+    // the panel shows what is drawn.
+    if !ODF_COLORS.contains(&settings.style.color) {
+        settings.style.color = ColorScheme::Dec;
+    }
     egui::ComboBox::from_label("colour")
         .selected_text(settings.style.color.name())
         .show_ui(ui, |ui| {
