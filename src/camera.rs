@@ -259,6 +259,19 @@ impl Camera {
         }
     }
 
+    /// Move the near and far planes `margin` further apart (the near plane at most to a tenth
+    /// of its distance in perspective, where it must stay in front of the eye).
+    pub fn widen_depth_range(&mut self, margin: f64) {
+        if margin.is_nan() || margin <= 0.0 {
+            return;
+        }
+        self.far += margin;
+        self.near = match self.projection {
+            Projection::Perspective { .. } => (self.near - margin).max(self.near * 0.1),
+            Projection::Orthographic { .. } => self.near - margin,
+        };
+    }
+
     pub fn forward(&self) -> DVec3 {
         (self.target - self.eye).normalize()
     }

@@ -13,7 +13,7 @@ use crate::render::context::GpuContext;
 use crate::render::effects::AoVolume;
 use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGlyph};
 use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
-use crate::request::FrameRequest;
+use crate::request::{FrameRequest, Method};
 use crate::scene::{GlyphInstance, GlyphKind, Scene};
 use crate::shape::Payload;
 
@@ -24,6 +24,10 @@ pub struct SceneBuffers {
     origin: glam::DVec3,
     /// The scene's box (centre, half extents): the key light's shadow map covers it.
     bounds: (glam::DVec3, glam::DVec3),
+    /// How far the `box` baseline's boxes may reach past the scene's bounding sphere, which
+    /// cameras fit their depth planes to: a box's corners lie up to √3 times its largest half
+    /// extent from its centre, the glyph only that extent.
+    box_reach: f64,
     count: u32,
     camera_buffer: wgpu::Buffer,
     /// The key light's camera, for drawing the shadow map (bound in each chunk's light group).
@@ -142,6 +146,13 @@ impl SceneBuffers {
             kind: scene.kind,
             origin: scene.origin,
             bounds: (scene.centre, scene.half),
+            box_reach: (3f64.sqrt() - 1.0)
+                * scene
+                    .instances
+                    .iter()
+                    .map(|g| f64::from(g.radii[0].max(g.radii[1]).max(g.radii[2])))
+                    .filter(|r| r.is_finite())
+                    .fold(0.0, f64::max),
             count: base,
             camera_buffer,
             light_buffer,
@@ -165,6 +176,7 @@ impl SceneBuffers {
     /// Write the camera uniform and the chunks' parameters of a frame (through the queue: they
     /// take effect at the next submit).
     pub(crate) fn write_uniforms(&self, queue: &wgpu::Queue, camera: &Camera, req: &FrameRequest) {
+        let camera = &self.depth_camera(camera, req);
         let mut uniform = CameraUniform::new(camera, self.origin, &req.lighting);
         uniform.pixels[3] = if req.effects.deferred() { 1.0 } else { 0.0 };
         queue.write_buffer(&self.camera_buffer, 0, bytemuck::bytes_of(&uniform));
@@ -189,8 +201,21 @@ impl SceneBuffers {
         light: &Camera,
         req: &FrameRequest,
     ) {
+        let light = &self.depth_camera(light, req);
         let uniform = CameraUniform::new(light, self.origin, &req.lighting);
         queue.write_buffer(&self.light_buffer, 0, bytemuck::bytes_of(&uniform));
+    }
+
+    /// The camera a frame's depth planes come from: `camera`'s own, except for the `box`
+    /// baseline, whose boxes reach past the glyphs the planes were fitted to: there the planes
+    /// move apart by the boxes' reach, so that no box is clipped (a clipped box loses the far
+    /// corner and, where rasterisers clip triangles one by one, pixels inside it).
+    fn depth_camera(&self, camera: &Camera, req: &FrameRequest) -> Camera {
+        let mut camera = *camera;
+        if req.method.method() == Method::Box {
+            camera.widen_depth_range(self.box_reach);
+        }
+        camera
     }
 
     /// The scene's box: centre and half extents (world).
