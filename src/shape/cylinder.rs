@@ -6,7 +6,9 @@ use glam::{DMat3, DVec3};
 
 use super::geometry::{bounding_radius, permuted_frame};
 use super::mesh::{Mesh, prism_sides};
-use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, stable_roots};
+use super::{
+    Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, unit_sphere_roots,
+};
 use crate::glyph::{Glyph, ResolvedStyle};
 
 pub const WGSL: &str = include_str!("../../shaders/shape/cylinder.wgsl");
@@ -131,16 +133,10 @@ impl Cylinder {
         let o_t = self.param((o - self.c) + d * t0);
         let v_t = self.param(d);
         let (mut side_in, mut side_out) = (f64::NEG_INFINITY, f64::INFINITY);
-        let a = v_t.y * v_t.y + v_t.z * v_t.z;
-        let b = o_t.y * v_t.y + o_t.z * v_t.z;
-        let g = o_t.y * o_t.y + o_t.z * o_t.z - 1.0;
-        if a > 0.0 {
-            let disc = b * b - a * g;
-            if disc.is_nan() || disc < 0.0 {
-                return None;
-            }
-            (side_in, side_out) = stable_roots(a, b, g, disc);
-        } else if g > 0.0 {
+        let side = |p: DVec3| DVec3::new(0.0, p.y, p.z);
+        if v_t.y != 0.0 || v_t.z != 0.0 {
+            (side_in, side_out) = unit_sphere_roots(side(o_t), side(v_t))?;
+        } else if o_t.y * o_t.y + o_t.z * o_t.z > 1.0 {
             return None;
         }
         let (mut cap_in, mut cap_out) = (f64::NEG_INFINITY, f64::INFINITY);

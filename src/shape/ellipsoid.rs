@@ -10,7 +10,9 @@ use glam::{DMat3, DVec3};
 use super::geometry::bounding_radius;
 use super::mesh::{Mesh, normalize};
 use super::rules::EYE_INSIDE_E2;
-use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, stable_roots};
+use super::{
+    Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, unit_sphere_roots,
+};
 use crate::glyph::{Glyph, ResolvedStyle};
 
 pub const WGSL: &str = include_str!("../../shaders/shape/ellipsoid.wgsl");
@@ -119,14 +121,7 @@ pub fn intersect(o: DVec3, d: DVec3, c: DVec3, t_inv: &DMat3) -> Option<(f64, DV
     let t0 = (c - o).dot(d);
     let o_t = *t_inv * ((o - c) + d * t0);
     let v_t = *t_inv * d;
-    let alpha = v_t.length_squared();
-    let beta = o_t.dot(v_t);
-    let gamma = o_t.length_squared() - 1.0;
-    let disc = beta * beta - alpha * gamma;
-    if disc.is_nan() || disc < 0.0 || alpha <= 0.0 {
-        return None;
-    }
-    let (near, far) = stable_roots(alpha, beta, gamma, disc);
+    let (near, far) = unit_sphere_roots(o_t, v_t)?;
     let tp = if t0 + near > 0.0 {
         near
     } else if t0 + far > 0.0 {

@@ -63,6 +63,52 @@ fn quick_suite_has_no_failures() {
     );
 }
 
+/// Issue 37's end: case 2's sweeps of crossing pancakes (k = 1 … 10⁸, perspective and
+/// orthographic) pass for both ray casters with no documented limit (k = 10⁷ used to differ from
+/// the reference, whose discriminant cancelled there), and the `box` baseline of ODF cigars
+/// keeps every box whole (its far corners were clipped: a crack at k = 10).
+#[test]
+fn thin_glyphs_pass_without_limits() {
+    let Some(gpu) = crate::check::gpu() else {
+        return;
+    };
+    let run = |methods: Vec<Method>, glyphs: Vec<GlyphKind>, case: &str| {
+        let opts = Options {
+            methods,
+            glyphs,
+            quick: false,
+            cases: vec![case.to_string()],
+        };
+        stability::run(Some(&gpu), &opts, |_| {})
+    };
+    let rows = run(
+        vec![Method::Gumhold, Method::Sigg],
+        vec![GlyphKind::Ellipsoid, GlyphKind::Cylinder],
+        "2-anisotropy-pancake-pair",
+    );
+    assert!(rows.len() >= 72, "{} rows", rows.len());
+    let bad: Vec<_> = rows
+        .iter()
+        .filter(|r| r.metrics.contains_key("crack_px") && r.status != Status::Pass)
+        .cloned()
+        .collect();
+    assert!(bad.is_empty(), "not passing:\n{}", show(&bad));
+    let rows = run(
+        vec![Method::Box],
+        vec![GlyphKind::Odf],
+        "2-anisotropy-cigar",
+    );
+    let bad: Vec<_> = rows
+        .iter()
+        .filter(|r| {
+            r.method == "box"
+                && (r.status == Status::Fail || r.metrics.get("crack_px") != Some(&0.0))
+        })
+        .cloned()
+        .collect();
+    assert!(bad.is_empty(), "boxes:\n{}", show(&bad));
+}
+
 #[test]
 fn cpu_probes() {
     let mut rows = stability::cpu::mu_form(true);
