@@ -41,6 +41,10 @@ pub struct ViewArgs {
     #[arg(long, value_name = "N", default_value_t = 1,
           value_parser = clap::value_parser!(u32).range(1..=2))]
     pub ssaa: u32,
+    /// Draw every frame whole, also while the camera moves (by default a scene slower than
+    /// 66 ms a frame is drawn coarser while it moves, whole once it stops).
+    #[arg(long)]
+    pub no_draft: bool,
     #[command(flatten)]
     pub scene: SceneArgs,
     /// The panel's starting selection.
@@ -95,6 +99,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         // Unscaled: the viewer scales the outline width with its own sampling.
         effects: args.effects.effects(args.size, 1)?,
         ssaa: args.ssaa,
+        draft: !args.no_draft,
         odf_normalize: args.scene.odf_normalize.unwrap_or_default(),
     };
     viewer::run(Options {

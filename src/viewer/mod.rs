@@ -13,6 +13,7 @@
 //! on the page's event loop in the browser).
 
 pub mod app;
+pub mod draft;
 pub mod host;
 pub mod loader;
 #[cfg(not(target_arch = "wasm32"))]

@@ -34,6 +34,8 @@ pub struct Settings {
     /// Samples per pixel across of the view (1, or 2: the 2×2 box filter is the texture's
     /// bilinear filter at the pixel centre).
     pub ssaa: u32,
+    /// Coarser frames while the camera moves over a slow scene ([`crate::viewer::draft`]).
+    pub draft: bool,
     /// How the ODF glyphs of a file of SH series are scaled (`render --odf-normalize`).
     pub odf_normalize: OdfNormalize,
 }
@@ -52,6 +54,7 @@ impl Default for Settings {
             underlay_view: UnderlayView::default(),
             effects: Effects::default(),
             ssaa: 1,
+            draft: true,
             odf_normalize: OdfNormalize::default(),
         }
     }

@@ -24,7 +24,11 @@ impl ViewerApp {
             return;
         };
         let size = if self.panel.screenshot_window_size {
-            self.view.size()
+            // The whole frame's targets (a draft on screen is coarser).
+            let n = self.settings.ssaa.max(1);
+            self.view
+                .size()
+                .map(|_| (self.pixels.0 * n, self.pixels.1 * n))
         } else {
             parse_size(&self.panel.screenshot_size)
         };

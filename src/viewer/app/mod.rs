@@ -26,6 +26,7 @@ use crate::scene::Scene;
 use crate::scene::UnderlaySource;
 use crate::select::{Selection, Slicing};
 use crate::staging::{self, Recipe, Source};
+use crate::viewer::draft::{self, Draft, Next};
 use crate::viewer::loader::{Loaded, Loading, main_file};
 use crate::viewer::navigation::{Navigation, axis_view};
 use crate::viewer::panel::{self, Action, PanelInfo, PanelState};
@@ -78,6 +79,10 @@ pub struct ViewerApp {
     middle_slice: bool,
     view: View3d,
     last_render: Option<RenderKey>,
+    /// Coarser frames while the camera moves, and the draft on screen.
+    draft: Draft,
+    /// The view's size in window pixels, as last drawn.
+    pub(super) pixels: (u32, u32),
     hover: Option<(u32, u32)>,
     picked: Option<PickInfo>,
     drawn: usize,
@@ -150,6 +155,8 @@ impl ViewerApp {
             middle_slice: opts.middle_slice,
             view: View3d::default(),
             last_render: None,
+            draft: Draft::default(),
+            pixels: (1, 1),
             hover: None,
             picked: None,
             drawn: 0,
@@ -491,36 +498,54 @@ impl ViewerApp {
         }
     }
 
-    /// Draw the frame if anything it depends on changed.
-    fn render_if_needed(&mut self, pixels: (u32, u32)) -> bool {
+    /// Draw the frame if anything it depends on changed: whole, or while the camera moves over
+    /// a slow scene a coarser draft of it (whole once the camera is still).
+    fn render_if_needed(&mut self, ctx: &egui::Context, pixels: (u32, u32)) -> bool {
         let (Some(nav), Some(built)) = (&self.nav, &self.built) else {
             return false;
         };
+        self.pixels = pixels;
         let n = self.settings.ssaa.max(1);
-        let samples = (pixels.0 * n, pixels.1 * n);
-        let request = self.settings.request(n);
+        let full = (pixels.0 * n, pixels.1 * n);
+        let key = RenderKey {
+            scene: built.generation,
+            camera: nav.camera(full.0, full.1),
+            request: self.settings.request(n),
+        };
+        if self.draft.shown.is_none()
+            && self.last_render.is_some()
+            && let Some(f) = self.view.frame_time()
+        {
+            self.draft.full_ms = Some(f.ms);
+        }
+        let next = self
+            .draft
+            .next(&key, self.last_render.as_ref(), self.settings.draft);
+        let (samples, camera, req) = match next {
+            Next::Nothing => {
+                if let Some(due) = self.draft.due_in() {
+                    ctx.request_repaint_after(due);
+                }
+                return false;
+            }
+            Next::Full => (full, key.camera, key.request),
+            Next::Draft(d) => {
+                let size = draft::coarse_size(full, d);
+                let mut req = key.request;
+                req.min_pixel_radius /= d as f32;
+                (size, nav.camera(size.0, size.1), req)
+            }
+        };
+        let smooth = n > 1 || matches!(next, Next::Draft(_));
         let mut renderer = self.render_state.renderer.write();
-        if let Err(e) = self.view.resize(
-            &self.gpu,
-            &mut renderer,
-            samples,
-            request.writes_aux(),
-            n > 1,
-        ) {
+        if let Err(e) =
+            self.view
+                .resize(&self.gpu, &mut renderer, samples, req.writes_aux(), smooth)
+        {
             self.error = Some(e.to_string());
             return false;
         }
         drop(renderer);
-        let camera = nav.camera(samples.0, samples.1);
-        let key = RenderKey {
-            scene: built.generation,
-            camera,
-            request,
-        };
-        if self.last_render.as_ref() == Some(&key) {
-            return false;
-        }
-        let req = &key.request;
         let vis = built
             .scene
             .visibility(&camera, req.cull, req.min_pixel_radius);
@@ -529,10 +554,16 @@ impl ViewerApp {
             - vis.behind_camera
             - vis.degenerate
             - vis.culled;
-        match self.view.draw(&self.gpu, &camera, &key.request) {
-            Ok(()) => self.last_render = Some(key),
-            Err(e) => {
-                self.error = Some(format!("rendering failed: {e}"));
+        if let Err(e) = self.view.draw(&self.gpu, &camera, &req) {
+            self.error = Some(format!("rendering failed: {e}"));
+        }
+        match next {
+            Next::Draft(d) => {
+                self.draft.shown = Some((key, d, web_time::Instant::now()));
+                ctx.request_repaint_after(draft::SETTLE);
+            }
+            _ => {
+                self.draft.shown = None;
                 self.last_render = Some(key);
             }
         }
@@ -660,7 +691,7 @@ impl eframe::App for ViewerApp {
             );
             let response = ui.allocate_rect(rect, egui::Sense::click_and_drag());
             self.interact(ui, &response, pixels);
-            let rendered = self.render_if_needed(pixels);
+            let rendered = self.render_if_needed(&ctx, pixels);
             match self.view.texture {
                 Some(tex) if self.built.is_some() => {
                     ui.painter().image(

@@ -30,10 +30,17 @@ impl ViewerApp {
         let (Some(targets), Some(built)) = (self.view.targets.as_ref(), self.built.as_ref()) else {
             return;
         };
-        // The targets hold n×n samples per window pixel: read the pixel's centre sample.
-        let n = self.settings.ssaa.max(1);
+        // The targets hold n×n samples per window pixel (n×n, or 1/d across for a draft):
+        // read the sample at the pixel's centre.
+        let (pw, ph) = self.pixels;
+        let at = |x: u32, pw: u32, tw: u32| {
+            ((u64::from(2 * x + 1) * u64::from(tw)) / (2 * u64::from(pw.max(1)))) as u32
+        };
+        let (x, y) = (
+            at(x, pw, targets.width).min(targets.width.saturating_sub(1)),
+            at(y, ph, targets.height).min(targets.height.saturating_sub(1)),
+        );
         let (gpu, id) = (self.gpu.clone(), targets.id.clone());
-        let (x, y) = (x * n + n / 2, y * n + n / 2);
         let read = async move { read_id_async(&gpu.ctx, &id, x, y).await };
         self.pick_job = Some(PickJob {
             generation: built.generation,

@@ -33,6 +33,10 @@ pub(super) fn figure_section(ui: &mut Ui, settings: &mut Settings) {
     {
         settings.ssaa = if aa { 2 } else { 1 };
     }
+    ui.checkbox(&mut settings.draft, "coarser frames while moving")
+        .on_hover_text(
+            "a scene slower than 66 ms a frame is drawn at a lower resolution while the camera moves, whole once it stops",
+        );
     let fx = &mut settings.effects;
     let mut outlines = fx.outlines.is_some();
     let mut shadows = fx.shadows.is_some();
