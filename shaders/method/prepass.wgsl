@@ -11,8 +11,20 @@ struct Slice {
     count: u32,
     // --splat: glyphs whose proxy spans at most this many pixels across are splats (0: none).
     splat_max: u32,
-    _pad: u32,
+    // SLICE_BRICKS: the glyphs are those of the bricks occlusion culling listed
+    // (visible_bricks), BRICK invocations a brick, dispatched indirectly; first and count are
+    // then unused (count bounds the splats' second pass).
+    flags: u32,
 }
+
+const SLICE_BRICKS: u32 = 1u;
+// Glyphs per brick (BRICK in src/render/bricks.rs) and the unused places of a brick.
+const BRICK: u32 = 256u;
+const NO_GLYPH: u32 = 0xffffffffu;
+// The chunk's glyphs brick by brick, and the bricks of this slice that may show something
+// (shaders/method/occlusion.wgsl).
+@group(1) @binding(12) var<storage, read> brick_glyphs: array<u32>;
+@group(1) @binding(13) var<storage, read> visible_bricks: array<u32>;
 
 // wgpu's DrawIndirectArgs.
 struct DrawArgs {
@@ -60,6 +72,14 @@ fn prepass_glyph(gid: u32) -> u32 {
     if gid == 0u {
         draw_args.vertex_count = PROXY_VERTICES;
         splat_info.vertex_count = 4u;
+    }
+    if (slice.flags & SLICE_BRICKS) != 0u {
+        // The dispatch holds exactly BRICK invocations per listed brick.
+        let local = brick_glyphs[visible_bricks[gid / BRICK] * BRICK + gid % BRICK];
+        if local == NO_GLYPH {
+            return 0xffffffffu;
+        }
+        return chunk.base + local;
     }
     if gid >= slice.count {
         return 0xffffffffu;

@@ -2,6 +2,7 @@
 //! frame loop ([`crate::render::GpuRenderer`]) knows no method; a method with passes of its own
 //! (Gumhold's compute prepass and splats) records them here.
 
+use crate::camera::Camera;
 use crate::render::context::GpuContext;
 use crate::render::pipeline::Variant;
 use crate::render::scene_buffers::{ChunkBuffers, SceneBuffers};
@@ -11,6 +12,8 @@ use crate::request::{FrameRequest, Proxy};
 /// Everything a drawer records one frame with.
 pub struct FrameRecording<'a> {
     pub ctx: &'a GpuContext,
+    /// The camera the frame is drawn from (the key light's for the shadow map).
+    pub camera: &'a Camera,
     pub buffers: &'a SceneBuffers,
     pub req: &'a FrameRequest,
     /// The targets; the first pass clears them.

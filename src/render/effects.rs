@@ -519,6 +519,7 @@ impl EffectsPipeline {
             drawer.record(
                 &FrameRecording {
                     ctx,
+                    camera: light,
                     buffers,
                     req: &light_req,
                     views: shadow_views,

@@ -212,6 +212,7 @@ impl GpuRenderer {
         buffers.write_uniforms(&self.ctx.queue, camera, req);
         let frame = FrameRecording {
             ctx: &self.ctx,
+            camera,
             buffers,
             req,
             views,
@@ -297,6 +298,7 @@ impl GpuRenderer {
                 let mut encoder = device.create_command_encoder(&Default::default());
                 let recording = FrameRecording {
                     ctx,
+                    camera,
                     buffers,
                     req,
                     views: &views,

@@ -9,6 +9,9 @@ use std::sync::{Arc, Mutex};
 
 use crate::camera::Camera;
 use crate::error::RenderError;
+use wgpu::util::DeviceExt;
+
+use crate::render::bricks::Bricks;
 use crate::render::context::GpuContext;
 use crate::render::effects::AoVolume;
 use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGlyph};
@@ -37,6 +40,8 @@ pub struct SceneBuffers {
     pub(crate) underlay: Option<UnderlayBuffers>,
     /// What ambient occlusion marches (the composite pass binds it).
     pub(crate) ao_volume: AoVolume,
+    /// A large single-chunk scene's bricks, for the prepass's occlusion culling.
+    pub(crate) bricks: Option<BrickBuffers>,
     /// What methods keep per scene, made on the first frame that needs it.
     method_state: Mutex<HashMap<TypeId, Arc<dyn Any + Send + Sync>>>,
 }
@@ -50,6 +55,12 @@ pub struct Needs {
     pub general: bool,
     /// The double-f32 rays of thin glyphs (`THIN_EXACT`, [`GlyphInstance::is_thin`]).
     pub thin: bool,
+}
+
+/// A scene's [`Bricks`] and their glyphs on the GPU (`brick_glyphs` in shaders/method/prepass.wgsl).
+pub struct BrickBuffers {
+    pub(crate) bricks: Bricks,
+    pub(crate) glyphs: wgpu::Buffer,
 }
 
 /// One storage buffer of packed instances and its parameters, bound as group 0.
@@ -137,6 +148,18 @@ impl SceneBuffers {
             None => None,
         };
         let ao_volume = AoVolume::upload(ctx, scene);
+        // Occlusion culling works within one chunk and only where the prepass draws.
+        let bricks =
+            (chunks.len() == 1 && scene.kind.caps().prepass && Bricks::pays(scene.instances.len()))
+                .then(|| {
+                    let bricks = Bricks::new(&scene.instances);
+                    let glyphs = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("brick glyphs"),
+                        contents: bytemuck::cast_slice(&bricks.glyphs),
+                        usage: wgpu::BufferUsages::STORAGE,
+                    });
+                    BrickBuffers { bricks, glyphs }
+                });
         let what = format!("uploading {} glyph instances", scene.instances.len());
         let oom = ctx.scope_error(oom, &what);
         if let Some(e) = oom.or(ctx.scope_error(scope, &what)) {
@@ -159,6 +182,7 @@ impl SceneBuffers {
             chunks,
             underlay,
             ao_volume,
+            bricks,
             method_state: Mutex::new(HashMap::new()),
         })
     }
@@ -221,6 +245,16 @@ impl SceneBuffers {
     /// The scene's box: centre and half extents (world).
     pub(crate) fn bounds(&self) -> (glam::DVec3, glam::DVec3) {
         self.bounds
+    }
+
+    /// Whether Gumhold's prepass draws frames from `camera` by bricks, culled
+    /// ([`crate::render::gumhold::occlusion`]): a single-chunk scene of at least
+    /// [`crate::render::bricks::MIN_GLYPHS`] glyphs whose frustum leaves out enough of them.
+    pub fn culls_bricks(&self, camera: &Camera) -> bool {
+        self.bricks.as_ref().is_some_and(|b| {
+            b.bricks
+                .pay_for(b.bricks.frame_order(camera, self.origin).order.len())
+        })
     }
 
     /// The scene origin every uniform is relative to.

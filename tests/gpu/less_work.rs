@@ -315,3 +315,46 @@ fn every_proxy_shape_covers_the_view_from_near_a_cylinder_cap() {
         }
     }
 }
+
+#[test]
+fn bricks_culled_draw_the_same_image_as_file_order() {
+    let Some(gpu) = crate::check::gpu() else {
+        return;
+    };
+    for glyph in [GlyphKind::Ellipsoid, GlyphKind::Superquadric] {
+        // 140,608 glyphs: bricks from 2^17 on, in one chunk; chunked, the same glyphs in file order.
+        let scene = grid_scene(52, glyph);
+        let whole = gpu.upload(&scene).unwrap();
+        let chunked = gpu.upload_chunked(&scene, 100_000).unwrap();
+        let req = FrameRequest {
+            aux: true,
+            ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
+        };
+        for (zoom, ortho, azimuth) in [(4.0, false, 0.0), (7.0, false, 30.0), (4.0, true, -20.0)] {
+            let framing = Framing {
+                zoom,
+                ortho,
+                azimuth,
+                ..Framing::default()
+            };
+            let cam = Camera::frame(&framing, scene.centre, scene.radius, 400, 300);
+            let label = format!("{glyph} zoom {zoom} ortho {ortho} azimuth {azimuth}");
+            assert!(whole.culls_bricks(&cam), "{label}: drawn by bricks");
+            assert!(!chunked.culls_bricks(&cam), "{label}: in file order");
+            let culled = gpu.render_uploaded(&whole, &cam, &req).unwrap();
+            let plain = gpu.render_uploaded(&chunked, &cam, &req).unwrap();
+            assert!(plain.covered_pixels() > 50_000, "{label}: a real image");
+            let differ = |a: &[u32], b: &[u32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+            let ids = differ(&glyph_ids(&culled, &scene), &glyph_ids(&plain, &scene));
+            assert_eq!(ids, 0, "{label}: pixels whose glyph differs");
+            assert!(
+                culled.aux == plain.aux,
+                "{label}: normals and depths differ"
+            );
+            assert!(culled.color == plain.color, "{label}: colours differ");
+            crate::check::assert_scene_bounds(&label, &culled, &scene, &cam, &req);
+        }
+        // The whole field in view: most bricks are seen, and the frame is drawn in file order.
+        assert!(!whole.culls_bricks(&camera(&scene, 1.0, 400, 300)));
+    }
+}

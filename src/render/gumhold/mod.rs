@@ -7,6 +7,7 @@
 //! prepass, with splats ([`prepass`]). The f64 twin of the shaders is
 //! [`crate::twin::gumhold_ellipsoid`].
 
+pub mod occlusion;
 pub mod prepass;
 
 use crate::render::context::GpuContext;
@@ -43,6 +44,8 @@ pub struct GumholdRenderer {
     strips: StripRenderer,
     /// The compute prepass and splats (ellipsoids and superquadrics).
     prepass: Option<PrepassCache>,
+    /// Occlusion culling's passes, with the prepass.
+    occlusion: Option<occlusion::OcclusionPass>,
 }
 
 impl GumholdRenderer {
@@ -62,6 +65,7 @@ impl GumholdRenderer {
         Self {
             strips: StripRenderer::new(ctx, layouts, source, instance_input),
             prepass: prepass.then(|| PrepassCache::new(ctx, &layouts.group)),
+            occlusion: prepass.then(|| occlusion::OcclusionPass::new(ctx, &layouts.group)),
         }
     }
 
@@ -92,7 +96,9 @@ impl GumholdRenderer {
         let cache = self.prepass.as_ref()?;
         let make = || {
             let counts: Vec<u32> = buffers.chunks.iter().map(|c| c.count).collect();
-            PrepassBuffers::new(ctx, &cache.layouts, &counts)
+            // The key light's map is drawn unculled.
+            let bricks = buffers.bricks.as_ref().filter(|_| !light);
+            PrepassBuffers::new(ctx, &cache.layouts, &counts, bricks)
         };
         Some(if light {
             Prepass::Light(buffers.method_state(|| LightPrepass(make())))
@@ -136,8 +142,15 @@ impl Drawer for GumholdRenderer {
         let req = frame.req;
         let views = frame.views;
         let splats = req.splat_pixels() > 0;
-        prepass.write_params(&frame.ctx.queue, req.splat_pixels());
-        if prepass.slices.is_empty() {
+        let bricks = frame.buffers.bricks.as_ref().filter(|_| !frame.light);
+        let draws = prepass.frame_slices(
+            &frame.ctx.queue,
+            bricks,
+            frame.camera,
+            frame.buffers.origin(),
+        );
+        prepass.write_params(&frame.ctx.queue, req.splat_pixels(), &draws);
+        if draws.is_empty() {
             views.begin_pass(
                 encoder,
                 req.background,
@@ -146,17 +159,21 @@ impl Drawer for GumholdRenderer {
             );
             return;
         }
-        let last = prepass.slices.len() - 1;
-        for (k, slice) in prepass.slices.iter().enumerate() {
-            let buffers = &frame.buffers.chunks[slice.chunk];
+        let last = draws.len() - 1;
+        for (j, slice) in draws.iter().enumerate() {
+            let buffers = &frame.buffers.chunks[prepass.slices[slice.k].chunk];
             let pipelines = self
                 .prepass_pipelines(req, frame.variant(), buffers.needs)
                 .expect("a glyph with prepass buffers has its pipelines");
             let chunk = frame.group(buffers);
+            if slice.bricks {
+                let pass = self.occlusion.as_ref().expect("made with the prepass");
+                prepass.record_culling(encoder, pass, chunk, &views.depth, slice, views.size);
+            }
             let compute_stamp =
                 frame
                     .timestamps
-                    .filter(|_| k == 0)
+                    .filter(|_| j == 0)
                     .map(|set| wgpu::ComputePassTimestampWrites {
                         query_set: set,
                         beginning_of_pass_write_index: Some(0),
@@ -166,7 +183,7 @@ impl Drawer for GumholdRenderer {
                 encoder,
                 &pipelines,
                 chunk,
-                k,
+                slice,
                 views.size,
                 splats,
                 compute_stamp,
@@ -174,11 +191,11 @@ impl Drawer for GumholdRenderer {
             let mut pass = views.begin_pass(
                 encoder,
                 req.background,
-                k == 0,
-                frame.pass_timestamps(false, k == last),
+                j == 0,
+                frame.pass_timestamps(false, j == last),
             );
             if let Some(set) = frame.stats {
-                pass.begin_pipeline_statistics_query(set, k as u32);
+                pass.begin_pipeline_statistics_query(set, j as u32);
             }
             pass.set_bind_group(0, chunk, &[]);
             prepass.draw(&mut pass, &pipelines, splats);

@@ -22,9 +22,12 @@
 use std::collections::HashMap;
 use std::sync::Mutex;
 
+use crate::camera::Camera;
+use crate::render::bricks::BRICK;
 use crate::render::context::GpuContext;
+use crate::render::gumhold::occlusion::{self, SceneCulling, SliceDraw};
 use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeline};
-use crate::render::scene_buffers::Needs;
+use crate::render::scene_buffers::{BrickBuffers, Needs};
 use crate::render::strip::StripRenderer;
 use crate::request::Proxy;
 
@@ -73,6 +76,8 @@ pub const SPLAT_INFO_SIZE: u64 = 20;
 pub const SPLAT_TILE: u32 = 16;
 /// Bytes of `Slice` (shaders/prepass.wgsl), a read-only storage buffer.
 const SLICE_PARAMS_SIZE: u64 = 16;
+/// `SLICE_BRICKS` (shaders/prepass.wgsl): the slice's glyphs are the bricks its culling listed.
+const SLICE_BRICKS: u32 = 1;
 
 /// [`GlyphFrame`] as the per-instance vertex attributes of `vs_frames` (`FrameInput`, one
 /// location each; a `vec4` location reads a `vec3` with the scalar after it).
@@ -170,6 +175,10 @@ impl PrepassLayouts {
                 buffer_entry(6, compute, rw),
                 buffer_entry(7, compute, rw),
                 buffer_entry(10, compute, rw),
+                // Occlusion culling (occlusion.rs): the bricks' glyphs and the bricks the
+                // slice listed.
+                buffer_entry(12, compute, ro),
+                buffer_entry(13, compute, ro),
             ],
         });
         let resolve_group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -312,7 +321,8 @@ pub struct PrepassPipelines {
     pub resolve: wgpu::RenderPipeline,
 }
 
-/// One slice: `count` glyphs from `first` of chunk `chunk`.
+/// One slice: `count` glyphs from `first` of chunk `chunk` (with bricks, what a frame's
+/// [`SliceDraw`] says).
 pub struct Slice {
     pub chunk: usize,
     pub first: u32,
@@ -327,6 +337,8 @@ struct PixelBuffers {
     splat_ids: wgpu::Buffer,
     /// Per tile: listed yet (the bind groups hold the list of tiles).
     tile_marks: wgpu::Buffer,
+    /// Occlusion culling's depth tiles ([`occlusion::HIZ_TILE`] pixels square).
+    hiz: wgpu::Buffer,
     /// One per slice.
     compute_groups: Vec<wgpu::BindGroup>,
     resolve_group: wgpu::BindGroup,
@@ -344,13 +356,26 @@ pub struct PrepassBuffers {
     splat_info: wgpu::Buffer,
     frames: wgpu::Buffer,
     splat_list: wgpu::Buffer,
+    /// Bricks a slice holds at most, with occlusion culling.
+    brick_capacity: u32,
+    /// The slices of a frame in file order (the first of `slices`).
+    plain: usize,
     pub slices: Vec<Slice>,
+    /// With occlusion culling: the scene's bricks and the slices' lists of them.
+    bricks: Option<SceneCulling>,
     pixels: Mutex<Option<PixelBuffers>>,
 }
 
 impl PrepassBuffers {
-    /// Buffers for chunks of `chunk_counts` glyphs each.
-    pub fn new(ctx: &GpuContext, layouts: &PrepassLayouts, chunk_counts: &[u32]) -> Self {
+    /// Buffers for chunks of `chunk_counts` glyphs each; with `bricks` (one chunk's glyphs in
+    /// bricks), slices of the bricks in each frame's order, culled against what the slices
+    /// before drew.
+    pub fn new(
+        ctx: &GpuContext,
+        layouts: &PrepassLayouts,
+        chunk_counts: &[u32],
+        bricks: Option<&BrickBuffers>,
+    ) -> Self {
         let device = &ctx.device;
         let most = chunk_counts.iter().copied().max().unwrap_or(0);
         let capacity = most.clamp(1, SLICE_GLYPHS);
@@ -381,6 +406,13 @@ impl PrepassBuffers {
             SPLAT_INFO_SIZE,
             counter | wgpu::BufferUsages::INDIRECT,
         );
+        let params = || {
+            buffer(
+                "prepass slice",
+                SLICE_PARAMS_SIZE,
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            )
+        };
         let mut slices = Vec::new();
         for (chunk, &count) in chunk_counts.iter().enumerate() {
             let mut first = 0;
@@ -390,15 +422,26 @@ impl PrepassBuffers {
                     chunk,
                     first,
                     count: n,
-                    params: buffer(
-                        "prepass slice",
-                        SLICE_PARAMS_SIZE,
-                        wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-                    ),
+                    params: params(),
                 });
                 first += n;
             }
         }
+        // In file order a frame draws `plain` slices; by bricks (one chunk) it may need more.
+        let plain = slices.len();
+        let brick_capacity = (capacity / BRICK).max(1);
+        if let Some(b) = bricks {
+            while slices.len() < occlusion::most_slices(b.bricks.count() as u32, brick_capacity) {
+                slices.push(Slice {
+                    chunk: 0,
+                    first: 0,
+                    count: 0,
+                    params: params(),
+                });
+            }
+        }
+        let bricks = bricks
+            .map(|b| SceneCulling::new(device, &b.bricks, &b.glyphs, slices.len(), brick_capacity));
         Self {
             device: device.clone(),
             int64_atomics: ctx.int64_atomics,
@@ -407,16 +450,63 @@ impl PrepassBuffers {
             splat_info,
             frames,
             splat_list,
+            brick_capacity,
+            plain,
             slices,
+            bricks,
             pixels: Mutex::new(None),
         }
     }
 
-    /// Write the slices' parameters for the next submission: splats up to `splat_max` pixels across.
-    pub fn write_params(&self, queue: &wgpu::Queue, splat_max: u32) {
-        for s in &self.slices {
-            let words = [s.first, s.count, splat_max, 0];
-            queue.write_buffer(&s.params, 0, bytemuck::cast_slice(&words));
+    /// The slices of a frame of `camera` (scene origin `origin`): every slice as made, or, with
+    /// bricks, the bricks `bricks` orders for the camera, the first slice those in front and
+    /// each later one culled against the slices before. Writes the brick order for the next
+    /// submission.
+    pub fn frame_slices(
+        &self,
+        queue: &wgpu::Queue,
+        bricks: Option<&BrickBuffers>,
+        camera: &Camera,
+        origin: glam::DVec3,
+    ) -> Vec<SliceDraw> {
+        let by_bricks = self.bricks.as_ref().zip(bricks).and_then(|(culling, b)| {
+            let order = b.bricks.frame_order(camera, origin);
+            b.bricks
+                .pay_for(order.order.len())
+                .then_some((culling, order))
+        });
+        let Some((culling, order)) = by_bricks else {
+            return (0..self.plain)
+                .map(|k| SliceDraw {
+                    k,
+                    first: self.slices[k].first,
+                    count: self.slices[k].count,
+                    bricks: false,
+                    occluded: false,
+                })
+                .collect();
+        };
+        let draws = occlusion::plan(
+            order.front as u32,
+            order.order.len() as u32,
+            self.brick_capacity,
+        );
+        culling.write(queue, &order.order, &draws);
+        draws
+    }
+
+    /// Write the slices' parameters for the next submission: splats up to `splat_max` pixels
+    /// across.
+    pub fn write_params(&self, queue: &wgpu::Queue, splat_max: u32, draws: &[SliceDraw]) {
+        for d in draws {
+            // A slice of bricks reads its glyphs from the bricks it listed; its count bounds
+            // the splats' second pass.
+            let words = if d.bricks {
+                [0, d.count * BRICK, splat_max, SLICE_BRICKS]
+            } else {
+                [d.first, d.count, splat_max, 0]
+            };
+            queue.write_buffer(&self.slices[d.k].params, 0, bytemuck::cast_slice(&words));
         }
     }
 
@@ -449,6 +539,15 @@ impl PrepassBuffers {
             };
             let tile_marks = tile_buffer("splat tile marks");
             let tile_list = tile_buffer("splat tile list");
+            let hiz_tiles = u64::from(size.0.div_ceil(occlusion::HIZ_TILE))
+                * u64::from(size.1.div_ceil(occlusion::HIZ_TILE));
+            let hiz = self.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("occlusion depth tiles"),
+                size: hiz_tiles.max(1) * 4,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+
             fn bind(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
                 wgpu::BindGroupEntry {
                     binding,
@@ -458,7 +557,13 @@ impl PrepassBuffers {
             let compute_groups = self
                 .slices
                 .iter()
-                .map(|s| {
+                .enumerate()
+                .map(|(k, s)| {
+                    // Without bricks nothing reads them: the tiles stand in for both.
+                    let (glyphs, visible) = match &self.bricks {
+                        Some(c) => (&c.glyphs, c.slices[k].visible()),
+                        None => (&hiz, &hiz),
+                    };
                     self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                         label: Some("prepass compute"),
                         layout: &self.layouts.compute_group,
@@ -472,6 +577,8 @@ impl PrepassBuffers {
                             bind(6, &splat_ids),
                             bind(7, &tile_marks),
                             bind(10, &tile_list),
+                            bind(12, glyphs),
+                            bind(13, visible),
                         ],
                     })
                 })
@@ -497,6 +604,7 @@ impl PrepassBuffers {
                 depth_keys,
                 splat_ids,
                 tile_marks,
+                hiz,
                 compute_groups,
                 resolve_group,
             });
@@ -504,21 +612,24 @@ impl PrepassBuffers {
         pixels
     }
 
-    /// Record slice `k`'s compute passes (bind group 0 is its chunk's), into targets of `size`.
+    /// Record the compute passes of `slice` (bind group 0 is its chunk's), into targets of
+    /// `size`.
     #[allow(clippy::too_many_arguments)]
     pub fn record_compute(
         &self,
         encoder: &mut wgpu::CommandEncoder,
         pipelines: &PrepassPipelines,
         chunk_group: &wgpu::BindGroup,
-        k: usize,
+        slice: &SliceDraw,
         size: (u32, u32),
         splats: bool,
         timestamp_writes: Option<wgpu::ComputePassTimestampWrites<'_>>,
     ) {
         // Without splats no pixel is keyed: a one-pixel buffer keeps the bindings valid (an
         // image-sized one could exceed the binding limit for nothing).
-        let pixels = self.pixels_for(if splats { size } else { (1, 1) });
+        // Occlusion culling reads its depth tiles at the image's size.
+        let keyed = splats || self.bricks.is_some();
+        let pixels = self.pixels_for(if keyed { size } else { (1, 1) });
         let pixels = pixels.as_ref().expect("made above");
         encoder.clear_buffer(&self.args, 0, None);
         if splats {
@@ -529,8 +640,19 @@ impl PrepassBuffers {
                 encoder.clear_buffer(&pixels.splat_ids, 0, None);
             }
         }
-        let groups = self.slices[k].count.div_ceil(WORKGROUP);
-        let mut run = |label, pipeline, timestamp_writes| {
+        let k = slice.k;
+        let invocations = if slice.bricks {
+            slice.count * BRICK
+        } else {
+            slice.count
+        };
+        // A slice of bricks runs BRICK invocations for each brick its culling listed.
+        let indirect = self
+            .bricks
+            .as_ref()
+            .filter(|_| slice.bricks)
+            .map(|c| c.slices[k].dispatch());
+        let mut run = |label, pipeline, timestamp_writes, indirect: Option<&wgpu::Buffer>| {
             let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some(label),
                 timestamp_writes,
@@ -538,13 +660,48 @@ impl PrepassBuffers {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, chunk_group, &[]);
             pass.set_bind_group(1, &pixels.compute_groups[k], &[]);
-            pass.dispatch_workgroups(groups, 1, 1);
+            match indirect {
+                Some(args) => pass.dispatch_workgroups_indirect(args, 0),
+                None => pass.dispatch_workgroups(invocations.div_ceil(WORKGROUP), 1, 1),
+            }
         };
-        run("glyph frames", &pipelines.frames, timestamp_writes);
+        run(
+            "glyph frames",
+            &pipelines.frames,
+            timestamp_writes,
+            indirect,
+        );
         // A pass of its own: every depth key is final before any is compared.
         if let (true, Some(ids)) = (splats, &pipelines.splat_ids) {
-            run("splat ids", ids, None);
+            run("splat ids", ids, None, None);
         }
+    }
+
+    /// Record the occlusion culling of `slice`, a slice of bricks, against what the slices
+    /// before drew into `depth` (targets of `size`).
+    pub fn record_culling(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        pass: &occlusion::OcclusionPass,
+        chunk_group: &wgpu::BindGroup,
+        depth: &wgpu::TextureView,
+        slice: &SliceDraw,
+        size: (u32, u32),
+    ) {
+        let Some(culling) = &self.bricks else {
+            return;
+        };
+        let pixels = self.pixels_for(size);
+        let pixels = pixels.as_ref().expect("made above");
+        pass.record(
+            encoder,
+            chunk_group,
+            depth,
+            &pixels.hiz,
+            culling,
+            slice,
+            size,
+        );
     }
 
     /// Draw what the last compute passes left (bind group 0 is already set): the frames, then
