@@ -5,6 +5,7 @@
 pub mod brain;
 pub mod chart;
 pub mod effects;
+pub mod million;
 pub mod report;
 pub mod startup;
 

@@ -59,6 +59,11 @@ pub struct BenchArgs {
     /// whole and close views of ellipsoids): effects_cost.csv and a table in report.md.
     #[arg(long)]
     pub effects: bool,
+    /// Also time the grid:N demo against grid40 in the same views (whole, zoomed 4× and 8×),
+    /// as `render` draws them: what a large field costs against the glyphs it shows
+    /// (N = 100: a million glyphs); million_glyphs.csv and a table in report.md; 0 = off.
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub million: usize,
     /// Also time the start-up as a pipeline meets it: this binary run as new processes, from
     /// start to PNG (grid40, grid:2, the baseline preset, a report of one whole-brain
     /// participant), cold and warm caches interleaved; startup.csv and a table in report.md.
@@ -398,6 +403,26 @@ pub fn run(args: BenchArgs) -> Result<()> {
             effects_rows = Some(bench::effects::run(&gpu, &chosen, args.frames)?);
         }
     }
+    let million = if args.million > 0 {
+        let progress = Terminal::new(args.scene.quiet);
+        let demo = |name: String| -> Result<Scene> {
+            let source = Source::Demo(name.parse::<Demo>().map_err(anyhow::Error::msg)?);
+            let field = staging::read(&source, &args.scene.read_options(), &progress)?;
+            let set = staging::decompose(&field, &progress);
+            let resolved = style.resolve(&set, field_spacing(&field));
+            Ok(Scene::build(&set, &resolved, GlyphKind::Ellipsoid))
+        };
+        let grid40 = demo("grid40".into())?;
+        let large = demo(format!("grid:{}", args.million))?;
+        progress.end();
+        let rows = bench::million::run(&gpu, &grid40, &large, args.size, args.frames)?;
+        let path = args.out.join("million_glyphs.csv");
+        report::write_atomic(&path, bench::million::csv(&rows).as_bytes())
+            .with_context(|| format!("{}: cannot write", path.display()))?;
+        Some(bench::million::markdown(&rows, args.million))
+    } else {
+        None
+    };
     if let Some(rows) = &effects_rows {
         let path = args.out.join("effects_cost.csv");
         report::write_atomic(&path, bench::effects::csv(rows).as_bytes())
@@ -411,6 +436,7 @@ pub fn run(args: BenchArgs) -> Result<()> {
         &adapter,
         &runs,
         effects_rows.as_deref(),
+        million,
         startup,
     )
 }
@@ -460,6 +486,7 @@ fn write_outputs(
     adapter: &str,
     staged_runs: &[&Large],
     effects: Option<&[bench::effects::EffectsRow]>,
+    million: Option<String>,
     startup: Option<String>,
 ) -> Result<()> {
     let csv_path = args.out.join("speed_accuracy.csv");
@@ -509,6 +536,9 @@ fn write_outputs(
             "## What the figure effects cost (Sigg et al. 2006, Table 1)\n\n{}",
             bench::effects::markdown(e)
         );
+    }
+    if let Some(m) = million {
+        let _ = writeln!(md, "## A large field against grid40\n\n{m}");
     }
     if let Some(s) = startup {
         let _ = writeln!(md, "{s}");
