@@ -1,9 +1,10 @@
 //! A large scene's glyphs in bricks of nearby ones, for occlusion culling (Grottel et al. 2010:
-//! cost follows what is seen, not the glyph count). The glyphs are sorted once, at upload, along
-//! a Morton curve of their centres and cut into runs of [`BRICK`]; each brick keeps a ball
-//! bounding its glyphs. Each frame orders the bricks for the camera ([`Bricks::frame_order`]):
-//! those in front first, nearest first, so that the prepass draws them first and culls the rest
-//! against what they left (`src/render/gumhold/occlusion.rs`).
+//! cost follows what is seen, not the glyph count). The glyphs are sorted once, at upload, into
+//! cells of their box in Morton order, each cell cut into runs of [`BRICK`]; each brick keeps a
+//! ball bounding its glyphs. Each frame drops the bricks outside the camera's frustum and orders
+//! the rest ([`Bricks::frame_order`]): those in front first, nearest first, so that the prepass
+//! draws them first and culls the rest against what they left
+//! (`src/render/gumhold/occlusion.rs`).
 //!
 //! The order only decides how much is culled, never what is drawn: the GPU tests each brick
 //! against the depth actually drawn.
@@ -137,7 +138,7 @@ impl Bricks {
 
     /// The bricks `camera` (whose scene origin is `origin`) may see, in the order it draws
     /// them: those wholly outside its frustum are left out; first come those a coarse estimate
-    /// finds in front (per cell of a grid over the image, the first [`COVER_LAYERS`] bricks
+    /// finds in front (per cell of a grid over the image, the first `COVER_LAYERS` (2) bricks
     /// whose projected ball covers it, nearest first), then the rest, nearest first.
     pub fn frame_order(&self, camera: &Camera, origin: DVec3) -> FrameOrder {
         let eye = camera.eye - origin;
