@@ -4,7 +4,8 @@
 // what the slices before drew) and counts them into the dispatch arguments of the slice's
 // cs_frames (prepass.wgsl), which then runs BRICK invocations per listed brick and none for the
 // rest. cs_hiz keeps, per HIZ_TILE × HIZ_TILE tile of the image, the farthest depth drawn so far
-// (1 where the background shows).
+// (1 where the background shows), and per HIZ_TILE × HIZ_TILE block of those tiles the farthest
+// of theirs (a second level, for bricks too large on screen for the first).
 
 // HIZ_TILE and BRICK of src/render/gumhold/occlusion.rs and src/render/bricks.rs; the
 // prepass's workgroup (WORKGROUP in src/render/gumhold/prepass.rs).
@@ -41,8 +42,14 @@ struct Dispatch {
 @group(1) @binding(5) var<storage, read_write> visible_out: array<u32>;
 @group(1) @binding(6) var<storage, read_write> dispatch: Dispatch;
 
-fn hiz_across() -> i32 {
-    return (i32(camera.viewport.x) + i32(HIZ_TILE) - 1) / i32(HIZ_TILE);
+// Tiles across and down of level 0 (HIZ_TILE pixels) and of level 1 (HIZ_TILE² pixels, stored
+// after level 0 in `hiz`).
+fn hiz_tiles(level: u32) -> vec2<i32> {
+    var n = (vec2<i32>(camera.viewport.xy) + i32(HIZ_TILE) - 1) / i32(HIZ_TILE);
+    if level == 1u {
+        n = (n + i32(HIZ_TILE) - 1) / i32(HIZ_TILE);
+    }
+    return n;
 }
 
 @compute @workgroup_size(8, 8)
@@ -61,6 +68,25 @@ fn cs_hiz(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     hiz[gid.y * tiles.x + gid.x] = far;
+}
+
+// After cs_hiz: each level-1 tile, the farthest of its level-0 tiles.
+@compute @workgroup_size(8, 8)
+fn cs_hiz_coarse(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let fine = vec2<u32>(hiz_tiles(0u));
+    let tiles = vec2<u32>(hiz_tiles(1u));
+    if any(gid.xy >= tiles) {
+        return;
+    }
+    let lo = gid.xy * HIZ_TILE;
+    let hi = min(lo + HIZ_TILE, fine);
+    var far = 0.0;
+    for (var y = lo.y; y < hi.y; y++) {
+        for (var x = lo.x; x < hi.x; x++) {
+            far = max(far, hiz[y * fine.x + x]);
+        }
+    }
+    hiz[fine.x * fine.y + gid.y * tiles.x + gid.x] = far;
 }
 
 // Whether nothing within the ball (centre c, radius r) can be seen: it lies wholly outside a
@@ -110,16 +136,25 @@ fn ball_hidden(c: vec3<f32>, r: f32, occluded: bool) -> bool {
         // No pixel centre of the image: the frustum test's tolerance let it through.
         return true;
     }
-    let t0 = first / i32(HIZ_TILE);
-    let t1 = last / i32(HIZ_TILE);
+    // The finer level whose tiles the rectangle spans at most HIZ_REACH of across.
+    var t0 = first / i32(HIZ_TILE);
+    var t1 = last / i32(HIZ_TILE);
+    var base = 0;
+    var across = hiz_tiles(0u).x;
     if any(t1 - t0 >= vec2<i32>(HIZ_REACH)) {
-        return false;
+        t0 = t0 / i32(HIZ_TILE);
+        t1 = t1 / i32(HIZ_TILE);
+        let fine = hiz_tiles(0u);
+        base = fine.x * fine.y;
+        across = hiz_tiles(1u).x;
+        if any(t1 - t0 >= vec2<i32>(HIZ_REACH)) {
+            return false;
+        }
     }
-    let across = hiz_across();
     var far = 0.0;
     for (var ty = t0.y; ty <= t1.y; ty++) {
         for (var tx = t0.x; tx <= t1.x; tx++) {
-            far = max(far, hiz[ty * across + tx]);
+            far = max(far, hiz[base + ty * across + tx]);
         }
         // Most bricks that show have the background in their first tiles.
         if !(near > far + 2.4e-7) {

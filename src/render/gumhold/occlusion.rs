@@ -5,7 +5,8 @@
 //! each slice's compute pass, `cs_bricks` (`shaders/method/occlusion.wgsl`) tests every brick of
 //! the slice, one invocation a brick, and lists those that may show something: inside the
 //! frustum and, after the first slice, not behind the farthest depth the slices before left in
-//! every [`HIZ_TILE`]-pixel tile the brick reaches (`cs_hiz` keeps those tiles). The slice's
+//! every [`HIZ_TILE`]-pixel tile the brick reaches (`cs_hiz` keeps those tiles; a brick too
+//! large on screen is tested against a coarser level, tiles of `HIZ_TILE`² pixels). The slice's
 //! `cs_frames` is dispatched indirectly over the listed bricks only, so a hidden brick costs one
 //! invocation instead of 256. (A per-glyph test, tried first, left a million glyphs at 4.1×
 //! grid40's frame even with every tested glyph culled: docs/notes/occlusion-culling.md.)
@@ -22,8 +23,16 @@ use crate::render::context::GpuContext;
 use crate::render::pipeline::buffer_entry;
 use crate::render::shaders::COMMON;
 
-/// Pixels per side of a depth tile (`HIZ_TILE` in shaders/method/occlusion.wgsl).
+/// Pixels per side of a depth tile (`HIZ_TILE` in shaders/method/occlusion.wgsl); the second
+/// level's tiles are `HIZ_TILE` of these a side.
 pub const HIZ_TILE: u32 = 8;
+
+/// Depth tiles of both levels for targets of `size` (the `hiz` buffer's length).
+pub fn hiz_len(size: (u32, u32)) -> u64 {
+    let fine = (size.0.div_ceil(HIZ_TILE), size.1.div_ceil(HIZ_TILE));
+    let coarse = (fine.0.div_ceil(HIZ_TILE), fine.1.div_ceil(HIZ_TILE));
+    u64::from(fine.0) * u64::from(fine.1) + u64::from(coarse.0) * u64::from(coarse.1)
+}
 
 /// `BRICKS_OCCLUDED` of shaders/method/occlusion.wgsl.
 const BRICKS_OCCLUDED: u32 = 1;
@@ -176,7 +185,7 @@ pub struct OcclusionPass {
     device: wgpu::Device,
     layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
-    pipelines: OnceLock<(wgpu::ComputePipeline, wgpu::ComputePipeline)>,
+    pipelines: OnceLock<[wgpu::ComputePipeline; 3]>,
     builder: std::sync::Arc<crate::render::pipeline_cache::Pipelines>,
 }
 
@@ -222,8 +231,8 @@ impl OcclusionPass {
         }
     }
 
-    /// The depth-tile and brick-test pipelines.
-    fn pipelines(&self) -> &(wgpu::ComputePipeline, wgpu::ComputePipeline) {
+    /// The depth-tile pipelines (both levels) and the brick test's.
+    fn pipelines(&self) -> &[wgpu::ComputePipeline; 3] {
         self.pipelines.get_or_init(|| {
             let module = self
                 .device
@@ -241,7 +250,7 @@ impl OcclusionPass {
                     cache: None,
                 })
             };
-            (make("cs_hiz"), make("cs_bricks"))
+            [make("cs_hiz"), make("cs_hiz_coarse"), make("cs_bricks")]
         })
     }
 
@@ -283,7 +292,7 @@ impl OcclusionPass {
             ],
         });
         encoder.clear_buffer(&slice.dispatch, 0, None);
-        let (hiz_pipeline, bricks_pipeline) = self.pipelines();
+        let [hiz_pipeline, coarse_pipeline, bricks_pipeline] = self.pipelines();
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("occlusion culling"),
             timestamp_writes: None,
@@ -295,6 +304,9 @@ impl OcclusionPass {
             // 8 × 8 tiles a workgroup.
             let tiles = (size.0.div_ceil(HIZ_TILE), size.1.div_ceil(HIZ_TILE));
             pass.dispatch_workgroups(tiles.0.div_ceil(8), tiles.1.div_ceil(8), 1);
+            pass.set_pipeline(coarse_pipeline);
+            let coarse = (tiles.0.div_ceil(HIZ_TILE), tiles.1.div_ceil(HIZ_TILE));
+            pass.dispatch_workgroups(coarse.0.div_ceil(8), coarse.1.div_ceil(8), 1);
         }
         pass.set_pipeline(bricks_pipeline);
         pass.dispatch_workgroups(draw.count.div_ceil(64), 1, 1);

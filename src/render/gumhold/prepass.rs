@@ -539,8 +539,7 @@ impl PrepassBuffers {
             };
             let tile_marks = tile_buffer("splat tile marks");
             let tile_list = tile_buffer("splat tile list");
-            let hiz_tiles = u64::from(size.0.div_ceil(occlusion::HIZ_TILE))
-                * u64::from(size.1.div_ceil(occlusion::HIZ_TILE));
+            let hiz_tiles = occlusion::hiz_len(size);
             let hiz = self.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("occlusion depth tiles"),
                 size: hiz_tiles.max(1) * 4,
