@@ -579,7 +579,8 @@ pub struct EffectArgs {
     #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_light)]
     pub light: Option<[f64; 3]>,
     /// Shadow map side in texels; the map is fitted to the part of the field the view shows
-    /// (default: as many texels as the image has samples, at least 512²).
+    /// (default: as many texels as the image has samples, at least 512², raised up to twice that
+    /// side until the mean glyph spans 9 texels).
     #[arg(long, value_name = "N",
           value_parser = clap::value_parser!(u32).range(64..=8192))]
     pub shadow_map: Option<u32>,
@@ -641,6 +642,7 @@ impl EffectArgs {
                     Shadows::map_for(size.0.saturating_mul(ssaa), size.1.saturating_mul(ssaa))
                 }),
                 pcf_radius: self.pcf_radius,
+                glyph_fit: self.shadow_map.is_none(),
                 ..Shadows::default()
             }),
             ao: self.ao.map(|strength| AmbientOcclusion {

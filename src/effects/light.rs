@@ -40,8 +40,17 @@ pub fn world_direction(camera: &Camera, shadows: &Shadows) -> DVec3 {
 /// pixels instead of a whole-field map. The texel is square, kept from 2^(k/32) sizes, and the
 /// map's centre snapped to whole texels, so a view that pans or zooms a little keeps the same
 /// texel grid (no swimming shadow edges). A margin of `pcf_radius + 2` texels keeps the filter's
-/// reach inside the map.
-pub fn shadow_camera(camera: &Camera, centre: DVec3, half: DVec3, shadows: &Shadows) -> Camera {
+/// reach inside the map. With [`Shadows::glyph_fit`] the side grows (in steps of 128 texels, so
+/// that a zoom does not make new textures every frame) until a glyph of `glyph_radius` (the
+/// scene's mean largest radius; 0: none) spans [`Shadows::TEXELS_PER_GLYPH`] texels, up to twice
+/// `shadows.map_size`.
+pub fn shadow_camera(
+    camera: &Camera,
+    centre: DVec3,
+    half: DVec3,
+    shadows: &Shadows,
+    glyph_radius: f64,
+) -> Camera {
     let l = world_direction(camera, shadows);
     // Any up not along the light; the camera's own keeps the map's orientation stable.
     let up = [view_axes(camera)[1], DVec3::Z, DVec3::X]
@@ -69,9 +78,16 @@ pub fn shadow_camera(camera: &Camera, centre: DVec3, half: DVec3, shadows: &Shad
         lo = lo.min(q);
         hi = hi.max(q);
     }
-    let n = shadows.map_size.max(16);
     let margin = f64::from(shadows.pcf_radius + 2);
     let extent = (hi - lo).max_element().max(radius * 1e-6);
+    let mut n = shadows.map_size.max(16);
+    if shadows.glyph_fit && glyph_radius > 0.0 {
+        let need = Shadows::TEXELS_PER_GLYPH * extent / (2.0 * glyph_radius) + 2.0 * margin;
+        let most = n.saturating_mul(2).min(Shadows::MAX_MAP).max(n);
+        if need.is_finite() && need > f64::from(n) {
+            n = ((need.ceil() as u32).next_multiple_of(128)).clamp(n, most);
+        }
+    }
     let texel = quantised(extent / (f64::from(n) - 2.0 * margin).max(1.0));
     let mid = ((lo + hi) * 0.5 / texel).round() * texel;
     let (d_lo, d_hi) = corners.iter().fold((f64::MAX, f64::MIN), |(a, b), p| {
@@ -198,7 +214,7 @@ mod tests {
         let mut texels = Vec::new();
         for (zoom, ortho) in [(1.0, false), (3.0, false), (1.0, true), (4.0, true)] {
             let camera = eye(zoom, ortho);
-            let light = shadow_camera(&camera, CENTRE, HALF, &shadows);
+            let light = shadow_camera(&camera, CENTRE, HALF, &shadows, 0.0);
             assert_eq!((light.width, light.height), (1024, 1024));
             let seen = seen_points(&camera);
             assert!(seen.len() > 100, "zoom {zoom}: {} points seen", seen.len());
@@ -228,13 +244,52 @@ mod tests {
     }
 
     #[test]
+    fn small_glyphs_raise_the_map_to_their_texels_up_to_twice_its_side() {
+        let camera = eye(1.0, false);
+        let asked = Shadows {
+            map_size: 512,
+            ..Shadows::default()
+        };
+        let fixed = Shadows {
+            glyph_fit: false,
+            ..asked
+        };
+        let side = |s: &Shadows, r: f64| shadow_camera(&camera, CENTRE, HALF, s, r).width;
+        // Glyphs large enough for the asked map, none at all, or a side asked for: as asked.
+        assert_eq!(side(&asked, 1.0), 512);
+        assert_eq!(side(&asked, 0.0), 512);
+        assert_eq!(side(&fixed, 0.01), 512);
+        // Smaller glyphs: 9 texels per diameter, in steps of 128, at most twice the side. The
+        // footprint's extent, from the map as asked (its texel is rounded up: a little more).
+        let base = shadow_camera(&camera, CENTRE, HALF, &fixed, 0.0);
+        let margin = 2.0 * f64::from(fixed.pcf_radius + 2);
+        let extent = base.projection_height() / 512.0 * (512.0 - margin);
+        for want in [600.0, 800.0, 1000.0] {
+            let r = 9.0 * extent / (2.0 * (want - margin));
+            let light = shadow_camera(&camera, CENTRE, HALF, &asked, r);
+            let texel = light.projection_height() / f64::from(light.width);
+            assert_eq!(light.width % 128, 0);
+            assert!(light.width > 512 && light.width <= 1024, "{}", light.width);
+            // One step of 128 less would not have held 9 texels a glyph.
+            let coarser = texel * f64::from(light.width) / f64::from(light.width - 128);
+            assert!(
+                2.0 * r / texel >= 9.0 * 0.97,
+                "r {r}: {} texels",
+                2.0 * r / texel
+            );
+            assert!(2.0 * r / coarser < 9.0 * 1.04, "r {r}");
+        }
+        assert_eq!(side(&asked, 0.001), 1024);
+    }
+
+    #[test]
     fn a_small_move_keeps_the_texel_grid() {
         let shadows = Shadows::default();
         let mut camera = eye(3.0, true);
-        let a = shadow_camera(&camera, CENTRE, HALF, &shadows);
+        let a = shadow_camera(&camera, CENTRE, HALF, &shadows, 0.0);
         camera.eye += camera.forward() * 1e-3 * HALF.length();
         camera.target += camera.forward() * 1e-3 * HALF.length();
-        let b = shadow_camera(&camera, CENTRE, HALF, &shadows);
+        let b = shadow_camera(&camera, CENTRE, HALF, &shadows, 0.0);
         let texel = a.projection_height() / f64::from(a.height);
         assert_eq!(a.projection, b.projection);
         // The maps' centres differ by whole texels across the light.
@@ -253,7 +308,7 @@ mod tests {
         camera.eye -= away;
         camera.target -= 2.0 * away;
         assert!(visible_corners(&camera, CENTRE, HALF).is_empty());
-        let light = shadow_camera(&camera, CENTRE, HALF, &Shadows::default());
+        let light = shadow_camera(&camera, CENTRE, HALF, &Shadows::default(), 0.0);
         for c in box_corners(HALF) {
             assert!(in_map(&light, CENTRE + c).abs().max_element() <= 1.0);
         }

@@ -494,11 +494,11 @@ impl EffectsPipeline {
             ));
         };
         let fx: &Effects = &req.effects;
-        let textures = self.textures(ctx, views.size, fx.shadows.map(|s| s.map_size))?;
         let light = fx.shadows.as_ref().map(|s| {
             let (centre, half) = buffers.bounds();
-            light::shadow_camera(camera, centre, half, s)
+            light::shadow_camera(camera, centre, half, s, buffers.ao_volume.unit)
         });
+        let textures = self.textures(ctx, views.size, light.map(|l| l.width))?;
         if let (Some(light), Some((_, shadow_views))) = (&light, &textures.shadow) {
             // The method's own passes (Gumhold's prepass and splats too) from the light, with
             // its colours unused and no early depth test (vetted for the eye's camera only).

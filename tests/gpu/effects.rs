@@ -309,6 +309,7 @@ fn a_coarse_map_keeps_the_shadow_edge_exact() {
                     light: view.to_array(),
                     map_size: 48,
                     pcf_radius,
+                    glyph_fit: false,
                     ..Shadows::default()
                 }),
                 ..Effects::default()
@@ -425,4 +426,60 @@ fn ambient_occlusion_on_a_lattice_follows_the_reference() {
         let hi = open.iter().cloned().fold(f32::MIN, f32::max);
         assert!(hi - lo > 0.3, "AO shows: open fractions {lo}..{hi}");
     }
+}
+
+/// Small glyphs get a map fine enough for them: raised, up to twice the image's side, until the
+/// mean glyph spans `Shadows::TEXELS_PER_GLYPH` texels, which holds their shadows to the exact
+/// ones where the image's own map size did not (grid40 at 200x150: a 512² map is 5.3 texels a
+/// glyph).
+#[test]
+fn small_glyphs_get_a_shadow_map_that_keeps_their_shadows_exact() {
+    let size = (200, 150);
+    let scene = grid(40, GlyphKind::Ellipsoid);
+    let framing = Framing {
+        azimuth: 20.0,
+        ..Framing::default()
+    };
+    let cam = camera(&scene, framing, size);
+    let shadows = |glyph_fit| Shadows {
+        map_size: Shadows::map_for(size.0, size.1),
+        glyph_fit,
+        ..Shadows::default()
+    };
+    // The map side the fit asks for, from the scene's own mean largest radius.
+    let mean = scene
+        .instances
+        .iter()
+        .map(|g| f64::from(g.radii.iter().fold(0.0f32, |a, &b| a.max(b))))
+        .sum::<f64>()
+        / scene.instances.len() as f64;
+    let side = |s: &Shadows| light::shadow_camera(&cam, scene.centre, scene.half, s, mean).width;
+    assert_eq!(side(&shadows(false)), 512);
+    assert!(side(&shadows(true)) > 512, "{}", side(&shadows(true)));
+    let Some(gpu) = gpu() else { return };
+    let req = |glyph_fit| {
+        with(
+            FrameRequest {
+                aux: true,
+                ..FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT)
+            },
+            Effects {
+                shadows: Some(shadows(glyph_fit)),
+                ..Effects::default()
+            },
+        )
+    };
+    let reference = ReferenceScene::new(&scene, &cam).render(&req(true));
+    let mismatch = |glyph_fit| {
+        let r = req(glyph_fit);
+        let frame = gpu.render(&scene, &cam, &r).expect("GPU");
+        compare(&frame, &reference, &scene)
+            .with_effects(&frame, &reference, &r.effects)
+            .shadow_mismatch
+            .expect("shadows measured")
+    };
+    let (fixed, fitted) = (mismatch(false), mismatch(true));
+    eprintln!("shadow mismatch: 512² {fixed}, fitted {fitted}");
+    assert!(fitted <= 0.004, "fitted map: {fitted} (512²: {fixed})");
+    assert!(3.0 * fitted < fixed, "fitted {fitted}, 512² {fixed}");
 }
