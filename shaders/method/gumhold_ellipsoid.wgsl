@@ -268,6 +268,12 @@ fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
     return pixel_hit(glyph_frame(ii).frame, px);
 }
 
+// The shadow map's depth of a splat pixel: the compute pass's hit is exact and its key is the
+// depth's bits, so no ray is cast again.
+fn splat_shadow_depth(ii: u32, px: vec2<f32>, key: u32) -> f32 {
+    return key_depth(key);
+}
+
 // A GlyphFrame read as per-instance vertex attributes (vertex fetch is the fast path on
 // lavapipe; storage-buffer reads there are per-lane gathers). Layout: FRAME_ATTRIBUTES in
 // src/render/prepass.rs.

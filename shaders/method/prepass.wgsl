@@ -152,9 +152,8 @@ fn fs_splat_aux(@builtin(position) position: vec4<f32>) -> OutDepthAux {
     return OutDepthAux(hit.color, hit.id, vec4<f32>(hit.n_view, hit.z_rel), hit.depth);
 }
 
-// The shadow map's splats: the compute passes' id and exact depth, written as they are (the
-// depth key is the depth's bits), with no ray cast again for a colour and normal the map does
-// not keep.
+// The shadow map's splats: the compute passes' id and the depth of their hit
+// (splat_shadow_depth, the kind's), with no colour or normal, which the map does not keep.
 @fragment
 fn fs_splat_shadow(@builtin(position) position: vec4<f32>) -> OutShadow {
     let i = pixel_index(i32(position.x), i32(position.y));
@@ -162,7 +161,7 @@ fn fs_splat_shadow(@builtin(position) position: vec4<f32>) -> OutShadow {
     if id == 0u {
         discard;
     }
-    return OutShadow(id, key_depth(splat_depth_key(i)));
+    return OutShadow(id, splat_shadow_depth(id - 1u, position.xy, splat_depth_key(i)));
 }
 
 // The pixels (first and last, inclusive) whose centres lie within the points' screen rectangle

@@ -282,3 +282,10 @@ fn splat_hit(ii: u32, px: vec2<f32>, key: u32) -> Hit {
     }
     return sq_hit_at(s, r, h.s, h.n);
 }
+
+// The shadow map's depth of a splat pixel: the compute pass's key is a view distance (not a
+// depth, as the ellipsoid's is), found to the convex finder's tolerance: before the true
+// crossing by at most 1e-3 of the glyph's parameter space, far inside the map's depth bias.
+fn splat_shadow_depth(ii: u32, px: vec2<f32>, key: u32) -> f32 {
+    return view_depth(-key_depth(key));
+}

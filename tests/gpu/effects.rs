@@ -114,6 +114,9 @@ fn outlines_and_shadows_match_the_reference_and_leave_coverage_alone() {
             },
         ),
         (GlyphKind::Cylinder, Framing::default()),
+        // Its splats' compute pass keeps a view distance, not a depth: the map's splats
+        // refine it (taken as a depth, 8.2 % of the pixels differed here, 33 % on grid40).
+        (GlyphKind::Superquadric, Framing::default()),
     ] {
         let scene = grid(10, glyph);
         let cam = camera(&scene, framing, size);
