@@ -57,10 +57,11 @@ impl eframe::App for App {
                 ((rect.width() * ppp) as u32).max(1),
                 ((rect.height() * ppp) as u32).max(1),
             );
+            let req = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
             let mut renderer = self.render_state.renderer.write();
             if self
                 .view
-                .resize(&self.gpu, &mut renderer, (w, h), false, false)
+                .resize(&self.gpu, &mut renderer, (w, h), req.aux_target(), false)
                 .is_err()
             {
                 return;
@@ -72,7 +73,6 @@ impl eframe::App for App {
             };
             let s = &self.staged;
             let camera = Camera::frame(&framing, s.frame_centre, s.frame_radius, w, h);
-            let req = FrameRequest::preset(Method::Gumhold, true, Preset::DEFAULT);
             if self.view.draw(&self.gpu, &camera, &req).is_ok()
                 && let Some(tex) = self.view.texture
             {

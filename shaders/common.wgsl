@@ -755,6 +755,34 @@ struct OutDepthAux {
     @builtin(frag_depth) depth: f32,
 }
 
+// Colour + glyph id + the view normal alone (octahedral, oct_encode), depth written: deferred
+// shading's G-buffer where nothing reads the aux target back (8 bytes a pixel, not 16).
+struct OutDepthNormal {
+    @location(0) color: vec4<f32>,
+    @location(1) id: u32,
+    @location(2) normal: vec2<f32>,
+    @builtin(frag_depth) depth: f32,
+}
+
+// The octahedral map of a unit vector onto [-1, 1]² (Cigolle et al. 2014, "A survey of
+// efficient representations for independent unit vectors"), kept in f32: its error is the
+// rounding of the division and the fold, not a quantisation.
+fn oct_encode(n: vec3<f32>) -> vec2<f32> {
+    let p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+    if n.z >= 0.0 {
+        return p;
+    }
+    return (1.0 - abs(p.yx)) * select(vec2<f32>(-1.0), vec2<f32>(1.0), p >= vec2<f32>(0.0));
+}
+
+fn oct_decode(e: vec2<f32>) -> vec3<f32> {
+    let z = 1.0 - abs(e.x) - abs(e.y);
+    // The lower hemisphere's fold, undone: its points moved away from the axes by -z.
+    let t = max(-z, 0.0);
+    let xy = e - select(vec2<f32>(-t), vec2<f32>(t), e >= vec2<f32>(0.0));
+    return normalize(vec3<f32>(xy, z));
+}
+
 // Without depth correction the rasterised depth of the proxy geometry stands.
 struct OutFlat {
     @location(0) color: vec4<f32>,
@@ -775,4 +803,10 @@ struct OutFlatAux {
     @location(0) color: vec4<f32>,
     @location(1) id: u32,
     @location(2) aux: vec4<f32>,
+}
+
+struct OutFlatNormal {
+    @location(0) color: vec4<f32>,
+    @location(1) id: u32,
+    @location(2) normal: vec2<f32>,
 }

@@ -23,6 +23,12 @@ fn fs_depth_aux(in: VsOut) -> OutDepthAux {
 }
 
 @fragment
+fn fs_depth_normal(in: VsOut) -> OutDepthNormal {
+    let hit = corrected(in);
+    return OutDepthNormal(hit.color, in.id, oct_encode(hit.n_view), hit.depth);
+}
+
+@fragment
 fn fs_flat(in: VsOut) -> OutFlat {
     let hit = ray_cast(in);
     return OutFlat(hit.color, in.id);
@@ -33,6 +39,12 @@ fn fs_flat_aux(in: VsOut) -> OutFlatAux {
     let hit = ray_cast(in);
     // The depth buffer holds the proxy's depth, so report the proxy's view z.
     return OutFlatAux(hit.color, in.id, vec4<f32>(hit.n_view, hit.z_proxy_rel));
+}
+
+@fragment
+fn fs_flat_normal(in: VsOut) -> OutFlatNormal {
+    let hit = ray_cast(in);
+    return OutFlatNormal(hit.color, in.id, oct_encode(hit.n_view));
 }
 
 // The shadow map's entry points: what ray_cast shades is dead code here, which the compiler

@@ -74,6 +74,17 @@ fn vs_full(@builtin(vertex_index) i: u32) -> @builtin(position) vec4<f32> {
 override OUTLINES: bool = true;
 override SHADOWS: bool = true;
 override AO: bool = true;
+// The aux target holds the view normal alone, octahedral (oct_encode in common.wgsl), where
+// nothing reads it back (AuxTarget::Normal in src/request/mod.rs), else with the view z.
+override OCTAHEDRAL_NORMALS: bool = false;
+
+fn view_normal(px: vec2<i32>) -> vec3<f32> {
+    let a = textureLoad(aux, px, 0);
+    if OCTAHEDRAL_NORMALS {
+        return oct_decode(a.xy);
+    }
+    return a.xyz;
+}
 
 fn has(flag: u32) -> bool {
     let built = (flag != FLAG_OUTLINES || OUTLINES) && (flag != FLAG_SHADOWS || SHADOWS)
@@ -132,7 +143,7 @@ fn is_outline(px: vec2<i32>, id: u32, distance: f32) -> bool {
             // Sobel: the x weight is i times 2 on the centre row, 1 off it.
             let wx = f32(i) * f32(2 - abs(j));
             let wy = f32(j) * f32(2 - abs(i));
-            let n = textureLoad(aux, q, 0).xyz;
+            let n = view_normal(q);
             let s = view_distance(q);
             gx_n += n * wx;
             gy_n += n * wy;
@@ -310,7 +321,7 @@ fn fs_composite(@builtin(position) pos: vec4<f32>) -> Out {
         discard;
     }
     let base = textureLoad(albedo, px, 0);
-    let n = normalize(textureLoad(aux, px, 0).xyz);
+    let n = normalize(view_normal(px));
     let p = view_position(px);
     var l = vec3<f32>(0.0, 0.0, 1.0);
     if !has(FLAG_ORTHO) {

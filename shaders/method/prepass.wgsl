@@ -152,6 +152,12 @@ fn fs_splat_aux(@builtin(position) position: vec4<f32>) -> OutDepthAux {
     return OutDepthAux(hit.color, hit.id, vec4<f32>(hit.n_view, hit.z_rel), hit.depth);
 }
 
+@fragment
+fn fs_splat_normal(@builtin(position) position: vec4<f32>) -> OutDepthNormal {
+    let hit = splat_at(position);
+    return OutDepthNormal(hit.color, hit.id, oct_encode(hit.n_view), hit.depth);
+}
+
 // The shadow map's splats: the compute passes' id and the depth of their hit
 // (splat_shadow_depth, the kind's), with no colour or normal, which the map does not keep.
 @fragment

@@ -1,5 +1,7 @@
 //! Figure effects on the GPU (Sigg et al. 2006, §4): the glyph methods write the geometry buffer
-//! (unlit base colour, id, view normal in the aux target, exact ray-cast depth), and after them
+//! (unlit base colour, id, view normal in the aux target, exact ray-cast depth: 16 bytes a
+//! pixel with the octahedral normal of [`AuxTarget::Normal`] where nothing reads the aux target
+//! back, 24 with the accuracy check's), and after them
 //! and the underlay
 //! 1. with shadows, the method draws the scene again from the key light into a shadow map, with
 //!    the same ray casting in its depth-only variant ([`crate::render::pipeline::Variant`]'s
@@ -27,7 +29,7 @@ use crate::render::drawer::{Drawer, FrameRecording};
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{COMMON, SCREEN_BOX};
 use crate::render::targets::{COLOR_FORMAT, DEPTH_FORMAT, TargetViews, Targets};
-use crate::request::{FrameRequest, GlyphKind, UnderlayView};
+use crate::request::{AuxTarget, FrameRequest, GlyphKind, UnderlayView};
 use crate::scene::Scene;
 
 pub const SHADER: &str = include_str!("../../shaders/effects/composite.wgsl");
@@ -283,7 +285,7 @@ pub struct EffectsPipeline {
     glyph_group: wgpu::BindGroupLayout,
     sampler: wgpu::Sampler,
     /// Keyed by the kind and the effects built in (outlines, shadows, ambient occlusion).
-    pipelines: Mutex<HashMap<(GlyphKind, [bool; 3]), wgpu::RenderPipeline>>,
+    pipelines: Mutex<HashMap<(GlyphKind, [bool; 4]), wgpu::RenderPipeline>>,
     textures: Mutex<Option<Arc<EffectsTextures>>>,
 }
 
@@ -354,9 +356,22 @@ impl EffectsPipeline {
         }
     }
 
-    fn pipeline(&self, ctx: &GpuContext, kind: GlyphKind, fx: &Effects) -> wgpu::RenderPipeline {
-        let built = [fx.outlines.is_some(), fx.shadows.is_some(), fx.ao.is_some()];
-        let constants: Vec<(&str, f64)> = ["OUTLINES", "SHADOWS", "AO"]
+    /// The pass for `kind`'s glyphs, the effects `fx` and the aux target `aux` (whose normals
+    /// are octahedral when it holds nothing else).
+    fn pipeline(
+        &self,
+        ctx: &GpuContext,
+        kind: GlyphKind,
+        fx: &Effects,
+        aux: AuxTarget,
+    ) -> wgpu::RenderPipeline {
+        let built = [
+            fx.outlines.is_some(),
+            fx.shadows.is_some(),
+            fx.ao.is_some(),
+            aux == AuxTarget::Normal,
+        ];
+        let constants: Vec<(&str, f64)> = ["OUTLINES", "SHADOWS", "AO", "OCTAHEDRAL_NORMALS"]
             .into_iter()
             .zip(built)
             .map(|(name, on)| (name, f64::from(u8::from(on))))
@@ -448,7 +463,7 @@ impl EffectsPipeline {
         let out = make("effects", U::RENDER_ATTACHMENT | U::COPY_SRC);
         let shadow = match map_size {
             Some(s) => {
-                let t = Targets::new(ctx, s, s, false)?;
+                let t = Targets::new(ctx, s, s, AuxTarget::None)?;
                 let v = TargetViews::new(&t);
                 Some((t, v))
             }
@@ -618,7 +633,7 @@ impl EffectsPipeline {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline(ctx, buffers.kind, fx));
+        pass.set_pipeline(&self.pipeline(ctx, buffers.kind, fx, req.aux_target()));
         pass.set_bind_group(0, &buffers.chunks[0].bind_group, &[]);
         pass.set_bind_group(1, &group, &[]);
         pass.draw(0..3, 0..1);

@@ -3,34 +3,37 @@
 
 use crate::render::context::GpuContext;
 use crate::render::pipeline_cache::Pipelines;
-use crate::render::targets::{AUX_FORMAT, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
+use crate::render::targets::{COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT, aux_format};
+use crate::request::AuxTarget;
 
 /// Which fragment outputs a pipeline writes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct Variant {
     /// Write the ray-cast depth (`frag_depth`); otherwise the proxy's own depth stands.
     pub depth_correction: bool,
-    /// Also write the aux target (view normal, view z) for accuracy checks.
-    pub aux: bool,
+    /// What the aux target gets, if there is one.
+    pub aux: AuxTarget,
     /// The key light's shadow map: only the glyph id and depth are written (the colour target
     /// is masked), so the shaders never compute a colour the map would not keep.
     pub shadow: bool,
 }
 
 impl Variant {
-    /// Pipelines per method and proxy: the eye's four ([`Self::index`] 0–3) and the shadow
+    /// Pipelines per method and proxy: the eye's six ([`Self::index`] 0–5) and the shadow
     /// map's two.
-    pub const COUNT: usize = 6;
+    pub const COUNT: usize = 8;
 
     /// The fragment entry point of this variant (same names in every method's shader).
     pub fn fragment_entry(self) -> &'static str {
         match (self.shadow, self.depth_correction, self.aux) {
             (true, true, _) => "fs_shadow",
             (true, false, _) => "fs_shadow_flat",
-            (false, true, false) => "fs_depth",
-            (false, true, true) => "fs_depth_aux",
-            (false, false, false) => "fs_flat",
-            (false, false, true) => "fs_flat_aux",
+            (false, true, AuxTarget::None) => "fs_depth",
+            (false, true, AuxTarget::Checked) => "fs_depth_aux",
+            (false, true, AuxTarget::Normal) => "fs_depth_normal",
+            (false, false, AuxTarget::None) => "fs_flat",
+            (false, false, AuxTarget::Checked) => "fs_flat_aux",
+            (false, false, AuxTarget::Normal) => "fs_flat_normal",
         }
     }
 
@@ -38,7 +41,7 @@ impl Variant {
     pub fn of(req: &crate::request::FrameRequest) -> Self {
         Self {
             depth_correction: req.depth_correction(),
-            aux: req.writes_aux(),
+            aux: req.aux_target(),
             shadow: false,
         }
     }
@@ -48,7 +51,7 @@ impl Variant {
         if light {
             Self {
                 depth_correction: req.depth_correction(),
-                aux: false,
+                aux: AuxTarget::None,
                 shadow: true,
             }
         } else {
@@ -58,10 +61,15 @@ impl Variant {
 
     /// Index in `0..COUNT`.
     pub fn index(self) -> usize {
+        let aux = match self.aux {
+            AuxTarget::None => 0,
+            AuxTarget::Checked => 1,
+            AuxTarget::Normal => 2,
+        };
         if self.shadow {
-            4 + usize::from(self.depth_correction)
+            6 + usize::from(self.depth_correction)
         } else {
-            usize::from(self.depth_correction) * 2 + usize::from(self.aux)
+            usize::from(self.depth_correction) * 3 + aux
         }
     }
 }
@@ -174,9 +182,9 @@ pub fn glyph_pipeline(
             write_mask: wgpu::ColorWrites::ALL,
         }),
     ];
-    if variant.aux {
+    if let Some(format) = aux_format(variant.aux) {
         targets.push(Some(wgpu::ColorTargetState {
-            format: AUX_FORMAT,
+            format,
             blend: None,
             write_mask: wgpu::ColorWrites::ALL,
         }));

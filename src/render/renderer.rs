@@ -175,7 +175,7 @@ impl GpuRenderer {
         req: &FrameRequest,
     ) -> Result<Frame, RenderError> {
         let req = &self.within_limits(&req.for_kind(buffers.kind), camera);
-        let targets = Targets::new(&self.ctx, camera.width, camera.height, req.writes_aux())?;
+        let targets = Targets::new(&self.ctx, camera.width, camera.height, req.aux_target())?;
         self.render_into(buffers, camera, req, &targets).await
     }
 

@@ -383,7 +383,7 @@ mod tests {
                 early_depth: true,
                 ..ShaderDefs::default()
             });
-        assert_eq!(text.matches("@early_depth_test(greater_equal)").count(), 2);
+        assert_eq!(text.matches("@early_depth_test(greater_equal)").count(), 3);
         let module = parse(&text).expect("parses");
         let declared = module
             .entry_points
@@ -391,6 +391,6 @@ mod tests {
             .filter(|e| e.early_depth_test.is_some())
             .map(|e| e.name.as_str())
             .collect::<Vec<_>>();
-        assert_eq!(declared, ["fs_depth", "fs_depth_aux"]);
+        assert_eq!(declared, ["fs_depth", "fs_depth_aux", "fs_depth_normal"]);
     }
 }

@@ -2,15 +2,28 @@
 
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
+use crate::request::AuxTarget;
 
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// The aux target read back for the accuracy check: view normal, view z.
 pub const AUX_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The aux target of deferred shading alone: the octahedral view normal.
+pub const NORMAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+
+/// The texture format of an aux target, if there is one.
+pub fn aux_format(aux: AuxTarget) -> Option<wgpu::TextureFormat> {
+    match aux {
+        AuxTarget::None => None,
+        AuxTarget::Checked => Some(AUX_FORMAT),
+        AuxTarget::Normal => Some(NORMAL_FORMAT),
+    }
+}
 /// The colour target seen as sRGB, for sampling it in the viewer.
 pub const COLOR_VIEW_SRGB: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// Colour, glyph id (0 = background, else instance + 1), optional aux (view normal, view z) and
+/// Colour, glyph id (0 = background, else instance + 1), optional aux ([`AuxTarget`]) and
 /// depth, all the same size.
 pub struct Targets {
     pub width: u32,
@@ -22,7 +35,12 @@ pub struct Targets {
 }
 
 impl Targets {
-    pub fn new(ctx: &GpuContext, width: u32, height: u32, aux: bool) -> Result<Self, RenderError> {
+    pub fn new(
+        ctx: &GpuContext,
+        width: u32,
+        height: u32,
+        aux: AuxTarget,
+    ) -> Result<Self, RenderError> {
         let max = ctx.limits.max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
             return Err(RenderError::BadSize {
@@ -57,7 +75,7 @@ impl Targets {
             // The sRGB view lets the viewer show the sRGB-encoded colours as they are.
             color: make("color", COLOR_FORMAT, &[COLOR_VIEW_SRGB]),
             id: make("id", ID_FORMAT, &[]),
-            aux: aux.then(|| make("aux", AUX_FORMAT, &[])),
+            aux: aux_format(aux).map(|format| make("aux", format, &[])),
             depth: make("depth", DEPTH_FORMAT, &[]),
         })
     }

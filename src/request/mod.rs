@@ -456,11 +456,32 @@ impl FrameRequest {
         self.method.splat_pixels()
     }
 
-    /// Whether the method's shaders write the aux target: for the accuracy check, or as the
-    /// normals of deferred shading.
-    pub fn writes_aux(&self) -> bool {
-        self.aux || self.effects.deferred()
+    /// What the method's shaders write into the aux target: everything the accuracy check
+    /// reads back, else deferred shading's normals alone.
+    pub fn aux_target(&self) -> AuxTarget {
+        if self.aux {
+            AuxTarget::Checked
+        } else if self.effects.deferred() {
+            AuxTarget::Normal
+        } else {
+            AuxTarget::None
+        }
     }
+}
+
+/// What a frame's aux target holds (the G-buffer's share beyond colour, id and depth).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum AuxTarget {
+    /// No aux target.
+    #[default]
+    None,
+    /// The view normal and view z, an f32 each (16 bytes a pixel), read back for the accuracy
+    /// check.
+    Checked,
+    /// The view normal alone in octahedral coordinates, two f32 (8 bytes a pixel): all deferred
+    /// shading reads, and as exact as `Checked`'s (the encoding's error is f32 rounding, about
+    /// 10⁻⁷ rad, against the 10⁻³° the accuracy check holds normals to).
+    Normal,
 }
 
 impl Default for FrameRequest {

@@ -11,7 +11,7 @@ use crate::error::RenderError;
 use crate::render::query::Queries;
 use crate::render::targets::{COLOR_VIEW_SRGB, Targets};
 use crate::render::{GpuRenderer, SceneBuffers, TargetViews};
-use crate::request::FrameRequest;
+use crate::request::{AuxTarget, FrameRequest};
 use crate::scene::Scene;
 
 /// How long the last frame took.
@@ -36,7 +36,7 @@ pub struct View3d {
     /// Scenes set so far: a frame time is shown for the scene it drew, never the last one's.
     scenes: u64,
     /// The targets' aux target and the texture's filter, as last made.
-    made: (bool, bool),
+    made: (AuxTarget, bool),
 }
 
 impl View3d {
@@ -52,7 +52,7 @@ impl View3d {
         self.targets.as_ref().map(|t| (t.width, t.height))
     }
 
-    /// Make the targets `size` (if they are not), with the aux target if `aux` (deferred
+    /// Make the targets `size` (if they are not), with the aux target `aux` (deferred
     /// shading's normals), and show them as an egui texture, filtered linearly if `smooth`: a
     /// texture of 2×2 samples per pixel is then shown box filtered.
     pub fn resize(
@@ -60,7 +60,7 @@ impl View3d {
         gpu: &GpuRenderer,
         egui_renderer: &mut eframe::egui_wgpu::Renderer,
         (width, height): (u32, u32),
-        aux: bool,
+        aux: AuxTarget,
         smooth: bool,
     ) -> Result<(), RenderError> {
         if self.size() == Some((width, height)) && self.made == (aux, smooth) {

@@ -29,7 +29,7 @@ use crate::render::gumhold::occlusion::{self, SceneCulling, SliceDraw};
 use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeline};
 use crate::render::scene_buffers::{BrickBuffers, Needs};
 use crate::render::strip::StripRenderer;
-use crate::request::Proxy;
+use crate::request::{AuxTarget, Proxy};
 
 /// One glyph's proxy frame as `cs_frames` writes it and `vs_frames` reads it: the twin of
 /// `GlyphFrame` in shaders/gumhold_ellipsoid.wgsl (names and offsets checked against naga's
@@ -288,8 +288,9 @@ impl PrepassCache {
                     vertex_entry: Some("vs_splat_tile"),
                     fragment_entry: Some(match (variant.shadow, variant.aux) {
                         (true, _) => "fs_splat_shadow",
-                        (false, true) => "fs_splat_aux",
-                        (false, false) => "fs_splat",
+                        (false, AuxTarget::Checked) => "fs_splat_aux",
+                        (false, AuxTarget::Normal) => "fs_splat_normal",
+                        (false, AuxTarget::None) => "fs_splat",
                     }),
                     constants: &constants,
                     ..Default::default()

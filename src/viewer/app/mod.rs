@@ -540,7 +540,7 @@ impl ViewerApp {
         let mut renderer = self.render_state.renderer.write();
         if let Err(e) =
             self.view
-                .resize(&self.gpu, &mut renderer, samples, req.writes_aux(), smooth)
+                .resize(&self.gpu, &mut renderer, samples, req.aux_target(), smooth)
         {
             self.error = Some(e.to_string());
             return false;
