@@ -1,7 +1,7 @@
 //! Figure effects on the GPU (Sigg et al. 2006, §4): the glyph methods write the geometry buffer
-//! (unlit base colour, id, view normal in the aux target, exact ray-cast depth: 16 bytes a
+//! (unlit base colour, id, view normal in the aux target, exact ray-cast depth: 20 bytes a
 //! pixel with the octahedral normal of [`AuxTarget::Normal`] where nothing reads the aux target
-//! back, 24 with the accuracy check's), and after them
+//! back, 28 with the accuracy check's), and after them
 //! and the underlay
 //! 1. with shadows, the method draws the scene again from the key light into a shadow map, with
 //!    the same ray casting in its depth-only variant ([`crate::render::pipeline::Variant`]'s
