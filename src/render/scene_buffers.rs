@@ -414,8 +414,10 @@ mod tests {
     #[test]
     fn payload_words_point_at_each_series() {
         let mut p = Payload::new(2).unwrap();
-        p.push(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 0.5, 1.0);
-        p.push(&[7.0, 8.0, 9.0, 10.0, 11.0, 12.0], 0.25, 1.5);
+        let q = glam::DQuat::from_rotation_y(0.5);
+        let bound = glam::DVec3::new(1.0, 0.5, 0.25);
+        p.push(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0], 0.5, 1.0, q, bound);
+        p.push(&[7.0, 8.0, 9.0, 10.0, 11.0, 12.0], 0.25, 1.5, q, bound);
         let inst = |k: u32| GlyphInstance {
             centre: [0.0; 3],
             color: 0,
@@ -434,6 +436,7 @@ mod tests {
                 assert_eq!(float(i), v);
             }
             assert_eq!(float(1 + p.count), p.amplitude_scale(k - 1));
+            assert_eq!(float(2 + p.count + 5) as f64, p.bound(k - 1).y);
         }
     }
 }

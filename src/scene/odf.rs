@@ -22,7 +22,9 @@ use crate::field::ShField;
 use crate::field::frame::tensor_rotation;
 use crate::select::Plane;
 use crate::shape::Payload;
-use crate::shape::odf::{OdfColoring, plain_of, rigorous_bounds, sampled_range};
+use crate::shape::odf::{
+    Ellipsoid, OdfColoring, bounding_ellipsoid, plain_of, range_of, rigorous_bounds, sampled_values,
+};
 
 /// How each voxel's ODF is scaled ([module doc](self)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
@@ -102,13 +104,13 @@ pub struct Series {
 }
 
 /// One glyph after normalising: plain coefficients of r (world units), its gradient bound and
-/// its bound R.
+/// its bounding ellipsoid (world units; the ball of its bound R where none is tighter).
 struct Made {
     index: usize,
     centre: DVec3,
     plain: Vec<f64>,
     g: f64,
-    r: f64,
+    ellipsoid: Ellipsoid,
 }
 
 /// The scene of `field`'s ODFs ([module doc](self)); its kind is [`GlyphKind::Odf`].
@@ -153,19 +155,25 @@ pub fn series_scene(
     opts: &OdfOptions,
 ) -> Scene {
     let rotation = DQuat::from_mat3(&frame).normalize();
-    // Each series' sampled range.
-    let raw: Vec<(Series, f64, f64)> = series
+    // Each series' sampled range, and the ellipsoid of the values as they will be drawn up to
+    // their scale (r = k f for max and none, k (f − min) for minmax).
+    let raw: Vec<(Series, f64, f64, Option<Ellipsoid>)> = series
         .into_par_iter()
         .map(|s| {
-            let (min, max) = sampled_range(&s.plain, lmax);
-            (s, max, min)
+            let mut values = sampled_values(&s.plain, lmax);
+            let (min, max) = range_of(&values);
+            if opts.normalize == OdfNormalize::MinMax {
+                values.iter_mut().for_each(|v| *v -= min);
+            }
+            let ellipsoid = bounding_ellipsoid(&values, lmax);
+            (s, max, min, ellipsoid)
         })
         .collect();
     let global = raw.iter().map(|r| r.1).fold(0.0f64, f64::max);
     let y00 = 1.0 / (4.0 * std::f64::consts::PI).sqrt();
     let made: Vec<Made> = raw
         .into_par_iter()
-        .filter_map(|(s, max, min)| {
+        .filter_map(|(s, max, min, ellipsoid)| {
             // r = k f + b: b goes to the constant term (Y₀⁰ is constant).
             let (k, b) = match opts.normalize {
                 OdfNormalize::Max => (size / max, 0.0),
@@ -181,12 +189,28 @@ pub fn series_scene(
             if r.is_nan() || r <= 0.0 || r.is_infinite() {
                 return None;
             }
+            let ball = Ellipsoid {
+                axes: DMat3::IDENTITY,
+                semi: DVec3::splat(r),
+            };
+            // The ellipsoid where it is smaller than the ball.
+            let ellipsoid = ellipsoid
+                .map(|e| Ellipsoid {
+                    semi: e.semi * k,
+                    ..e
+                })
+                .filter(|e| {
+                    e.semi.is_finite()
+                        && e.semi.min_element() > 0.0
+                        && e.semi.element_product() < r * r * r
+                })
+                .unwrap_or(ball);
             Some(Made {
                 index: s.index,
                 centre: s.centre,
                 plain,
                 g,
-                r,
+                ellipsoid,
             })
         })
         .collect();
@@ -202,25 +226,24 @@ pub fn series_scene(
     let mut payload = Payload::new(lmax).expect("a field's lmax is checked when read");
     payload.values.reserve(made.len() * payload.stride());
     let flags = opts.coloring.flags() | (lmax << 8);
-    let q = [
-        rotation.x as f32,
-        rotation.y as f32,
-        rotation.z as f32,
-        rotation.w as f32,
-    ];
     let instances = made
         .iter()
         .map(|g| {
-            let plain: Vec<f64> = g.plain.iter().map(|x| x / g.r).collect();
-            // The amplitude colouring's 1 is the normalised 1 (`size`), not the bound R.
-            let k = payload.push(&plain, g.g / g.r, g.r / size);
+            // Parameter space is the glyph's own axes scaled by its ellipsoid's largest
+            // semi-axis, which bounds r as the ellipsoid holds the glyph.
+            let e = &g.ellipsoid;
+            let big = e.semi.max_element();
+            let plain: Vec<f64> = g.plain.iter().map(|x| x / big).collect();
+            let axes = DQuat::from_mat3(&e.axes).normalize();
+            // The amplitude colouring's 1 is the normalised 1 (`size`), not the bound.
+            let k = payload.push(&plain, g.g / big, big / size, axes, e.semi / big);
+            let q = (rotation * axes).normalize();
             let c = g.centre - origin;
-            let r = g.r as f32;
             GlyphInstance {
                 centre: [c.x as f32, c.y as f32, c.z as f32],
                 color: GlyphInstance::pack_color(opts.color),
-                rotation: q,
-                radii: [r; 3],
+                rotation: [q.x as f32, q.y as f32, q.z as f32, q.w as f32],
+                radii: e.semi.to_array().map(|v| v as f32),
                 glyph: g.index as u32,
                 shape: [k as u32 + 1, flags],
             }

@@ -1,6 +1,8 @@
-//! The CPU twin of shaders/shape/odf.wgsl: the box of the bounding ball (radius R, the largest
-//! radius) that Sigg's vertex stage draws, and the ball Gumhold's quad is built on, with the
-//! eye rule. The marcher's f64 form is [`crate::shape::odf::first_crossing`].
+//! The CPU twin of shaders/shape/odf.wgsl: the box of the bounding ellipsoid that Sigg's vertex
+//! stage draws and the ellipsoid Gumhold's quad is built on (a series glyph's radii are its
+//! semi-axes, [`crate::shape::odf::bounding_ellipsoid`]; a tensor's profile keeps the ball of its
+//! largest radius), with the eye rule. The crossing's f64 form is
+//! [`crate::shape::odf::plane_crossing`].
 //!
 //! The eye rule of a series glyph needs its scene's series; without them the twin takes a
 //! series glyph as not holding the eye (the GPU and the reference test the series itself).
@@ -20,12 +22,12 @@ impl ShapeTwin for Twin {
         if !ortho && Odf::of(geo, None).contains(eye) {
             return Proxy::Culled;
         }
-        let r = geo.max_radius();
+        let r = bound(geo);
         let b = quadric_box(
             view_proj,
-            geo.frame.x_axis * r,
-            geo.frame.y_axis * r,
-            geo.frame.z_axis * r,
+            geo.frame.x_axis * r.x,
+            geo.frame.y_axis * r.y,
+            geo.frame.z_axis * r.z,
             geo.centre,
         );
         if b.outside_frustum() {
@@ -38,8 +40,17 @@ impl ShapeTwin for Twin {
         }
     }
 
-    /// The bounding ball: `shape_of`'s scale R times its bound 1.
+    /// The bounding ellipsoid: `shape_of`'s scale R times its bound.
     fn gumhold_bound(&self, geo: &GlyphGeometry, eye: DVec3, ortho: bool) -> Option<DVec3> {
-        (ortho || !Odf::of(geo, None).contains(eye)).then_some(DVec3::splat(geo.max_radius()))
+        (ortho || !Odf::of(geo, None).contains(eye)).then_some(bound(geo))
+    }
+}
+
+/// The semi-axes of the proxy's ellipsoid: a series glyph's radii, a profile's ball.
+fn bound(geo: &GlyphGeometry) -> DVec3 {
+    if geo.params[0] != 0 {
+        geo.radii
+    } else {
+        DVec3::splat(geo.max_radius())
     }
 }
