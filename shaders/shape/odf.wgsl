@@ -1,12 +1,13 @@
 // ODF glyphs, the shape interface of common.wgsl: the radial surface r(u) = max(f(u), 0) in
-// parameter space p~ = Oᵀ (p − c) / R, where it lies in the unit ball (R: the largest radius).
-// f is a tensor's profile Σ aᵢ uᵢ² (aᵢ = rᵢ / R) or a spherical-harmonic series in the plain
-// basis, read from the chunk's shape buffer past its per-glyph words (src/shape/odf.rs derives
-// both, the bounds and the marcher; the upload in src/render/scene_buffers.rs lays the buffer
-// out). Twin: src/twin/odf.rs; the f64 marcher: shape::odf::first_crossing.
+// parameter space p~ = Oᵀ (p − c) / R, where it lies in the unit ball (R: the largest radius;
+// a series glyph's O is its own axes and its radii its bounding ellipsoid's semi-axes). f is a
+// tensor's profile Σ aᵢ uᵢ² (aᵢ = rᵢ / R) or a spherical-harmonic series in the plain basis,
+// read from the chunk's shape buffer past its per-glyph words (src/shape/odf/ derives both,
+// the bounds, the ellipsoid and the crossing; the upload in src/render/scene_buffers.rs lays
+// the buffer out). Twin: src/twin/odf.rs; the f64 crossing: shape::odf::plane_crossing.
 //
 // The shape vector: x = 0 (profile) or 4 (series), plus the colouring (0 the instance's colour,
-// 1 direction, 2 amplitude: word 1's flags, OdfColoring in src/shape/odf.rs); a profile then
+// 1 direction, 2 amplitude: word 1's flags, OdfColoring in src/shape/odf/mod.rs); a profile then
 // holds (a₁, a₂, a₃), a series (its first word's index, G, lmax).
 
 // The smallest step in the ray plane's angle (GPU_STEP in src/shape/odf/mod.rs), the step cap,
@@ -133,7 +134,7 @@ fn odf_series(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
     return vec4<f32>(f, grad);
 }
 
-// The outward normal (not unit) at surface point q: r u − ∇_S f~ (normal_at in odf.rs).
+// The outward normal (not unit) at surface point q: r u − ∇_S f~ (normal_at in src/shape/odf/crossing.rs).
 fn odf_normal(q: vec3<f32>, shape: vec4<f32>) -> vec3<f32> {
     let n = length(q);
     if n == 0.0 {
@@ -443,7 +444,7 @@ fn odf_amplitude_scale(shape: vec4<f32>) -> f32 {
 
 // Coloured by direction, the hit's direction `dir` from the centre (world), as mrview's DEC; or
 // by amplitude, viridis at r~ in that direction (`local`: the same point in the glyph's axes)
-// times the scale. The twin: Odf::tint in src/shape/odf.rs.
+// times the scale. The twin: Odf::tint in src/shape/odf/mod.rs.
 fn shape_tint(dir: vec3<f32>, local: vec3<f32>, shape: vec4<f32>, base: vec3<f32>) -> vec3<f32> {
     let mode = u32(shape.x) & 3u;
     let len = length(dir);

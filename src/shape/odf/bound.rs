@@ -50,7 +50,7 @@ pub fn bounding_ellipsoid(values: &[f64], lmax: u32) -> Option<Ellipsoid> {
         let u = nalgebra::Vector3::new(u.x, u.y, u.z);
         m += w * u * u.transpose();
     }
-    if !(m.trace() > 0.0) {
+    if m.trace().is_nan() || m.trace() <= 0.0 {
         return None;
     }
     let eigen = SymmetricEigen::new(m);

@@ -289,7 +289,7 @@ pub fn plane_crossing(
         let sigma = -m;
         let mut th = from;
         let (mut h, mut hp) = big_h(m, th);
-        let inside = *inside.get_or_insert_with(|| !on_ball && h > 0.0);
+        let inside = *inside.get_or_insert(!on_ball && h > 0.0);
         if first && on_ball && h >= 0.0 {
             return Some((start, normal_at(f, near + x0 * d)));
         }
