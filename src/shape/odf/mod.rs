@@ -42,8 +42,8 @@ use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape};
 use crate::glyph::{ColorScheme, Glyph, ResolvedStyle};
 use crate::sh::ShError;
 
-mod bound;
-mod crossing;
+pub mod bound;
+pub mod crossing;
 mod series;
 
 pub use bound::{Ellipsoid, bounding_ellipsoid};
