@@ -4,9 +4,10 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use glam::{DMat3, DQuat, DVec2, DVec3, Mat3, Mat4, Quat, Vec3};
+use glam::{DMat3, DVec2, DVec3, Mat3, Mat4, Quat, Vec3};
 
 use super::cases::{self, oblique};
+use super::rng::Rng;
 use super::{Row, Status, within};
 use crate::camera::{Camera, Projection};
 use crate::scene::{GlyphGeometry, GlyphInstance, GlyphSpec};
@@ -314,27 +315,6 @@ pub fn degeneracy(quick: bool) -> Vec<Row> {
         out.push(rw);
     }
     out
-}
-
-/// A tiny deterministic generator (no dependency): xorshift64*.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn rotation(&mut self) -> DMat3 {
-        let q = DQuat::from_xyzw(
-            self.next() - 0.5,
-            self.next() - 0.5,
-            self.next() - 0.5,
-            self.next() - 0.5,
-        )
-        .normalize();
-        DMat3::from_quat(q)
-    }
 }
 
 /// Case 11: nalgebra `SymmetricEigen` in f32 and f64 on T = R diag(1, 1 − g, 0.3) Rᵀ for gaps

@@ -2,10 +2,11 @@
 //!
 //! Grouped by what they probe: `view` (cases 1, 5, 6, 7: where the camera and the world are),
 //! `surface` (2, 3, 4, 8, 9: where rays meet glyphs at their hardest), `degenerate` (10),
-//! `superquadric` (11–13), `odf` (14); `probe` holds what every case is made of, `limits` the documented
+//! `superquadric` (11–13), `odf` (14), `lattice` (15: random lattices of thin glyphs through every preset); `probe` holds what every case is made of, `limits` the documented
 //! inherent limits.
 
 mod degenerate;
+mod lattice;
 mod limits;
 mod odf;
 mod probe;
@@ -14,6 +15,7 @@ mod surface;
 mod view;
 
 pub use degenerate::{Eigen, degenerate, degenerate_tensors, glyph_from_tensor, symmetric_eigen};
+pub use lattice::lattice;
 pub use limits::documented_limit;
 pub use odf::{odf_faint, odf_sharp};
 pub use probe::{H, Probe, W, oblique};
@@ -39,5 +41,6 @@ pub fn all(quick: bool) -> Vec<Probe> {
     v.extend(indefinite(quick));
     v.extend(odf_sharp(quick));
     v.extend(odf_faint(quick));
+    v.extend(lattice(quick));
     v
 }

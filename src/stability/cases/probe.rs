@@ -23,6 +23,9 @@ pub struct Probe {
     /// The one glyph this case is about (e.g. ellipsoid parameter space, superquadric
     /// exponents), or `None` for every glyph.
     pub only: Option<GlyphKind>,
+    /// Draw it through every preset each method takes ([`crate::request::Preset::applies_to`]),
+    /// not only the baseline (and Gumhold's default splats).
+    pub presets: bool,
 }
 
 pub(super) fn probe(
@@ -41,6 +44,7 @@ pub(super) fn probe(
         camera,
         depth_correction: true,
         only: None,
+        presets: false,
     }
 }
 
