@@ -232,7 +232,11 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
                     }
                 }
             } else if method == Method::Gumhold && glyph.caps().splats {
-                variants.push((SPLAT_LABEL.to_string(), request(method, Preset::Splat), false));
+                variants.push((
+                    SPLAT_LABEL.to_string(),
+                    request(method, Preset::Splat),
+                    false,
+                ));
             }
         }
         for (label, req, sorts) in variants {

@@ -21,7 +21,9 @@ const SPACING: f64 = 1.5;
 /// The fields: (case, radii of glyph k of the lattice from anisotropy k and the generator).
 type Radii = fn(f64, &mut Rng) -> DVec3;
 const FIELDS: [(&str, Radii); 3] = [
-    ("15-lattice-needles", |k, _| DVec3::new(1.0, 1.0 / k, 1.0 / k)),
+    ("15-lattice-needles", |k, _| {
+        DVec3::new(1.0, 1.0 / k, 1.0 / k)
+    }),
     ("15-lattice-discs", |k, _| DVec3::new(1.0, 1.0, 1.0 / k)),
     ("15-lattice-mixed", |k, rng| {
         let top = k.log10();
@@ -50,7 +52,12 @@ pub fn lattice(quick: bool) -> Vec<Probe> {
                 let centre = DVec3::new(i as f64, j as f64, l as f64) * SPACING;
                 let rotation = rng.quat();
                 let r = radii(k, &mut rng);
-                let hue = [(60 + 50 * i) as u8, (60 + 50 * j) as u8, (60 + 50 * l) as u8, 255];
+                let hue = [
+                    (60 + 50 * i) as u8,
+                    (60 + 50 * j) as u8,
+                    (60 + 50 * l) as u8,
+                    255,
+                ];
                 specs.push(spec(centre, rotation, r, hue));
             }
             let scene = Scene::from_specs(&specs);
