@@ -5,6 +5,7 @@ use serde::Serialize;
 
 use crate::effects::Effects;
 use crate::frame::Frame;
+use crate::reference::ReferenceScene;
 use crate::scene::Scene;
 
 /// The accuracy report of `--reference-check`.
@@ -14,8 +15,13 @@ pub struct Accuracy {
     pub coverage_mismatch: f64,
     /// Fraction of pixels covered in both whose front-most glyph differs (the glyph, not the
     /// instance: where a glyph is several instances, its parts meeting at equal depth are one
-    /// glyph's).
+    /// glyph's). After [`Accuracy::with_ties`], without the ties.
     pub id_mismatch: f64,
+    /// After [`Accuracy::with_ties`]: fraction of pixels covered in both whose front-most glyph
+    /// differs where the two glyphs' exact depths are a tie (within [`TIE_ULPS`] steps of the
+    /// depth buffer): no depth test orders them, so they are counted apart from errors.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub id_ties: Option<f64>,
     /// |z_view − z_ref| / (that glyph's largest radius), on pixels showing the same glyph; both
     /// view depths are taken relative to the glyph's centre (see `Frame::aux`).
     pub depth_err_rel_p99: f64,
@@ -107,6 +113,7 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         normal_err_deg_max: normal_max,
         color_psnr_db: psnr(&frame.color, &reference.color),
         same_glyph_pixels: same,
+        id_ties: None,
         outline_mismatch: None,
         shadow_mismatch: None,
         ao_error_mean: None,
@@ -114,7 +121,60 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
     }
 }
 
+/// Steps of the f32 depth buffer within which two glyphs' exact depths at a pixel are a tie:
+/// surfaces that meet (neighbouring caps in one plane, glyphs passing through each other) lie
+/// within this of each other along a band of pixels, and the GPU's depth, exact to a step or so,
+/// cannot order them there any more than the reference's choice of the nearer f64 root means.
+pub const TIE_ULPS: u32 = 2;
+
+/// Whether two depth-buffer values lie within [`TIE_ULPS`] f32 steps of each other.
+fn depth_tie(a: f64, b: f64) -> bool {
+    let (a, b) = (a as f32, b as f32);
+    a.is_finite()
+        && b.is_finite()
+        && a >= 0.0
+        && b >= 0.0
+        && a.to_bits().abs_diff(b.to_bits()) <= TIE_ULPS
+}
+
 impl Accuracy {
+    /// Count apart the id mismatches that are ties: pixels where the glyph `frame` shows meets
+    /// the pixel's ray, in the exact reference `exact` (the one `reference` was rendered by),
+    /// within [`TIE_ULPS`] depth-buffer steps of the glyph the reference shows.
+    pub fn with_ties(
+        mut self,
+        frame: &Frame,
+        reference: &Frame,
+        scene: &Scene,
+        exact: &ReferenceScene,
+    ) -> Self {
+        let glyph = |id: u32| scene.instances.get(id as usize - 1).map(|g| g.glyph);
+        let w = frame.width as usize;
+        let (mut both, mut differ, mut ties) = (0usize, 0usize, 0usize);
+        for k in 0..frame.ids.len() {
+            let (a, b) = (frame.ids[k], reference.ids[k]);
+            if a == 0 || b == 0 {
+                continue;
+            }
+            both += 1;
+            if a == b || glyph(a).zip(glyph(b)).is_some_and(|(x, y)| x == y) {
+                continue;
+            }
+            differ += 1;
+            let (i, j) = ((k % w) as u32, (k / w) as u32);
+            let tie = exact
+                .depth_of(a as usize - 1, i, j)
+                .zip(exact.depth_of(b as usize - 1, i, j))
+                .is_some_and(|(da, db)| depth_tie(da, db));
+            if tie {
+                ties += 1;
+            }
+        }
+        self.id_mismatch = ratio(differ - ties, both);
+        self.id_ties = Some(ratio(ties, both));
+        self
+    }
+
     /// The mismatches of the `effects` that are on, where both frames carry their per-pixel
     /// effects (rendered with aux).
     pub fn with_effects(self, frame: &Frame, reference: &Frame, effects: &Effects) -> Self {
@@ -234,5 +294,51 @@ mod tests {
         let b = [255u8, 20, 30, 255];
         let want = 10.0 * 3.0f64.log10();
         assert!((psnr(&[0, 20, 30, 255], &b) - want).abs() < 1e-12);
+    }
+
+    /// Two coincident spheres meet every ray at one depth: showing either where the reference
+    /// shows the other is a tie. Showing a third sphere that lies behind them is an error.
+    #[test]
+    fn ties_are_counted_apart_from_errors() {
+        use crate::camera::{Camera, Framing};
+        use crate::request::{FrameRequest, Method};
+        use crate::scene::GlyphSpec;
+        use glam::{DQuat, DVec3};
+        let sphere = |x: f64, z: f64| GlyphSpec {
+            centre: DVec3::new(x, 0.0, z),
+            rotation: DQuat::IDENTITY,
+            radii: DVec3::ONE,
+            color: [200, 200, 200, 255],
+        };
+        let scene = Scene::from_specs(&[sphere(0.0, 0.0), sphere(0.0, 0.0), sphere(0.5, -1.0)]);
+        let camera = Camera::frame(&Framing::default(), scene.centre, scene.radius, 96, 72);
+        let exact = ReferenceScene::new(&scene, &camera);
+        let reference = exact.render(&FrameRequest {
+            aux: true,
+            ..FrameRequest::new(Method::Reference)
+        });
+        let mut frame = reference.clone();
+        let (mut swapped, mut wrong) = (0, None);
+        let w = frame.width as usize;
+        for k in 0..frame.ids.len() {
+            let id = reference.ids[k];
+            if id == 1 || id == 2 {
+                frame.ids[k] = 3 - id;
+                swapped += 1;
+                let (i, j) = ((k % w) as u32, (k / w) as u32);
+                let behind = exact.depth_of(2, i, j).zip(exact.depth_of(0, i, j));
+                if wrong.is_none() && behind.is_some_and(|(c, a)| c > a + 1e-3) {
+                    wrong = Some(k);
+                }
+            }
+        }
+        let k = wrong.expect("the third sphere shows behind the pair somewhere");
+        frame.ids[k] = 3;
+        let both = reference.covered_pixels() as f64;
+        let a = compare(&frame, &reference, &scene);
+        assert_eq!(a.id_mismatch, swapped as f64 / both);
+        let a = a.with_ties(&frame, &reference, &scene, &exact);
+        assert_eq!(a.id_ties, Some((swapped - 1) as f64 / both));
+        assert_eq!(a.id_mismatch, 1.0 / both);
     }
 }

@@ -240,8 +240,17 @@ fn splat_glyph(ii: u32, second: bool) {
 fn splat_frame(f: GlyphFrame, px: vec4<i32>, second: bool) -> bool {
     var any = false;
     let setup = pixel_cast(f);
+    var quad: array<vec2<f32>, 4>;
+    if THIN_EXACT {
+        quad = quad_polygon(splat_clips(f));
+    }
     for (var y = px.y; y <= px.w; y++) {
-        let span = splat_row(setup, y, px.x, px.z);
+        var span: vec2<i32>;
+        if THIN_EXACT {
+            span = polygon_row(quad, y, px.x, px.z);
+        } else {
+            span = splat_row(setup, y, px.x, px.z);
+        }
         for (var x = span.x; x <= span.y; x++) {
             let centre = vec2<f32>(f32(x) + 0.5, f32(y) + 0.5);
             var depth = -1.0;
@@ -548,11 +557,21 @@ fn pixel_hit(f: GlyphFrame, px: vec2<f32>) -> Hit {
 
 // The pixels (first and last, inclusive) whose centres a glyph's proxy may cover, or none.
 fn splat_pixels(f: GlyphFrame) -> vec4<i32> {
+    return splat_pixel_rect(splat_clips(f));
+}
+
+// The proxy quad's corners as clip positions (strip order); THIN_EXACT: grown as vs_main draws
+// it (quad_polygon).
+fn splat_clips(f: GlyphFrame) -> array<vec4<f32>, 4> {
+    var grow = vec2<f32>(1.0);
+    if THIN_EXACT {
+        grow = proxy_growth(f);
+    }
     var clips: array<vec4<f32>, 4>;
     for (var k = 0u; k < 4u; k++) {
-        let s = corner_signs(k);
+        let s = corner_signs(k) * grow;
         let v = f.centre + mat3x3<f32>(f.t0, f.t1, f.t2) * (f.m_t + s.x * f.x_t + s.y * f.y_t);
         clips[k] = camera.view_proj * vec4<f32>(v, 1.0);
     }
-    return splat_pixel_rect(clips);
+    return clips;
 }

@@ -181,8 +181,7 @@ fn splat_pixel_rect(clips: array<vec4<f32>, 4>) -> vec4<i32> {
         if !(clip.w > 0.0 && clip.z >= 0.0 && all(abs(clip.xy) < vec2<f32>(1.0e4 * clip.w))) {
             return vec4<i32>(0, 0, 1 << 30u, 1 << 30u);
         }
-        let ndc = clip.xy / clip.w;
-        let px = vec2<f32>((ndc.x + 1.0) * 0.5 * camera.viewport.x, (1.0 - ndc.y) * 0.5 * camera.viewport.y);
+        let px = clip_pixel(clip);
         lo = min(lo, px);
         hi = max(hi, px);
     }
@@ -192,10 +191,53 @@ fn splat_pixel_rect(clips: array<vec4<f32>, 4>) -> vec4<i32> {
     return vec4<i32>(first, last);
 }
 
+// A clip position's framebuffer coordinates in pixels (pixel i's centre at i + 0.5).
+fn clip_pixel(clip: vec4<f32>) -> vec2<f32> {
+    let ndc = clip.xy / clip.w;
+    return vec2<f32>((ndc.x + 1.0) * 0.5 * camera.viewport.x, (1.0 - ndc.y) * 0.5 * camera.viewport.y);
+}
+
+// THIN_EXACT: a proxy quad's corners (clip positions in strip order (-,-), (+,-), (-,+), (+,+),
+// every one in front of the eye: splat_pixel_rect said so) in pixels, in order around it, for
+// polygon_row. A thin glyph's splat rows come from its quad, not from a quadratic of the
+// pixel's parameter-space ray: formed in f32, that ray is magnified k times across the glyph's
+// section, and the quadratic's roots dropped pixels the ray hits (whole needles at k = 1e3,
+// discs at 1e5; the ray cast decides each pixel).
+fn quad_polygon(clips: array<vec4<f32>, 4>) -> array<vec2<f32>, 4> {
+    return array<vec2<f32>, 4>(clip_pixel(clips[0]), clip_pixel(clips[1]), clip_pixel(clips[3]), clip_pixel(clips[2]));
+}
+
 // How far (pixels) a splat's row span reaches beyond the roots of its quadratic: their f32
 // rounding is a small part of a pixel (the ray casting decides each pixel). A pixel and more each
 // side, as before, cost the superquadrics' whole-field frame 17 %.
 const SPAN_MARGIN: f32 = 0.125;
+
+// The pixels of row y within [x0, x1] whose centres lie in the convex polygon p (pixels, in
+// order around it), widened by SPAN_MARGIN; none where the row's centre line misses it.
+fn polygon_row(p: array<vec2<f32>, 4>, y: i32, x0: i32, x1: i32) -> vec2<i32> {
+    let yc = f32(y) + 0.5;
+    var lo = 3.0e38;
+    var hi = -3.0e38;
+    for (var k = 0u; k < 4u; k++) {
+        let a = p[k];
+        let b = p[(k + 1u) & 3u];
+        if min(a.y, b.y) <= yc && yc <= max(a.y, b.y) {
+            var x = a.x;
+            var x2 = b.x;
+            if a.y != b.y {
+                x = a.x + (yc - a.y) / (b.y - a.y) * (b.x - a.x);
+                x2 = x;
+            }
+            lo = min(lo, min(x, x2));
+            hi = max(hi, max(x, x2));
+        }
+    }
+    if lo > hi {
+        return vec2<i32>(x0 + 1, x0);
+    }
+    // Pixel i's centre is at i + 0.5.
+    return vec2<i32>(max(i32(ceil(lo - 0.5 - SPAN_MARGIN)), x0), min(i32(floor(hi - 0.5 + SPAN_MARGIN)), x1));
+}
 
 // The pixels of a row within [x0, x1] whose centres x0 + x satisfy q.x x² + q.y x + q.z <= 0,
 // widened by SPAN_MARGIN: every pixel where the quadratic is not convex, none where it has no

@@ -104,14 +104,7 @@ struct CapsuleThin {
 fn capsule_cast_thin(o: vec3<f32>, v: vec3<f32>, h_df: vec2<f32>) -> CapsuleThin {
     var c: CapsuleThin;
     let h = h_df.x;
-    let a = dot(v.yz, v.yz);
-    if a > 0.0 {
-        c.s = -dot(o.yz, v.yz) / a;
-        let x = o.x + c.s * v.x;
-        if abs(x) > h + 1.0 && v.x != 0.0 {
-            c.s = (clamp(x, -h - 1.0, h + 1.0) - o.x) / v.x;
-        }
-    }
+    c.s = capsule_slide(o, v, h);
     df_begin();
     let px = df_add(vec2<f32>(o.x, thin_o_lo.x), df_mul_f(vec2<f32>(v.x, thin_v_lo.x), c.s));
     let py = df_add(vec2<f32>(o.y, thin_o_lo.y), df_mul_f(vec2<f32>(v.y, thin_v_lo.y), c.s));
@@ -230,8 +223,8 @@ fn shape_box(g: Glyph, o: mat3x3<f32>, solid: Solid) -> SiggBox {
 }
 
 // The ray's origin (the ray point nearest the centre) can lie h + 1 radii from where the ray
-// passes a long capsule's axis: there |o~.yz|² − 1 loses the 1 in f32. It slides to the point
-// nearest the axis (β ≈ 0 for the side), kept within the balls' reach. Then the entry if it lies
+// passes a long capsule's axis: there |o~.yz|² − 1 loses the 1 in f32. It slides as
+// capsule_slide says (β ≈ 0 for the side; never far). Then the entry if it lies
 // in front of the ray's start, else (orthographic start inside the glyph) the exit, as the
 // reference does.
 fn shape_cast(r: ptr<function, ParamRay>, shape: vec4<f32>) -> vec4<f32> {
@@ -250,17 +243,10 @@ fn shape_cast(r: ptr<function, ParamRay>, shape: vec4<f32>) -> vec4<f32> {
         }
         return vec4<f32>(t, capsule_normal_rel(c.o + t * (*r).v_t, h, c.end));
     }
-    let a = dot((*r).v_t.yz, (*r).v_t.yz);
-    if a > 0.0 {
-        var s = -dot((*r).o_t.yz, (*r).v_t.yz) / a;
-        let x = (*r).o_t.x + s * (*r).v_t.x;
-        if abs(x) > h + 1.0 && (*r).v_t.x != 0.0 {
-            s = (clamp(x, -h - 1.0, h + 1.0) - (*r).o_t.x) / (*r).v_t.x;
-        }
-        (*r).off += s * (*r).d;
-        (*r).t0 += s;
-        (*r).o_t += s * (*r).v_t;
-    }
+    let s = capsule_slide((*r).o_t, (*r).v_t, h);
+    (*r).off += s * (*r).d;
+    (*r).t0 += s;
+    (*r).o_t += s * (*r).v_t;
     let span = capsule_span((*r).o_t, (*r).v_t, h);
     var t = span.x;
     if !((*r).t0 + t > 0.0) {

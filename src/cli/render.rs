@@ -432,7 +432,12 @@ where
             &crate::progress::Silent,
         )?;
         diff = image.diff.as_ref().map(|_| diff_image(&frame, &reference));
-        Some(compare(&frame, &reference, &scene).with_effects(&frame, &reference, &req.effects))
+        let exact = crate::reference::ReferenceScene::new(&scene, &camera);
+        Some(
+            compare(&frame, &reference, &scene)
+                .with_effects(&frame, &reference, &req.effects)
+                .with_ties(&frame, &reference, &scene, &exact),
+        )
     } else {
         None
     };

@@ -181,6 +181,30 @@ impl<'a> ReferenceScene<'a> {
         best
     }
 
+    /// The depth-buffer value (standard Z, [`Camera::ndc_depth`]) at which the ray through the
+    /// centre of pixel (i, j) meets instance `instance`, as drawn here: `None` where it misses,
+    /// the glyph is not drawn or the hit lies outside the depth range. The metrics' tie test
+    /// ([`crate::metrics::Accuracy::with_ties`]).
+    pub fn depth_of(&self, instance: usize, i: u32, j: u32) -> Option<f64> {
+        let g = self.glyphs.get(instance).filter(|g| g.drawn)?;
+        let (x, y) = self
+            .camera
+            .pixel_to_ndc(f64::from(i) + 0.5, f64::from(j) + 0.5);
+        let ray = self.camera.ray_ndc(x, y);
+        let origin = ray.origin - self.scene.origin;
+        let t = g.shape.intersect(origin, ray.dir)?.t;
+        if !self.in_depth_range(origin, ray.dir, t) {
+            return None;
+        }
+        let dist = if self.camera.is_ortho() {
+            t
+        } else {
+            (origin + ray.dir * t - (self.camera.eye - self.scene.origin))
+                .dot(self.camera.forward())
+        };
+        Some(self.camera.ndc_depth(dist))
+    }
+
     /// Render a whole frame (pixel-centre rays) into the same form the GPU returns.
     pub fn render(&self, req: &FrameRequest) -> Frame {
         let (w, h) = (self.camera.width as usize, self.camera.height as usize);

@@ -321,12 +321,22 @@ impl Exact for Cone {
         Cone::contains(self, p)
     }
 
-    /// The first forward crossing from the ray point nearest the centre (no cancellation for
-    /// distant glyphs); from inside, the exit.
+    /// The first forward crossing from the ray point nearest the centre in parameter space (no
+    /// cancellation for distant glyphs, nor for thin ones); from inside, the exit.
     fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
         let t0 = (self.c - o).dot(d);
-        let o_t = self.param((o - self.c) + d * t0);
         let v_t = self.param(d);
+        // The world-nearest point lies up to k radii from the centre along a thin axis (k the
+        // radii's ratio): the span's b² − a c then cancelled ~k² of itself, and heads of
+        // k = 1e7 discs were hit up to 0.03 radii beside their edge. The parameter-space
+        // nearest point is O(1), as the GPU's thin rays start (thin_pixel_ray).
+        let w = self.param((o - self.c) + d * t0);
+        let slide = -w.dot(v_t) / v_t.length_squared();
+        let (t0, o_t) = if slide.is_finite() {
+            (t0 + slide, w + v_t * slide)
+        } else {
+            (t0, w)
+        };
         let (t_in, base_in, t_out, base_out) = Cone::span(o_t, v_t)?;
         if t0 + t_out <= 0.0 {
             return None;

@@ -216,8 +216,8 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
             background: [0.0, 0.0, 0.0, 1.0],
             ..FrameRequest::preset(method, dc, preset)
         };
-        let reference = ReferenceScene::new(scene, &probe.camera)
-            .render(&request(Method::Reference, Preset::Baseline));
+        let exact = ReferenceScene::new(scene, &probe.camera);
+        let reference = exact.render(&request(Method::Reference, Preset::Baseline));
         // The sorting presets draw the glyphs front to back as `render` does; ids are instance
         // indices, so their reference is the sorted scene's.
         let mut sorted: Option<(Scene, Frame)> = None;
@@ -260,7 +260,17 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
                     // its coverage error, not a crack (Capabilities::mesh_holes).
                     let faceted = matches!(req.method.method(), Method::Mesh(_));
                     let cracks = !(faceted && glyph.caps().mesh_holes);
-                    measure(&frame, reference, scene, cracks, &mut m);
+                    let a = if sorts {
+                        compare_with_ties(
+                            &frame,
+                            reference,
+                            scene,
+                            &ReferenceScene::new(scene, &probe.camera),
+                        )
+                    } else {
+                        compare_with_ties(&frame, reference, scene, &exact)
+                    };
+                    measure(&frame, reference, scene, a, cracks, &mut m);
                     (Status::Pass, String::new())
                 }
             };
@@ -281,14 +291,23 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
     rows
 }
 
+fn compare_with_ties(
+    frame: &Frame,
+    reference: &Frame,
+    scene: &Scene,
+    exact: &ReferenceScene,
+) -> crate::metrics::Accuracy {
+    compare(frame, reference, scene).with_ties(frame, reference, scene, exact)
+}
+
 fn measure(
     frame: &Frame,
     reference: &Frame,
     scene: &Scene,
+    a: crate::metrics::Accuracy,
     count_cracks: bool,
     m: &mut BTreeMap<String, f64>,
 ) {
-    let a = compare(frame, reference, scene);
     let (nan, garbage, cracks) = sanity(frame, reference, scene.instances.len());
     let cracks = if count_cracks { cracks } else { 0 };
     let covered = frame.covered_pixels() as f64;
@@ -296,6 +315,7 @@ fn measure(
     for (k, v) in [
         ("coverage_mismatch", a.coverage_mismatch),
         ("id_mismatch", a.id_mismatch),
+        ("id_ties", a.id_ties.unwrap_or(0.0)),
         ("depth_err_rel_p99", a.depth_err_rel_p99),
         ("depth_err_rel_max", a.depth_err_rel_max),
         ("normal_err_deg_p99", a.normal_err_deg_p99),

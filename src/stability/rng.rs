@@ -9,7 +9,7 @@ pub struct Rng(pub u64);
 
 impl Rng {
     /// Uniform in [0, 1).
-    pub fn next(&mut self) -> f64 {
+    pub fn uniform(&mut self) -> f64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
@@ -19,10 +19,10 @@ impl Rng {
     /// A rotation from a normalised random quaternion.
     pub fn quat(&mut self) -> DQuat {
         DQuat::from_xyzw(
-            self.next() - 0.5,
-            self.next() - 0.5,
-            self.next() - 0.5,
-            self.next() - 0.5,
+            self.uniform() - 0.5,
+            self.uniform() - 0.5,
+            self.uniform() - 0.5,
+            self.uniform() - 0.5,
         )
         .normalize()
     }
