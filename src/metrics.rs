@@ -65,7 +65,6 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         .iter()
         .map(|g| f64::from(g.radii.iter().copied().fold(0.0f32, f32::max)))
         .collect();
-    let glyph = |id: u32| scene.instances.get(id as usize - 1).map(|g| g.glyph);
     for k in 0..n {
         let (a, b) = (frame.ids[k], reference.ids[k]);
         if (a != 0) != (b != 0) {
@@ -73,8 +72,7 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
         }
         if a != 0 && b != 0 {
             both += 1;
-            let same_glyph = glyph(a).zip(glyph(b)).is_some_and(|(x, y)| x == y);
-            if a != b && !same_glyph {
+            if other_glyph(scene, a, b) {
                 id_diff += 1;
             } else if a != b {
                 // Two parts of one glyph meeting at equal depth: neither depth nor normal
@@ -121,6 +119,13 @@ pub fn compare(frame: &Frame, reference: &Frame, scene: &Scene) -> Accuracy {
     }
 }
 
+/// Whether instance ids `a` and `b` (both drawn) show different glyphs: a glyph's parts meeting
+/// at equal depth are one glyph's.
+fn other_glyph(scene: &Scene, a: u32, b: u32) -> bool {
+    let glyph = |id: u32| scene.instances.get(id as usize - 1).map(|g| g.glyph);
+    a != b && glyph(a).zip(glyph(b)).is_none_or(|(x, y)| x != y)
+}
+
 /// Steps of the f32 depth buffer within which two glyphs' exact depths at a pixel are a tie:
 /// surfaces that meet (neighbouring caps in one plane, glyphs passing through each other) lie
 /// within this of each other along a band of pixels, and the GPU's depth, exact to a step or so,
@@ -148,7 +153,6 @@ impl Accuracy {
         scene: &Scene,
         exact: &ReferenceScene,
     ) -> Self {
-        let glyph = |id: u32| scene.instances.get(id as usize - 1).map(|g| g.glyph);
         let w = frame.width as usize;
         let (mut both, mut differ, mut ties) = (0usize, 0usize, 0usize);
         for k in 0..frame.ids.len() {
@@ -157,7 +161,7 @@ impl Accuracy {
                 continue;
             }
             both += 1;
-            if a == b || glyph(a).zip(glyph(b)).is_some_and(|(x, y)| x == y) {
+            if !other_glyph(scene, a, b) {
                 continue;
             }
             differ += 1;

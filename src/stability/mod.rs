@@ -260,15 +260,14 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
                     // its coverage error, not a crack (Capabilities::mesh_holes).
                     let faceted = matches!(req.method.method(), Method::Mesh(_));
                     let cracks = !(faceted && glyph.caps().mesh_holes);
-                    let a = if sorts {
-                        compare_with_ties(
-                            &frame,
-                            reference,
-                            scene,
-                            &ReferenceScene::new(scene, &probe.camera),
-                        )
+                    let a = compare(&frame, reference, scene);
+                    // Ties are looked for only where ids differ: the sorted scene's reference
+                    // is built for them then, and `exact` is never asked otherwise.
+                    let a = if sorts && a.id_mismatch > 0.0 {
+                        let sorted_exact = ReferenceScene::new(scene, &probe.camera);
+                        a.with_ties(&frame, reference, scene, &sorted_exact)
                     } else {
-                        compare_with_ties(&frame, reference, scene, &exact)
+                        a.with_ties(&frame, reference, scene, &exact)
                     };
                     measure(&frame, reference, scene, a, cracks, &mut m);
                     (Status::Pass, String::new())
@@ -289,15 +288,6 @@ pub fn run_probe(gpu: &GpuRenderer, probe: &Probe, opts: &Options) -> Vec<Row> {
         }
     }
     rows
-}
-
-fn compare_with_ties(
-    frame: &Frame,
-    reference: &Frame,
-    scene: &Scene,
-    exact: &ReferenceScene,
-) -> crate::metrics::Accuracy {
-    compare(frame, reference, scene).with_ties(frame, reference, scene, exact)
 }
 
 fn measure(

@@ -2,7 +2,7 @@
 //! or garbage in any case, and the exact impostors (Gumhold, Sigg) pass every case except the
 //! documented inherent limits (rows say which, and are at worst `degraded`).
 
-use tensorglyph::request::{GlyphKind, Method};
+use tensorglyph::request::{GlyphKind, Method, Preset};
 use tensorglyph::stability::{self, Options, Status};
 
 fn show(rows: &[stability::Row]) -> String {
@@ -135,15 +135,7 @@ fn lattices_pass_through_every_preset() {
         .collect();
     assert!(bad.is_empty(), "not passing:\n{}", show(&bad));
     // Every preset was drawn: the default's splats among them.
-    for preset in [
-        "culled",
-        "octagon",
-        "triangle",
-        "conservative",
-        "sorted",
-        "prepass",
-        "splat",
-    ] {
+    for preset in &Preset::VALUES[1..] {
         let label = format!("gumhold+{preset}");
         assert!(
             rows.iter()
