@@ -48,7 +48,7 @@ const QUICK: [(&str, f64, &str); 3] = [
     ("15-lattice-mixed", 1e3, "far"),
 ];
 
-/// Case 15's scenes: every field at every k in every view ([`QUICK`] when `quick`).
+/// Case 15's scenes: every field at every k in every view (three probes, far, when `quick`).
 pub fn lattice(quick: bool) -> Vec<Probe> {
     let mut out = Vec::new();
     for (case, radii) in FIELDS {
