@@ -10,11 +10,11 @@
 // 1 direction, 2 amplitude: word 1's flags, OdfColoring in src/shape/odf/mod.rs); a profile then
 // holds (a₁, a₂, a₃), a series (its first word's index, G, lmax).
 
-// The smallest step in the ray plane's angle (GPU_STEP in src/shape/odf/mod.rs), the step cap,
-// and the most (a, b) pairs of a great circle's series: lmax ≤ 30 (MAX_LMAX in src/sh).
+// The smallest step in the ray plane's angle (GPU_STEP in src/shape/odf/mod.rs) and the step
+// cap. A great circle's series has at most 16 (a, b) pairs (OdfCircle): lmax ≤ 30 (MAX_LMAX in
+// src/sh).
 const ODF_STEP: f32 = 3.0517578e-5;
 const ODF_STEPS: u32 = 256u;
-const ODF_TERMS: u32 = 16u;
 const ODF_PI: f32 = 3.14159265358979;
 
 fn shape_radius(radii: vec3<f32>) -> f32 {
@@ -69,9 +69,237 @@ fn odf_eval(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
     return vec4<f32>(e.x, transpose(rot) * e.yzw);
 }
 
+// The largest lmax whose series a payload holds as monomials (MAX_MONOMIAL_LMAX in
+// src/shape/odf/monomial.rs); above it, plain coefficients.
+const ODF_MONOMIAL_LMAX: u32 = 12u;
+
+// The series at unit u in its own axes and its gradient there, in the form its payload holds.
+fn odf_series(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
+    let lmax = u32(shape.w);
+    if lmax <= ODF_MONOMIAL_LMAX {
+        if want_grad {
+            return odf_monomial_gradient(u, u32(shape.y), lmax);
+        }
+        return vec4<f32>(odf_monomial(u, u32(shape.y), lmax), 0.0, 0.0, 0.0);
+    }
+    return odf_plain(u, shape, want_grad);
+}
+
+// The homogeneous polynomial Σ p_abc x^a y^b z^c (a + b + c = L) whose coefficients follow G
+// at `start` (monomial_value in src/shape/odf/monomial.rs): Horner's rule in x over the rows
+// a = L … 0, each row a binary form in y and z by Horner's rule in y with z's powers.
+fn odf_monomial(u: vec3<f32>, start: u32, lmax: u32) -> f32 {
+    var f = 0.0;
+    for (var i = 0u; i <= lmax; i++) {
+        let a = lmax - i;
+        let row = 1u + a * (2u * lmax + 3u - a) / 2u;
+        var h = odf_word(start, row + i);
+        var zp = 1.0;
+        for (var b = i; b > 0u; b--) {
+            zp *= u.z;
+            h = h * u.y + odf_word(start, row + b - 1u) * zp;
+        }
+        f = f * u.x + h;
+    }
+    return f;
+}
+
+// odf_monomial at the n ≤ 16 points cos ψᵢ d + sin ψᵢ e, ψᵢ = iπ/n, of a great circle, four to
+// a vector: Horner's rule run on all of them at once, so that each coefficient is read once
+// (reading them dominated the crossing's set-up: L + 1 passes cost 10x the rest of the frame).
+fn odf_circle_monomials(d: vec3<f32>, e: vec3<f32>, start: u32, lmax: u32, n: u32) -> array<vec4<f32>, 4> {
+    // cos ψᵢ and sin ψᵢ by powers of e^(iπ/n), four to a vector.
+    let t = ODF_PI / f32(n);
+    let w1 = vec2<f32>(cos(t), sin(t));
+    let w2 = vec2<f32>(w1.x * w1.x - w1.y * w1.y, 2.0 * w1.x * w1.y);
+    let w3 = vec2<f32>(w2.x * w1.x - w2.y * w1.y, w2.x * w1.y + w2.y * w1.x);
+    let w4 = vec2<f32>(w2.x * w2.x - w2.y * w2.y, 2.0 * w2.x * w2.y);
+    let c0 = vec4<f32>(1.0, w1.x, w2.x, w3.x);
+    let s0 = vec4<f32>(0.0, w1.y, w2.y, w3.y);
+    let c1 = c0 * w4.x - s0 * w4.y;
+    let s1 = s0 * w4.x + c0 * w4.y;
+    let c2 = c1 * w4.x - s1 * w4.y;
+    let s2 = s1 * w4.x + c1 * w4.y;
+    let c3 = c2 * w4.x - s2 * w4.y;
+    let s3 = s2 * w4.x + c2 * w4.y;
+    let x0 = c0 * d.x + s0 * e.x;
+    let y0 = c0 * d.y + s0 * e.y;
+    let z0 = c0 * d.z + s0 * e.z;
+    let x1 = c1 * d.x + s1 * e.x;
+    let y1 = c1 * d.y + s1 * e.y;
+    let z1 = c1 * d.z + s1 * e.z;
+    let x2 = c2 * d.x + s2 * e.x;
+    let y2 = c2 * d.y + s2 * e.y;
+    let z2 = c2 * d.z + s2 * e.z;
+    let x3 = c3 * d.x + s3 * e.x;
+    let y3 = c3 * d.y + s3 * e.y;
+    let z3 = c3 * d.z + s3 * e.z;
+    // The fourth vector only where n > 12 (lmax 12).
+    let four = n > 12u;
+    var f0 = vec4<f32>(0.0);
+    var f1 = vec4<f32>(0.0);
+    var f2 = vec4<f32>(0.0);
+    var f3 = vec4<f32>(0.0);
+    for (var i = 0u; i <= lmax; i++) {
+        let a = lmax - i;
+        let row = 1u + a * (2u * lmax + 3u - a) / 2u;
+        let top = odf_word(start, row + i);
+        var h0 = vec4<f32>(top);
+        var h1 = h0;
+        var h2 = h0;
+        var h3 = h0;
+        var p0 = vec4<f32>(1.0);
+        var p1 = p0;
+        var p2 = p0;
+        var p3 = p0;
+        for (var b = i; b > 0u; b--) {
+            let w = odf_word(start, row + b - 1u);
+            p0 *= z0;
+            p1 *= z1;
+            p2 *= z2;
+            h0 = h0 * y0 + w * p0;
+            h1 = h1 * y1 + w * p1;
+            h2 = h2 * y2 + w * p2;
+            if four {
+                p3 *= z3;
+                h3 = h3 * y3 + w * p3;
+            }
+        }
+        f0 = f0 * x0 + h0;
+        f1 = f1 * x1 + h1;
+        f2 = f2 * x2 + h2;
+        f3 = f3 * x3 + h3;
+    }
+    return array<vec4<f32>, 4>(f0, f1, f2, f3);
+}
+
+// The great circle's series g(φ) = Σⱼ aⱼ cos 2jφ + bⱼ sin 2jφ, j < 16, four terms to a vector
+// (aⱼ in a[j/4] lane j%4): held in registers, since an array indexed at run time costs lavapipe a
+// gather at every read.
+struct OdfCircle {
+    a0: vec4<f32>,
+    a1: vec4<f32>,
+    a2: vec4<f32>,
+    a3: vec4<f32>,
+    b0: vec4<f32>,
+    b1: vec4<f32>,
+    b2: vec4<f32>,
+    b3: vec4<f32>,
+}
+
+// (cos jθ, sin jθ) for j = 0…3 of e^(iθ) = z, as two vectors, and z⁴.
+fn odf_powers(z: vec2<f32>) -> array<vec4<f32>, 3> {
+    let z2 = vec2<f32>(z.x * z.x - z.y * z.y, 2.0 * z.x * z.y);
+    let z3 = vec2<f32>(z2.x * z.x - z2.y * z.y, z2.x * z.y + z2.y * z.x);
+    let z4 = vec2<f32>(z2.x * z2.x - z2.y * z2.y, 2.0 * z2.x * z2.y);
+    return array<vec4<f32>, 3>(vec4<f32>(1.0, z.x, z2.x, z3.x), vec4<f32>(0.0, z.y, z2.y, z3.y), vec4<f32>(z4, 0.0, 0.0));
+}
+
+// Adds g (cos jθ, sin jθ) to every term j: one value's share of the transform.
+fn odf_circle_add(c: ptr<function, OdfCircle>, g: f32, theta: f32) {
+    let p = odf_powers(vec2<f32>(cos(theta), sin(theta)));
+    let z4 = p[2].xy;
+    var pc = p[0];
+    var ps = p[1];
+    (*c).a0 += g * pc;
+    (*c).b0 += g * ps;
+    var t = pc * z4.x - ps * z4.y;
+    ps = ps * z4.x + pc * z4.y;
+    pc = t;
+    (*c).a1 += g * pc;
+    (*c).b1 += g * ps;
+    t = pc * z4.x - ps * z4.y;
+    ps = ps * z4.x + pc * z4.y;
+    pc = t;
+    (*c).a2 += g * pc;
+    (*c).b2 += g * ps;
+    t = pc * z4.x - ps * z4.y;
+    ps = ps * z4.x + pc * z4.y;
+    pc = t;
+    (*c).a3 += g * pc;
+    (*c).b3 += g * ps;
+}
+
+// The transform Σᵢ gᵢ (cos jθᵢ, sin jθᵢ), θᵢ = 2iπ/n, of the n ≤ 16 values `v` (four to a
+// vector), for j < terms ≤ 8: the angles' powers kept four to a vector, each term placed in its
+// lane by a select (no value indexed at run time).
+fn odf_dft4(v: array<vec4<f32>, 4>, n: u32, terms: u32) -> OdfCircle {
+    let p = odf_powers(vec2<f32>(cos(2.0 * ODF_PI / f32(n)), sin(2.0 * ODF_PI / f32(n))));
+    let z4 = p[2].xy;
+    let rc0 = p[0];
+    let rs0 = p[1];
+    let rc1 = rc0 * z4.x - rs0 * z4.y;
+    let rs1 = rs0 * z4.x + rc0 * z4.y;
+    let rc2 = rc1 * z4.x - rs1 * z4.y;
+    let rs2 = rs1 * z4.x + rc1 * z4.y;
+    let rc3 = rc2 * z4.x - rs2 * z4.y;
+    let rs3 = rs2 * z4.x + rc2 * z4.y;
+    let lane = vec4<f32>(0.0, 1.0, 2.0, 3.0);
+    let nf = f32(n);
+    let v0 = select(vec4<f32>(0.0), v[0], lane < vec4<f32>(nf));
+    let v1 = select(vec4<f32>(0.0), v[1], lane + 4.0 < vec4<f32>(nf));
+    let v2 = select(vec4<f32>(0.0), v[2], lane + 8.0 < vec4<f32>(nf));
+    let v3 = select(vec4<f32>(0.0), v[3], lane + 12.0 < vec4<f32>(nf));
+    var pc0 = vec4<f32>(1.0);
+    var ps0 = vec4<f32>(0.0);
+    var pc1 = pc0;
+    var ps1 = ps0;
+    var pc2 = pc0;
+    var ps2 = ps0;
+    var pc3 = pc0;
+    var ps3 = ps0;
+    var c: OdfCircle;
+    for (var j = 0u; j < min(terms, 8u); j++) {
+        let aj = dot(v0, pc0) + dot(v1, pc1) + dot(v2, pc2) + dot(v3, pc3);
+        let bj = dot(v0, ps0) + dot(v1, ps1) + dot(v2, ps2) + dot(v3, ps3);
+        let jf = vec4<f32>(f32(j));
+        c.a0 = select(c.a0, vec4<f32>(aj), lane == jf);
+        c.b0 = select(c.b0, vec4<f32>(bj), lane == jf);
+        c.a1 = select(c.a1, vec4<f32>(aj), lane + 4.0 == jf);
+        c.b1 = select(c.b1, vec4<f32>(bj), lane + 4.0 == jf);
+        let c0 = pc0 * rc0 - ps0 * rs0;
+        ps0 = ps0 * rc0 + pc0 * rs0;
+        pc0 = c0;
+        let c1 = pc1 * rc1 - ps1 * rs1;
+        ps1 = ps1 * rc1 + pc1 * rs1;
+        pc1 = c1;
+        let c2 = pc2 * rc2 - ps2 * rs2;
+        ps2 = ps2 * rc2 + pc2 * rs2;
+        pc2 = c2;
+        let c3 = pc3 * rc3 - ps3 * rs3;
+        ps3 = ps3 * rc3 + pc3 * rs3;
+        pc3 = c3;
+    }
+    return c;
+}
+
+// odf_monomial with the polynomial's gradient carried along (monomial_value_gradient).
+fn odf_monomial_gradient(u: vec3<f32>, start: u32, lmax: u32) -> vec4<f32> {
+    var f = vec4<f32>(0.0);
+    for (var i = 0u; i <= lmax; i++) {
+        let a = lmax - i;
+        let row = 1u + a * (2u * lmax + 3u - a) / 2u;
+        var h = odf_word(start, row + i);
+        var hy = 0.0;
+        var hz = 0.0;
+        var zp = 1.0;
+        var zpz = 0.0;
+        for (var b = i; b > 0u; b--) {
+            let p = odf_word(start, row + b - 1u);
+            zpz = zpz * u.z + zp;
+            zp *= u.z;
+            hy = hy * u.y + h;
+            hz = hz * u.y + p * zpz;
+            h = h * u.y + p * zp;
+        }
+        f = vec4<f32>(f.x * u.x + h, f.y * u.x + f.x, f.z * u.x + hy, f.w * u.x + hz);
+    }
+    return f;
+}
+
 // The plain series at unit u in its own axes and its gradient there (plain_value_gradient in
 // src/shape/odf/series.rs, term by term).
-fn odf_series(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
+fn odf_plain(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
     let start = u32(shape.y);
     let lmax = u32(shape.w);
     var f = 0.0;
@@ -161,27 +389,44 @@ fn odf_degree(shape: vec4<f32>) -> u32 {
 }
 
 // g(φ) and g′(φ) of the great circle's series (CircleSeries::value_slope in
-// src/shape/odf/crossing.rs), from cos φ and sin φ.
-fn odf_circle(c: ptr<function, array<vec2<f32>, ODF_TERMS>>, terms: u32, cs: vec2<f32>) -> vec2<f32> {
-    let c2 = cs.x * cs.x - cs.y * cs.y;
-    let s2 = 2.0 * cs.x * cs.y;
-    var w = vec2<f32>(1.0, 0.0);
-    var g = 0.0;
-    var gp = 0.0;
-    for (var j = 0u; j < terms; j++) {
-        if j > 0u {
-            w = vec2<f32>(w.x * c2 - w.y * s2, w.y * c2 + w.x * s2);
-        }
-        let ab = (*c)[j];
-        g += ab.x * w.x + ab.y * w.y;
-        gp += 2.0 * f32(j) * (ab.y * w.x - ab.x * w.y);
+// src/shape/odf/crossing.rs), from cos φ and sin φ; terms past `terms` are zero.
+fn odf_circle(c: ptr<function, OdfCircle>, terms: u32, cs: vec2<f32>) -> vec2<f32> {
+    let p = odf_powers(vec2<f32>(cs.x * cs.x - cs.y * cs.y, 2.0 * cs.x * cs.y));
+    let z4 = p[2].xy;
+    var pc = p[0];
+    var ps = p[1];
+    // d/dφ of cos 2jφ is −2j sin 2jφ.
+    var j2 = vec4<f32>(0.0, 2.0, 4.0, 6.0);
+    var g = dot((*c).a0, pc) + dot((*c).b0, ps);
+    var gp = dot((*c).b0 * j2, pc) - dot((*c).a0 * j2, ps);
+    if terms > 4u {
+        let t = pc * z4.x - ps * z4.y;
+        ps = ps * z4.x + pc * z4.y;
+        pc = t;
+        j2 += 8.0;
+        g += dot((*c).a1, pc) + dot((*c).b1, ps);
+        gp += dot((*c).b1 * j2, pc) - dot((*c).a1 * j2, ps);
+    }
+    if terms > 8u {
+        var t = pc * z4.x - ps * z4.y;
+        ps = ps * z4.x + pc * z4.y;
+        pc = t;
+        j2 += 8.0;
+        g += dot((*c).a2, pc) + dot((*c).b2, ps);
+        gp += dot((*c).b2 * j2, pc) - dot((*c).a2 * j2, ps);
+        t = pc * z4.x - ps * z4.y;
+        ps = ps * z4.x + pc * z4.y;
+        pc = t;
+        j2 += 8.0;
+        g += dot((*c).a3, pc) + dot((*c).b3, ps);
+        gp += dot((*c).b3 * j2, pc) - dot((*c).a3 * j2, ps);
     }
     return vec2<f32>(g, gp);
 }
 
 // H = g(mθ) sin θ − b and its slope in θ, at the angle θ from the ray's axis on the side m
 // (plane_crossing's halves in src/shape/odf/crossing.rs).
-fn odf_big_h(c: ptr<function, array<vec2<f32>, ODF_TERMS>>, terms: u32, m: f32, th: f32, b: f32) -> vec2<f32> {
+fn odf_big_h(c: ptr<function, OdfCircle>, terms: u32, m: f32, th: f32, b: f32) -> vec2<f32> {
     let cs = vec2<f32>(cos(th), sin(th));
     let g = odf_circle(c, terms, vec2<f32>(cs.x, m * cs.y));
     return vec2<f32>(g.x * cs.y - b, m * g.y * cs.y + g.x * cs.x);
@@ -249,37 +494,43 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
     // φᵢ = iπ/(L+1) as a function of 2φ.
     let n = odf_degree(shape) + 1u;
     let terms = (n + 1u) / 2u;
-    var c: array<vec2<f32>, ODF_TERMS>;
+    var c: OdfCircle;
     let rot = odf_rotation(shape);
     let ds = rot * d;
     let e2s = rot * e2;
-    for (var i = 0u; i < n; i++) {
-        let psi = ODF_PI * f32(i) / f32(n);
-        let us = cos(psi) * ds + sin(psi) * e2s;
-        var g = 0.0;
-        if shape.x < 3.5 {
-            g = odf_eval(us, shape, false).x;
-        } else {
-            g = odf_series(us, shape, false).x;
-        }
-        let theta = 2.0 * psi;
-        let rot = vec2<f32>(cos(theta), sin(theta));
-        var w = vec2<f32>(g, 0.0);
-        for (var j = 0u; j < terms; j++) {
-            if j > 0u {
-                w = vec2<f32>(w.x * rot.x - w.y * rot.y, w.y * rot.x + w.x * rot.y);
+    if shape.x > 3.5 && u32(shape.w) <= ODF_MONOMIAL_LMAX {
+        // Monomials: every value in one pass over the coefficients, each read once.
+        c = odf_dft4(odf_circle_monomials(ds, e2s, u32(shape.y), u32(shape.w), n), n, terms);
+    } else {
+        for (var i = 0u; i < n; i++) {
+            let psi = ODF_PI * f32(i) / f32(n);
+            let us = cos(psi) * ds + sin(psi) * e2s;
+            var g = 0.0;
+            if shape.x < 3.5 {
+                g = odf_eval(us, shape, false).x;
+            } else {
+                g = odf_series(us, shape, false).x;
             }
-            c[j] += w;
+            odf_circle_add(&c, g, 2.0 * psi);
         }
     }
-    var k2 = 0.0;
-    for (var j = 0u; j < terms; j++) {
-        c[j] *= select(2.0, 1.0, j == 0u) / f32(n);
-        let jf = f32(j);
-        k2 += (4.0 * jf * jf + 1.0) * (abs(c[j].x) + abs(c[j].y));
-    }
+    // Scaled (a₀ by 1/n, the rest by 2/n) and cut to `terms`; K₂ = Σ (4j² + 1)(|aⱼ| + |bⱼ|).
+    let lane = vec4<f32>(0.0, 1.0, 2.0, 3.0);
+    let tf = vec4<f32>(f32(terms));
+    let two = 2.0 / f32(n);
+    let s0 = select(vec4<f32>(0.0), select(vec4<f32>(two), vec4<f32>(1.0 / f32(n), two, two, two), lane == vec4<f32>(0.0)), lane < tf);
+    let s1 = select(vec4<f32>(0.0), vec4<f32>(two), lane + 4.0 < tf);
+    let s2 = select(vec4<f32>(0.0), vec4<f32>(two), lane + 8.0 < tf);
+    let s3 = select(vec4<f32>(0.0), vec4<f32>(two), lane + 12.0 < tf);
+    c = OdfCircle(c.a0 * s0, c.a1 * s1, c.a2 * s2, c.a3 * s3, c.b0 * s0, c.b1 * s1, c.b2 * s2, c.b3 * s3);
+    let m0 = abs(c.a0) + abs(c.b0);
+    let m1 = abs(c.a1) + abs(c.b1);
+    let m2 = abs(c.a2) + abs(c.b2);
+    let m3 = abs(c.a3) + abs(c.b3);
+    let k = 4.0 * lane * lane + 1.0;
+    let k2 = dot(k, m0) + dot(k + 32.0 * lane + 64.0, m1) + dot(k + 64.0 * lane + 256.0, m2) + dot(k + 96.0 * lane + 576.0, m3);
     // No point of the circle's series reaches b: the ray misses.
-    if odf_circle_bound(&c, terms) < b {
+    if dot(vec4<f32>(1.0), m0 + m1 + m2 + m3) < b {
         return res;
     }
     // Entering the ball or the ellipsoid, which hold the glyph.
@@ -382,15 +633,6 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
     let tangential = e.yzw - dot(e.yzw, u) * u;
     res.n = r * u - tangential;
     return res;
-}
-
-// A bound of g on the whole circle: Σ |aⱼ| + |bⱼ|.
-fn odf_circle_bound(c: ptr<function, array<vec2<f32>, ODF_TERMS>>, terms: u32) -> f32 {
-    var m = 0.0;
-    for (var j = 0u; j < terms; j++) {
-        m += abs((*c)[j].x) + abs((*c)[j].y);
-    }
-    return m;
 }
 
 fn shape_contains(p: vec3<f32>, shape: vec4<f32>) -> bool {

@@ -361,7 +361,7 @@ mod tests {
     use crate::sh::ShBasis;
     use crate::shape::odf::test_util::{lcg, random_dir};
     use crate::shape::odf::{
-        Profile, REFERENCE_EPS, plain_of, plain_value_gradient, series_bounds,
+        Profile, REFERENCE_EPS, SeriesForm, plain_of, plain_value_gradient, series_bounds,
     };
 
     /// Brute force: the first sign change of h along the ray on a grid of 200,000 steps, then
@@ -404,7 +404,16 @@ mod tests {
     fn gradient_bound(p: &Profile) -> f64 {
         match p {
             Profile::Quadratic(a) => a[0] - a[2],
-            Profile::Series { lmax, plain, .. } => series_bounds(plain, *lmax).1,
+            Profile::Series {
+                lmax,
+                form: SeriesForm::Plain,
+                coefficients,
+                ..
+            } => series_bounds(coefficients, *lmax).1,
+            // Bernstein: |∇_S f| ≤ L max |f| ≤ L Σ |p_abc|.
+            Profile::Series {
+                lmax, coefficients, ..
+            } => f64::from(*lmax) * coefficients.iter().map(|c| c.abs()).sum::<f64>(),
         }
     }
 
@@ -421,7 +430,8 @@ mod tests {
             let plain: Vec<f64> = plain.iter().map(|v| v / vb).collect();
             profiles.push(Profile::Series {
                 lmax: 8,
-                plain,
+                form: SeriesForm::Plain,
+                coefficients: plain,
                 rotation: glam::DMat3::IDENTITY,
             });
         }
@@ -494,10 +504,13 @@ mod tests {
         }
         let plain = plain_of(&sum, ShBasis::Tournier07, 1.0).unwrap();
         let (vb, _) = series_bounds(&plain, lmax);
-        let plain = plain.iter().map(|v| v / vb).collect();
+        let plain: Vec<f64> = plain.iter().map(|v| v / vb).collect();
+        // The form the GPU and the reference hold it in.
+        let form = SeriesForm::for_lmax(lmax);
         Profile::Series {
             lmax,
-            plain,
+            form,
+            coefficients: form.coefficients(&plain, lmax),
             rotation: glam::DMat3::IDENTITY,
         }
     }

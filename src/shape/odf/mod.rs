@@ -44,9 +44,11 @@ use crate::sh::ShError;
 
 pub mod bound;
 pub mod crossing;
+pub mod monomial;
 mod series;
 
 pub use bound::{Ellipsoid, bounding_ellipsoid};
+pub use monomial::SeriesForm;
 
 pub use crossing::{first_crossing, normal_at, plane_crossing};
 pub use series::{
@@ -107,7 +109,7 @@ pub const GPU_STEP: f64 = 1.0 / 32768.0;
 
 /// Per-glyph values too large for an instance's two parameter words, which a scene keeps beside
 /// its instances and the GPU reads from the same storage binding as the words: for ODF glyphs,
-/// each series' G and plain coefficients ([`Self::series`]), and the glyph's own axes and
+/// each series' G and coefficients ([`Self::series`], in [`Self::form`]), and the glyph's own axes and
 /// bounding ellipsoid ([`Self::rotation`], [`Self::bound`]). An instance's word 0 is its series
 /// index plus one (0: no series).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -115,8 +117,8 @@ pub struct Payload {
     pub lmax: u32,
     /// Coefficients per series.
     pub count: usize,
-    /// Per series, `stride()` floats: G, then the `count` plain coefficients of r~ (in the
-    /// series' axes), its amplitude scale, the rotation from the glyph's axes to the series'
+    /// Per series, `stride()` floats: G, then the `count` coefficients of r~ in
+    /// [`Self::form`] (in the series' axes), its amplitude scale, the rotation from the glyph's axes to the series'
     /// (a quaternion x, y, z, w), the bounding ellipsoid's semi-axes over R, then zeros.
     pub values: Vec<f32>,
 }
@@ -143,7 +145,12 @@ impl Payload {
         self.values.is_empty()
     }
 
-    /// Series `k`: G, then the plain coefficients.
+    /// How the series are held: monomials up to [`monomial::MAX_MONOMIAL_LMAX`], plain above.
+    pub fn form(&self) -> SeriesForm {
+        SeriesForm::for_lmax(self.lmax)
+    }
+
+    /// Series `k`: G, then its coefficients in [`Self::form`].
     pub fn series(&self, k: usize) -> &[f32] {
         let s = self.stride();
         &self.values[k * s..k * s + 1 + self.count]
@@ -173,8 +180,8 @@ impl Payload {
         }))
     }
 
-    /// Append a series of r~ (plain coefficients in the series' axes, f64) with its gradient
-    /// bound, amplitude scale, the rotation from the glyph's axes to the series' and the
+    /// Append a series of r~ (plain coefficients in the series' axes, f64; kept in
+    /// [`Self::form`]) with its gradient bound, amplitude scale, the rotation from the glyph's axes to the series' and the
     /// bounding ellipsoid's semi-axes over R; its index.
     pub fn push(
         &mut self,
@@ -186,7 +193,8 @@ impl Payload {
     ) -> usize {
         let k = self.len();
         self.values.push(g as f32);
-        self.values.extend(plain.iter().map(|&c| c as f32));
+        let coefficients = self.form().coefficients(plain, self.lmax);
+        self.values.extend(coefficients.iter().map(|&c| c as f32));
         self.values.push(amplitude_scale as f32);
         let q = rotation.normalize();
         self.values
@@ -271,11 +279,12 @@ impl Shape for Kind {
 pub enum Profile {
     /// Σ aᵢ uᵢ² (a tensor's profile, aᵢ = rᵢ / R).
     Quadratic([f64; 3]),
-    /// Plain coefficients of order `lmax`, as the GPU reads them (f32 values, exactly), in the
-    /// axes that `rotation` turns the glyph's axes into.
+    /// Coefficients of order `lmax` in `form`, as the GPU reads them (f32 values, exactly), in
+    /// the axes that `rotation` turns the glyph's axes into.
     Series {
         lmax: u32,
-        plain: Vec<f64>,
+        form: SeriesForm,
+        coefficients: Vec<f64>,
         rotation: DMat3,
     },
 }
@@ -298,10 +307,11 @@ impl Profile {
             }
             Profile::Series {
                 lmax,
-                plain,
+                form,
+                coefficients,
                 rotation,
             } => {
-                let (v, g) = plain_value_gradient(plain, *lmax, *rotation * u);
+                let (v, g) = form.value_gradient(coefficients, *lmax, *rotation * u);
                 (v, rotation.transpose() * g)
             }
         }
@@ -312,9 +322,10 @@ impl Profile {
             Profile::Quadratic(a) => (DVec3::from(*a) * u * u).element_sum(),
             Profile::Series {
                 lmax,
-                plain,
+                form,
+                coefficients,
                 rotation,
-            } => plain_value(plain, *lmax, *rotation * u),
+            } => form.value(coefficients, *lmax, *rotation * u),
         }
     }
 }
@@ -350,11 +361,12 @@ impl Odf {
             k => match payload.filter(|p| (k as usize) <= p.len()) {
                 Some(p) => {
                     let s = p.series(k as usize - 1);
-                    let plain = s[1..].iter().map(|&c| f64::from(c)).collect();
+                    let coefficients = s[1..].iter().map(|&c| f64::from(c)).collect();
                     (
                         Profile::Series {
                             lmax: p.lmax,
-                            plain,
+                            form: p.form(),
+                            coefficients,
                             rotation: p.rotation(k as usize - 1),
                         },
                         f64::from(s[0]),
