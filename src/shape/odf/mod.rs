@@ -9,8 +9,9 @@
 //! **Parameter space.** p~ = Oᵀ (p − c) / R with R a bound of r over the sphere, so the glyph
 //! lies in the unit ball (Gumhold's quad and Sigg's box are the ball's) and r~ = r / R ≤ 1.
 //!
-//! **The series as the GPU evaluates it** ("plain" basis): Ỹ_l^m(u) = Q_l^|m|(z) · Re (x + iy)^m
-//! for m ≥ 0 and Q_l^|m|(z) · Im (x + iy)^|m| for m < 0, with Q_l^m = Λ_l^m / sin^m θ, a
+//! **The series as the GPU evaluates it**: up to lmax 12 as a homogeneous polynomial in x, y, z
+//! ([`monomial`], converted from the plain basis once per glyph); above, in the "plain" basis:
+//! Ỹ_l^m(u) = Q_l^|m|(z) · Re (x + iy)^m for m ≥ 0 and Q_l^|m|(z) · Im (x + iy)^|m| for m < 0, with Q_l^m = Λ_l^m / sin^m θ, a
 //! polynomial in z by the recurrences of [`crate::sh`] §2 (the same in l at fixed m for Λ and
 //! Λ/sinᵐθ). No trigonometry, no division, and the gradient of the polynomial extension comes
 //! with it. A tournier07 coefficient is the plain one divided by (−1)^m √2 (m ≠ 0); any basis

@@ -23,7 +23,7 @@ use crate::sh::count_of_lmax;
 pub const MAX_MONOMIAL_LMAX: u32 = 12;
 
 /// How a payload holds a series: the monomials (lmax ≤ [`MAX_MONOMIAL_LMAX`]) or, above, the
-/// plain coefficients ([`super::series`]).
+/// plain coefficients ([`super::plain_value`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SeriesForm {
     Plain,
@@ -32,7 +32,8 @@ pub enum SeriesForm {
 
 impl SeriesForm {
     pub fn for_lmax(lmax: u32) -> Self {
-        if lmax <= MAX_MONOMIAL_LMAX {
+        // An SH series' lmax is even; an odd one is not a series the payload holds.
+        if lmax <= MAX_MONOMIAL_LMAX && lmax.is_multiple_of(2) {
             SeriesForm::Monomial
         } else {
             SeriesForm::Plain
@@ -131,7 +132,10 @@ impl Poly {
     }
 
     fn add(&mut self, k: f64, other: &Self) {
-        self.c.iter_mut().zip(&other.c).for_each(|(s, o)| *s += k * o);
+        self.c
+            .iter_mut()
+            .zip(&other.c)
+            .for_each(|(s, o)| *s += k * o);
     }
 
     fn scaled(&self, k: f64) -> Self {
@@ -148,7 +152,7 @@ impl Poly {
 pub fn plain_to_monomial(lmax: u32) -> Option<&'static [f64]> {
     const KEPT: usize = (MAX_MONOMIAL_LMAX / 2 + 1) as usize;
     static TABLES: [OnceLock<Vec<f64>>; KEPT] = [const { OnceLock::new() }; KEPT];
-    if lmax % 2 != 0 || lmax > MAX_MONOMIAL_LMAX {
+    if SeriesForm::for_lmax(lmax) != SeriesForm::Monomial {
         return None;
     }
     let count = count_of_lmax(lmax).ok()?;
@@ -382,10 +386,16 @@ mod tests {
                         .max((tangential(g) - tangential(gm)).length() / f64::from(lmax.max(1)));
                     magnitude = magnitude.max(monomial_magnitude(&mono, lmax, u));
                 }
-                assert!(worst <= 1e-11 * largest, "lmax {lmax}: {worst} of {largest}");
+                assert!(
+                    worst <= 1e-11 * largest,
+                    "lmax {lmax}: {worst} of {largest}"
+                );
                 // Measured: at most 7.0 (lmax 8) and 13.9 (lmax 12), so f32 rounding stays
                 // near 1e-6 of the largest value.
-                assert!(magnitude <= 16.0 * largest, "lmax {lmax}: {magnitude} of {largest}");
+                assert!(
+                    magnitude <= 16.0 * largest,
+                    "lmax {lmax}: {magnitude} of {largest}"
+                );
             }
         }
     }
