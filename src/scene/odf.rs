@@ -23,7 +23,8 @@ use crate::field::frame::tensor_rotation;
 use crate::select::Plane;
 use crate::shape::Payload;
 use crate::shape::odf::{
-    Ellipsoid, OdfColoring, bounding_ellipsoid, plain_of, range_of, rigorous_bounds, sampled_values,
+    Ellipsoid, OdfColoring, bounding_ellipsoid, plain_of, range_of, rigorous_bounds,
+    sampled_values_many,
 };
 
 /// How each voxel's ODF is scaled ([module doc](self)).
@@ -157,17 +158,34 @@ pub fn series_scene(
     let rotation = DQuat::from_mat3(&frame).normalize();
     // Each series' sampled range, and the ellipsoid of the values as they will be drawn up to
     // their scale (r = k f for max and none, k (f − min) for minmax).
-    let raw: Vec<(Series, f64, f64, Option<Ellipsoid>)> = series
-        .into_par_iter()
-        .map(|s| {
-            let mut values = sampled_values(&s.plain, lmax);
-            let (min, max) = range_of(&values);
-            if opts.normalize == OdfNormalize::MinMax {
-                values.iter_mut().for_each(|v| *v -= min);
-            }
-            let ellipsoid = bounding_ellipsoid(&values, lmax);
-            (s, max, min, ellipsoid)
+    // In blocks of series, each block's values one matrix product.
+    const BLOCK: usize = 64;
+    let sampled: Vec<(f64, f64, Option<Ellipsoid>)> = series
+        .par_chunks(BLOCK)
+        .flat_map_iter(|block| {
+            let plains: Vec<&[f64]> = block.iter().map(|s| s.plain.as_slice()).collect();
+            let values = sampled_values_many(&plains, lmax);
+            let n = values.nrows();
+            values
+                .as_slice()
+                .chunks_exact(n.max(1))
+                .map(|column| {
+                    let (min, max) = range_of(column);
+                    let ellipsoid = if opts.normalize == OdfNormalize::MinMax {
+                        let shifted: Vec<f64> = column.iter().map(|v| v - min).collect();
+                        bounding_ellipsoid(&shifted, lmax)
+                    } else {
+                        bounding_ellipsoid(column, lmax)
+                    };
+                    (max, min, ellipsoid)
+                })
+                .collect::<Vec<_>>()
         })
+        .collect();
+    let raw: Vec<(Series, f64, f64, Option<Ellipsoid>)> = series
+        .into_iter()
+        .zip(sampled)
+        .map(|(s, (max, min, e))| (s, max, min, e))
         .collect();
     let global = raw.iter().map(|r| r.1).fold(0.0f64, f64::max);
     let y00 = 1.0 / (4.0 * std::f64::consts::PI).sqrt();

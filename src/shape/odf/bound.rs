@@ -36,20 +36,30 @@ pub struct Ellipsoid {
 /// sampling too coarse for the bound to hold.
 pub fn bounding_ellipsoid(values: &[f64], lmax: u32) -> Option<Ellipsoid> {
     let sphere = sphere_for(lmax);
-    let dirs = &sphere.directions;
-    if dirs.len() != values.len() {
+    let [dx, dy, dz] = &sphere.components;
+    if dx.len() != values.len() {
         return None;
     }
     let shrink = 1.0 - sphere.cover * sphere.cover * f64::from((lmax + 1) * (lmax + 1)) / 2.0;
     if shrink < 0.5 {
         return None;
     }
-    let mut m = Matrix3::<f64>::zeros();
-    for (u, &v) in dirs.iter().zip(values) {
+    // Σ f⁺² u uᵀ, its six entries as plain sums over the directions (a scene's build spent half
+    // its time here when each direction made a 3×3 outer product).
+    let mut sums = [0.0f64; 6];
+    for (k, &v) in values.iter().enumerate() {
         let w = v.max(0.0) * v.max(0.0);
-        let u = nalgebra::Vector3::new(u.x, u.y, u.z);
-        m += w * u * u.transpose();
+        let (x, y, z) = (dx[k], dy[k], dz[k]);
+        sums[0] += w * x * x;
+        sums[1] += w * x * y;
+        sums[2] += w * x * z;
+        sums[3] += w * y * y;
+        sums[4] += w * y * z;
+        sums[5] += w * z * z;
     }
+    let m = Matrix3::new(
+        sums[0], sums[1], sums[2], sums[1], sums[3], sums[4], sums[2], sums[4], sums[5],
+    );
     if m.trace().is_nan() || m.trace() <= 0.0 {
         return None;
     }
@@ -62,29 +72,24 @@ pub fn bounding_ellipsoid(values: &[f64], lmax: u32) -> Option<Ellipsoid> {
     };
     let (b1, b2) = (col(0), col(1));
     let axes = DMat3::from_cols(b1, b2, b1.cross(b2));
-    let extent = |b: DVec3| {
-        dirs.iter()
-            .zip(values)
-            .map(|(u, v)| v.abs() * u.dot(b).abs())
-            .fold(0.0, f64::max)
-    };
-    let e = DVec3::new(
-        extent(axes.x_axis),
-        extent(axes.y_axis),
-        extent(axes.z_axis),
-    );
+    // u in the glyph's axes, for each direction: its components along b₁, b₂, b₃.
+    let t = axes.transpose();
+    let along = |k: usize| t * DVec3::new(dx[k], dy[k], dz[k]);
+    let mut e = DVec3::ZERO;
+    for (k, v) in values.iter().enumerate() {
+        e = e.max(v.abs() * along(k).abs());
+    }
     let largest = e.max_element();
     if !(largest > 0.0 && largest.is_finite()) {
         return None;
     }
     let e = e.max(DVec3::splat(1e-6 * largest));
-    let t = axes.transpose();
-    let kappa = dirs
-        .iter()
-        .zip(values)
-        .map(|(&u, v)| v.abs() * (t * u / e).length())
-        .fold(0.0, f64::max)
-        / shrink;
+    let inv = 1.0 / e;
+    let mut kappa2 = 0.0f64;
+    for (k, v) in values.iter().enumerate() {
+        kappa2 = kappa2.max(v * v * (along(k) * inv).length_squared());
+    }
+    let kappa = kappa2.sqrt() / shrink;
     Some(Ellipsoid {
         axes,
         semi: kappa * e,

@@ -54,7 +54,7 @@ pub use monomial::SeriesForm;
 pub use crossing::{first_crossing, normal_at, plane_crossing};
 pub use series::{
     Sphere, basis_table, plain_of, plain_value, plain_value_gradient, range_of, rigorous_bounds,
-    sampled_range, sampled_values, series_bounds, sphere_for,
+    sampled_range, sampled_values, sampled_values_many, series_bounds, sphere_for,
 };
 
 pub const WGSL: &str = include_str!("../../../shaders/shape/odf.wgsl");

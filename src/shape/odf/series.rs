@@ -53,6 +53,8 @@ pub fn series_bounds(plain: &[f64], lmax: u32) -> (f64, f64) {
 /// within `cover` (rad) of one of them.
 pub struct Sphere {
     pub directions: Vec<DVec3>,
+    /// The directions' x, y and z as three arrays (for loops the compiler vectorises).
+    pub components: [Vec<f64>; 3],
     pub cover: f64,
 }
 
@@ -82,6 +84,7 @@ pub fn sphere_for(lmax: u32) -> &'static Sphere {
             })
             .fold(0.0, f64::max);
         Sphere {
+            components: [0, 1, 2].map(|i| directions.iter().map(|u| u[i]).collect()),
             directions,
             cover: cover * 1.01,
         }
@@ -100,6 +103,41 @@ pub fn sampled_values(plain: &[f64], lmax: u32) -> Vec<f64> {
             .collect(),
         None => dirs.iter().map(|&u| plain_value(plain, lmax, u)).collect(),
     }
+}
+
+/// [`sampled_values`] of many series of one lmax at once: the plain coefficients side by side
+/// (`plains`, each `count_of_lmax(lmax)` long) times the basis table, one matrix product (a
+/// blocked, vectorised GEMM: a scene of 10,000 lmax-12 glyphs spent about 2 s of its 3.4 s build
+/// on the per-series dot products). Column j of the result (column-major, `directions × series`)
+/// is series j's values.
+pub fn sampled_values_many(plains: &[&[f64]], lmax: u32) -> nalgebra::DMatrix<f64> {
+    let dirs = sphere_for(lmax).directions.len();
+    let count = crate::sh::count_of_lmax(lmax).unwrap_or(0);
+    let basis = basis_matrix(lmax);
+    match basis.filter(|b| b.ncols() == count && plains.iter().all(|p| p.len() == count)) {
+        Some(b) => {
+            let c = nalgebra::DMatrix::from_fn(count, plains.len(), |i, j| plains[j][i]);
+            b * c
+        }
+        None => nalgebra::DMatrix::from_fn(dirs, plains.len(), |i, j| {
+            plain_value(plains[j], lmax, sphere_for(lmax).directions[i])
+        }),
+    }
+}
+
+/// [`basis_table`] as a matrix (directions × coefficients), made once per lmax.
+fn basis_matrix(lmax: u32) -> Option<&'static nalgebra::DMatrix<f64>> {
+    const KEPT: usize = 16;
+    static MATRICES: [std::sync::OnceLock<Option<nalgebra::DMatrix<f64>>>; KEPT] =
+        [const { std::sync::OnceLock::new() }; KEPT];
+    let n = crate::sh::count_of_lmax(lmax).ok()?;
+    MATRICES
+        .get((lmax / 2) as usize)?
+        .get_or_init(|| {
+            let table = basis_table(lmax)?;
+            Some(nalgebra::DMatrix::from_row_slice(table.len() / n, n, table))
+        })
+        .as_ref()
 }
 
 /// The smallest and largest of `values`.
@@ -273,6 +311,30 @@ mod tests {
     use super::*;
     use crate::sh::ShEval;
     use crate::shape::odf::test_util::{lcg, random_dir};
+
+    /// The block product gives each series' own values (to rounding), at both spheres.
+    #[test]
+    fn many_series_at_once_are_each_series() {
+        let mut seed = 3;
+        for lmax in [4, 8, 12] {
+            let n = crate::sh::count_of_lmax(lmax).unwrap();
+            let plains: Vec<Vec<f64>> = (0..5)
+                .map(|_| (0..n).map(|_| lcg(&mut seed)).collect())
+                .collect();
+            let refs: Vec<&[f64]> = plains.iter().map(|p| p.as_slice()).collect();
+            let many = sampled_values_many(&refs, lmax);
+            for (j, p) in plains.iter().enumerate() {
+                let one = sampled_values(p, lmax);
+                assert_eq!(many.nrows(), one.len());
+                for (a, b) in many.column(j).iter().zip(&one) {
+                    assert!(
+                        (a - b).abs() <= 1e-12 * (1.0 + b.abs()),
+                        "lmax {lmax}: {a} {b}"
+                    );
+                }
+            }
+        }
+    }
 
     /// The table's rows are the plain series' terms: a series' value at each sampled direction
     /// is its dot product with the row, to rounding, at every lmax the reader takes to 12.
