@@ -109,19 +109,15 @@ fn odf_monomial(u: vec3<f32>, start: u32, lmax: u32) -> f32 {
 // (reading them dominated the crossing's set-up: L + 1 passes cost 10x the rest of the frame).
 fn odf_circle_monomials(d: vec3<f32>, e: vec3<f32>, start: u32, lmax: u32, n: u32) -> array<vec4<f32>, 4> {
     // cos ψᵢ and sin ψᵢ by powers of e^(iπ/n), four to a vector.
-    let t = ODF_PI / f32(n);
-    let w1 = vec2<f32>(cos(t), sin(t));
-    let w2 = vec2<f32>(w1.x * w1.x - w1.y * w1.y, 2.0 * w1.x * w1.y);
-    let w3 = vec2<f32>(w2.x * w1.x - w2.y * w1.y, w2.x * w1.y + w2.y * w1.x);
-    let w4 = vec2<f32>(w2.x * w2.x - w2.y * w2.y, 2.0 * w2.x * w2.y);
-    let c0 = vec4<f32>(1.0, w1.x, w2.x, w3.x);
-    let s0 = vec4<f32>(0.0, w1.y, w2.y, w3.y);
-    let c1 = c0 * w4.x - s0 * w4.y;
-    let s1 = s0 * w4.x + c0 * w4.y;
-    let c2 = c1 * w4.x - s1 * w4.y;
-    let s2 = s1 * w4.x + c1 * w4.y;
-    let c3 = c2 * w4.x - s2 * w4.y;
-    let s3 = s2 * w4.x + c2 * w4.y;
+    let w = odf_powers16(vec2<f32>(cos(ODF_PI / f32(n)), sin(ODF_PI / f32(n))));
+    let c0 = w[0];
+    let s0 = w[1];
+    let c1 = w[2];
+    let s1 = w[3];
+    let c2 = w[4];
+    let s2 = w[5];
+    let c3 = w[6];
+    let s3 = w[7];
     let x0 = c0 * d.x + s0 * e.x;
     let y0 = c0 * d.y + s0 * e.y;
     let z0 = c0 * d.z + s0 * e.z;
@@ -195,45 +191,45 @@ fn odf_powers(z: vec2<f32>) -> array<vec4<f32>, 3> {
     return array<vec4<f32>, 3>(vec4<f32>(1.0, z.x, z2.x, z3.x), vec4<f32>(0.0, z.y, z2.y, z3.y), vec4<f32>(z4, 0.0, 0.0));
 }
 
+// (cos jθ, sin jθ) for j = 0…15 of e^(iθ) = z: cos of j = 4k…4k+3 at [2k], sin at [2k + 1].
+fn odf_powers16(z: vec2<f32>) -> array<vec4<f32>, 8> {
+    let p = odf_powers(z);
+    let z4 = p[2].xy;
+    let c1 = p[0] * z4.x - p[1] * z4.y;
+    let s1 = p[1] * z4.x + p[0] * z4.y;
+    let c2 = c1 * z4.x - s1 * z4.y;
+    let s2 = s1 * z4.x + c1 * z4.y;
+    let c3 = c2 * z4.x - s2 * z4.y;
+    let s3 = s2 * z4.x + c2 * z4.y;
+    return array<vec4<f32>, 8>(p[0], p[1], c1, s1, c2, s2, c3, s3);
+}
+
 // Adds g (cos jθ, sin jθ) to every term j: one value's share of the transform.
 fn odf_circle_add(c: ptr<function, OdfCircle>, g: f32, theta: f32) {
-    let p = odf_powers(vec2<f32>(cos(theta), sin(theta)));
-    let z4 = p[2].xy;
-    var pc = p[0];
-    var ps = p[1];
-    (*c).a0 += g * pc;
-    (*c).b0 += g * ps;
-    var t = pc * z4.x - ps * z4.y;
-    ps = ps * z4.x + pc * z4.y;
-    pc = t;
-    (*c).a1 += g * pc;
-    (*c).b1 += g * ps;
-    t = pc * z4.x - ps * z4.y;
-    ps = ps * z4.x + pc * z4.y;
-    pc = t;
-    (*c).a2 += g * pc;
-    (*c).b2 += g * ps;
-    t = pc * z4.x - ps * z4.y;
-    ps = ps * z4.x + pc * z4.y;
-    pc = t;
-    (*c).a3 += g * pc;
-    (*c).b3 += g * ps;
+    let p = odf_powers16(vec2<f32>(cos(theta), sin(theta)));
+    (*c).a0 += g * p[0];
+    (*c).b0 += g * p[1];
+    (*c).a1 += g * p[2];
+    (*c).b1 += g * p[3];
+    (*c).a2 += g * p[4];
+    (*c).b2 += g * p[5];
+    (*c).a3 += g * p[6];
+    (*c).b3 += g * p[7];
 }
 
 // The transform Σᵢ gᵢ (cos jθᵢ, sin jθᵢ), θᵢ = 2iπ/n, of the n ≤ 16 values `v` (four to a
 // vector), for j < terms ≤ 8: the angles' powers kept four to a vector, each term placed in its
 // lane by a select (no value indexed at run time).
 fn odf_dft4(v: array<vec4<f32>, 4>, n: u32, terms: u32) -> OdfCircle {
-    let p = odf_powers(vec2<f32>(cos(2.0 * ODF_PI / f32(n)), sin(2.0 * ODF_PI / f32(n))));
-    let z4 = p[2].xy;
-    let rc0 = p[0];
-    let rs0 = p[1];
-    let rc1 = rc0 * z4.x - rs0 * z4.y;
-    let rs1 = rs0 * z4.x + rc0 * z4.y;
-    let rc2 = rc1 * z4.x - rs1 * z4.y;
-    let rs2 = rs1 * z4.x + rc1 * z4.y;
-    let rc3 = rc2 * z4.x - rs2 * z4.y;
-    let rs3 = rs2 * z4.x + rc2 * z4.y;
+    let r = odf_powers16(vec2<f32>(cos(2.0 * ODF_PI / f32(n)), sin(2.0 * ODF_PI / f32(n))));
+    let rc0 = r[0];
+    let rs0 = r[1];
+    let rc1 = r[2];
+    let rs1 = r[3];
+    let rc2 = r[4];
+    let rs2 = r[5];
+    let rc3 = r[6];
+    let rs3 = r[7];
     let lane = vec4<f32>(0.0, 1.0, 2.0, 3.0);
     let nf = f32(n);
     let v0 = select(vec4<f32>(0.0), v[0], lane < vec4<f32>(nf));
