@@ -58,6 +58,18 @@ def read_mif(path):
     return dim, at, extra
 
 
+def mif_header(lines):
+    """A .mif header of `lines` (from "mrtrix image" on, without file and END) with its data
+    offset, padded with zeros to that offset (a multiple of 16)."""
+    text = "\n".join(lines) + "\nfile: . "
+    # The data offset counts its own digits.
+    base = len(text.encode()) + len("\nEND\n") + 8
+    offset = (base + 15) // 16 * 16
+    text += str(offset).rjust(8) + "\nEND\n"
+    blob = text.encode()
+    return blob + b"\0" * (offset - len(blob))
+
+
 def main():
     src, out = sys.argv[1], sys.argv[2]
     n = int(sys.argv[3]) if len(sys.argv) > 3 else 25
@@ -73,17 +85,11 @@ def main():
                 out_values.extend(at(idx + (v,)) for v in range(nv))
     header = ["mrtrix image", "dim: %d,%d,2,%d" % (nx, ny, nv), "layout: +1,+2,+3,+0",
               "datatype: Float32LE"] + extra
-    text = "\n".join(header) + "\nfile: . "
-    # The data offset counts its own digits: pad to a multiple of 16.
-    base = len(text.encode()) + len("\nEND\n") + 8
-    offset = (base + 15) // 16 * 16
-    text += str(offset).rjust(8) + "\nEND\n"
-    blob = text.encode()
-    blob += b"\0" * (offset - len(blob))
     with open(out, "wb") as f:
-        f.write(blob)
+        f.write(mif_header(header))
         f.write(struct.pack("<%df" % len(out_values), *out_values))
     print("wrote %s: %dx%dx2, %d coefficients" % (out, nx, ny, nv))
 
 
-main()
+if __name__ == "__main__":
+    main()
