@@ -23,8 +23,8 @@ fn bench(c: &mut Criterion) {
     g.bench_function("symmetric_eigen Jacobi (1 thread)", |b| {
         b.iter(|| {
             let mut acc = 0.0;
-            for t in &field.tensors {
-                let e = symmetric_eigen(&symmetrise(black_box(t)).0);
+            for t in field.tensors.iter() {
+                let e = symmetric_eigen(&symmetrise(black_box(&t)).0);
                 acc += e.values[0] + e.vectors[2][0];
             }
             black_box(acc)
@@ -33,8 +33,8 @@ fn bench(c: &mut Criterion) {
     g.bench_function("nalgebra SymmetricEigen (1 thread, reference)", |b| {
         b.iter(|| {
             let mut acc = 0.0;
-            for t in &field.tensors {
-                let e = nalgebra_eigen(&symmetrise(black_box(t)).0);
+            for t in field.tensors.iter() {
+                let e = nalgebra_eigen(&symmetrise(black_box(&t)).0);
                 acc += e.values[0] + e.vectors[2][0];
             }
             black_box(acc)

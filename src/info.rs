@@ -207,8 +207,8 @@ fn sample(field: &TensorField, index: usize) -> Result<Sample, String> {
     };
     Ok(Sample {
         index,
-        position: field.positions[index],
-        tensor: field.tensors[index],
+        position: field.position(index),
+        tensor: field.tensor(index),
         eigenvalues: values,
         eigenvectors: vectors,
         principal_stresses: stress::principal(values),

@@ -15,9 +15,9 @@ use glam::DVec3;
 use serde::Serialize;
 
 use crate::error::LoadError;
-use crate::field::TensorField;
 use crate::field::scalar::ScalarVolume;
 use crate::field::{Inputs, ReadOptions, read_field_from};
+use crate::field::{Positions, TensorField};
 use crate::glyph::style::{Spacing, local_spacing, units_in_name};
 use crate::glyph::{ColorScheme, GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
@@ -34,9 +34,9 @@ pub struct Demo {
 }
 
 impl Demo {
-    /// The largest `grid:N`: its field and glyphs together (152 bytes per tensor while the
-    /// eigendecomposition runs) take 5 GB, within this project's 24 GB machines; grid:512 would
-    /// need 20 GB.
+    /// The largest `grid:N`: its field and glyphs together (128 bytes per tensor while the
+    /// eigendecomposition runs, its positions implied) take about 4.3 GB, within this
+    /// project's 24 GB machines; grid:512 would need 17 GB.
     pub const MAX_N: usize = 320;
 }
 
@@ -187,8 +187,11 @@ impl Source {
 pub fn field_spacing(field: &TensorField) -> Spacing {
     match field.spacing.filter(|s| s.is_finite() && *s > 0.0) {
         Some(s) => Spacing::Uniform(s),
-        None => local_spacing(&field.positions)
-            .map_or(Spacing::Uniform(1.0), |h| Spacing::Local(h.into())),
+        None => match &field.positions {
+            Positions::Points(p) => local_spacing(p),
+            lattice => local_spacing(&lattice.to_vec()),
+        }
+        .map_or(Spacing::Uniform(1.0), |h| Spacing::Local(h.into())),
     }
 }
 

@@ -242,7 +242,7 @@ mod tests {
             let [xx, xy, xz, yy, yz, zz] = tensor(i, j, k).map(f64::from);
             // Axis-aligned sform with positive determinant: the voxel frame is the world's.
             assert_eq!(f.world_tensor(n), [xx, xy, xz, xy, yy, yz, xz, yz, zz]);
-            let p = f.positions[n];
+            let p = f.position(n);
             let expect = [i, j, k].map(|v| v as f64 * 2.0);
             for a in 0..3 {
                 assert!((p[a] - (expect[a] - DIMS[a] as f64)).abs() < 1e-9);

@@ -365,8 +365,9 @@ pub struct CameraArgs {
     /// the triangle-mesh baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box.
     #[arg(long, default_value = "gumhold")]
     pub method: Method,
-    #[arg(long, default_value = "ellipsoid", value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
-    pub glyph: GlyphKind,
+    /// The glyph: ellipsoid unless given (odf for a file of SH series, which refuses another).
+    #[arg(long, value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
+    pub glyph: Option<GlyphKind>,
     /// Write the proxy's depth instead of the ray-cast depth.
     #[arg(long)]
     pub no_depth_correction: bool,
@@ -395,6 +396,20 @@ pub struct CameraArgs {
 }
 
 impl CameraArgs {
+    /// The glyph to draw the source `name` with (`sh`: it holds SH series, drawn as ODF
+    /// glyphs): as asked, ellipsoids unasked; another glyph than `odf` on SH series is refused
+    /// before any work.
+    pub fn glyph_for(&self, sh: bool, name: &str) -> Result<GlyphKind> {
+        match (sh, self.glyph) {
+            (true, None | Some(GlyphKind::Odf)) => Ok(GlyphKind::Odf),
+            (true, Some(other)) => bail!(
+                "{}: holds SH series, drawn as --glyph odf, not {other}",
+                crate::error::escape_path(std::path::Path::new(name)),
+            ),
+            (false, g) => Ok(g.unwrap_or(GlyphKind::Ellipsoid)),
+        }
+    }
+
     pub fn framing(&self) -> Result<Framing> {
         if !(self.fov > 0.0 && self.fov < 180.0) {
             bail!("--fov must be between 0 and 180 degrees, got {}", self.fov);

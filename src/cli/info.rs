@@ -35,7 +35,8 @@ pub fn run(args: InfoArgs) -> Result<()> {
         && crate::field::holds_sh(path, &opts)
     {
         let field = crate::field::read_sh_field(path, &opts)?;
-        let report = crate::sh_info::report(&field, &args.samples).map_err(anyhow::Error::msg)?;
+        let report = crate::sh_info::report(&field, &args.samples)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", crate::error::escape_path(path)))?;
         super::stdout::print(&if args.json {
             format!("{}\n", serde_json::to_string(&report)?)
         } else {
@@ -47,8 +48,12 @@ pub fn run(args: InfoArgs) -> Result<()> {
     let progress = Terminal::new(args.scene.quiet);
     let field = staging::read(&src, &args.scene.read_options(), &progress)?;
     let set = staging::decompose(&field, &progress);
-    let report =
-        crate::info::info_report(&field, &set, &args.samples).map_err(anyhow::Error::msg)?;
+    let report = crate::info::info_report(&field, &set, &args.samples).map_err(|e| {
+        anyhow::anyhow!(
+            "{}: {e}",
+            crate::error::escape_path(std::path::Path::new(&src.name()))
+        )
+    })?;
     if args.json {
         super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
     } else {

@@ -210,10 +210,16 @@ fn render(src: &Source, output: &Path, args: &FrameArgs) -> Result<()> {
         select,
         ..
     } = args;
+    // The files its header names too (a .mih's data file), known before any work.
+    let companions = match src {
+        Source::File(p) => crate::field::companion_files(p),
+        _ => Vec::new(),
+    };
     let mut inputs: Vec<&Path> = match src {
         Source::File(p) => vec![p.as_path()],
         Source::Demo(_) | Source::Field(_) | Source::Bytes(_) => Vec::new(),
     };
+    inputs.extend(companions.iter().map(PathBuf::as_path));
     if let Some(UnderlaySource::File(p)) = &select.underlay {
         inputs.push(p.as_path());
     }
@@ -330,19 +336,7 @@ where
     let (w, h) = image.size;
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
-    // A file of SH series is drawn as ODF glyphs whatever --glyph left at its default says.
-    let glyph = if src.holds_sh(&scene_args.read_options()) {
-        if !matches!(cam.glyph, GlyphKind::Odf | GlyphKind::Ellipsoid) {
-            bail!(
-                "{}: holds SH series, drawn as --glyph odf, not {}",
-                crate::error::escape_path(Path::new(&src.name())),
-                cam.glyph
-            );
-        }
-        GlyphKind::Odf
-    } else {
-        cam.glyph
-    };
+    let glyph = cam.glyph_for(src.holds_sh(&scene_args.read_options()), &src.name())?;
     let options = draw.options(cam.method, glyph, depth_correction)?;
     let recipe = Recipe {
         underlay: select.underlay.clone(),

@@ -79,21 +79,22 @@ pub fn run(args: ViewArgs) -> Result<()> {
         .defaults();
     let [r, g, b, _] = defaults.background;
     let style = args.scene.style(&defaults)?;
-    // A file of SH series is drawn as ODF glyphs whatever --glyph says, as `render` draws it.
+    // A file of SH series is drawn as ODF glyphs, as `render` draws it.
     let sh = source
         .as_ref()
         .is_some_and(|s| s.holds_sh(&args.scene.read_options()));
-    if !sh && !style.color.colours(cam.glyph) {
+    let glyph = cam.glyph_for(sh, &source.as_ref().map_or(String::new(), |s| s.name()))?;
+    if !sh && !style.color.colours(glyph) {
         bail!("--color {} applies to --glyph odf", style.color);
     }
     let settings = Settings {
         method: cam.method,
-        glyph: cam.glyph,
+        glyph,
         depth_correction,
         style,
         background: [r, g, b].map(|c| c as f32),
         selection: args.select.selection()?,
-        draw: args.draw.options(cam.method, cam.glyph, depth_correction)?,
+        draw: args.draw.options(cam.method, glyph, depth_correction)?,
         underlay: args.select.underlay.clone(),
         underlay_view: args.select.underlay_view(),
         // Unscaled: the viewer scales the outline width with its own sampling.

@@ -108,10 +108,12 @@ pub fn lattice(
         ));
     }
     let a = checked_affine(affine)?;
-    let tensors = values
-        .chunks_exact(c)
-        .map(|t| components.expand(t))
-        .collect();
+    let tensors = super::Tensors::F64(
+        values
+            .chunks_exact(c)
+            .map(|t| components.expand(t))
+            .collect(),
+    );
     let array = TensorArrayInfo {
         name: "array".into(),
         components: c,
@@ -210,9 +212,9 @@ mod tests {
         )
         .unwrap();
         assert_eq!(f.len(), 8);
-        assert_eq!(f.positions[1], [-1.0, 1.0, 0.5]);
-        assert_eq!(f.positions[2], [-3.0, 3.0, 0.5]);
-        assert_eq!(f.tensors[0], ComponentOrder::Fsl.expand(&c));
+        assert_eq!(f.position(1), [-1.0, 1.0, 0.5]);
+        assert_eq!(f.position(2), [-3.0, 3.0, 0.5]);
+        assert_eq!(f.tensor(0), ComponentOrder::Fsl.expand(&c));
         assert_eq!(f.spacing, Some(2.0));
         assert_eq!(f.format, "array");
     }

@@ -158,23 +158,6 @@ pub fn rows4(m: &Matrix4<f64>) -> [[f64; 4]; 4] {
     std::array::from_fn(|i| std::array::from_fn(|j| m[(i, j)]))
 }
 
-/// World positions of every voxel of a `dims` lattice, x fastest, through the affine `a`.
-pub fn lattice_positions(a: &Matrix4<f64>, dims: [usize; 3]) -> Vec<[f64; 3]> {
-    let n = dims[0] * dims[1] * dims[2];
-    let mut out = Vec::with_capacity(n);
-    for k in 0..dims[2] {
-        for j in 0..dims[1] {
-            for i in 0..dims[0] {
-                let v = [i as f64, j as f64, k as f64];
-                out.push(std::array::from_fn(|r| {
-                    a[(r, 0)] * v[0] + a[(r, 1)] * v[1] + a[(r, 2)] * v[2] + a[(r, 3)]
-                }));
-            }
-        }
-    }
-    out
-}
-
 /// The smallest voxel size of the lattice (length of each column of `m`) along axes with more
 /// than one voxel, else along any axis; `None` if none is positive and finite.
 pub fn smallest_spacing(m: &Matrix3<f64>, dims: [usize; 3]) -> Option<f64> {

@@ -205,7 +205,7 @@ fn read_set(inputs: &Inputs, set: &EigenSet, opts: &ReadOptions) -> Result<Tenso
         order: "fsl-eigen".into(),
         why: Why::Names,
     };
-    nifti::lattice_field(dims, affine, opts, tensors, array, layout)
+    nifti::lattice_field(dims, affine, opts, tensors.into(), array, layout)
         .map_err(|e| LoadError::new(&files[0], e))
 }
 

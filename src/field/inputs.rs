@@ -23,8 +23,29 @@ use std::io::{ErrorKind, Read, Seek, SeekFrom};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Mutex;
 
-use crate::error::LoadErrorKind;
+use crate::error::{LoadErrorKind, escape_for_error, escape_path};
 use crate::files::special_kind;
+
+/// A data file a header names ([`Inputs::detached`]): where it is, and how a message shows it
+/// (the user's folder, the file's name escaped as file text is).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Detached {
+    pub path: PathBuf,
+    pub shown: String,
+}
+
+/// A file name's bytes as a path: any bytes on Unix (as the system takes them), UTF-8 elsewhere.
+fn name_path(name: &[u8]) -> Option<PathBuf> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt as _;
+        Some(PathBuf::from(std::ffi::OsStr::from_bytes(name)))
+    }
+    #[cfg(not(unix))]
+    {
+        std::str::from_utf8(name).ok().map(PathBuf::from)
+    }
+}
 
 /// Where files come from: the file system, or buffers by name.
 enum Store {
@@ -92,6 +113,37 @@ impl Inputs {
     /// is taken from there).
     pub fn next_to(path: &Path, name: impl AsRef<Path>) -> PathBuf {
         path.parent().unwrap_or(Path::new(".")).join(name)
+    }
+
+    /// The data file a header `path` names by the bytes `name` (a `.mih`'s `file`, a `.nhdr`'s
+    /// `data file`, a `.pvti`'s piece): read from the header's folder or below it, never from
+    /// an absolute path or through `..` (a header is file content, and the documentation has
+    /// always said the data is read next to it: a `.mih` naming `/proc/self/exe` or
+    /// `../secret` must not read it). The name's bytes are the file name's, whatever their
+    /// encoding (MRtrix opens a Latin-1 name; on Unix a name is bytes). `Err` says why not.
+    pub fn detached(path: &Path, name: &[u8]) -> Result<Detached, String> {
+        let shown = match path.parent() {
+            Some(d) if !d.as_os_str().is_empty() => {
+                format!("{}/{}", escape_path(d), escape_for_error(name))
+            }
+            _ => escape_for_error(name),
+        };
+        let rel = name_path(name)
+            .ok_or_else(|| format!("'{}' is not a file name here", escape_for_error(name)))?;
+        let inside = rel
+            .components()
+            .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+        if name.is_empty() || !inside || rel.file_name().is_none() {
+            return Err(format!(
+                "'{}' is not in the header's folder or below it: a header's data file is \
+                 read from there (move or link the data beside the header)",
+                escape_for_error(name)
+            ));
+        }
+        Ok(Detached {
+            path: Self::next_to(path, rel),
+            shown,
+        })
     }
 
     /// Every file opened so far, in the order first opened, as the readers named them.
@@ -378,6 +430,34 @@ mod tests {
         assert!(inputs.read(&dir.path().join("none")).is_err());
         assert!(inputs.read(dir.path()).is_err());
         assert_eq!(inputs.paths_read(), vec![a]);
+    }
+
+    /// A header's data file is its folder's or below; the rest is refused with the name shown.
+    #[test]
+    fn a_header_names_data_beside_or_below_it() {
+        let h = Path::new("dir/x.mih");
+        let ok = Inputs::detached(h, b"sub/./x.dat").unwrap();
+        assert_eq!(ok.path, Path::new("dir/sub/./x.dat"));
+        assert_eq!(ok.shown, "dir/sub/./x.dat");
+        for bad in [
+            &b"/proc/self/exe"[..],
+            b"/etc/passwd",
+            b"../x.dat",
+            b"sub/../../x.dat",
+            b"",
+            b".",
+        ] {
+            let e = Inputs::detached(h, bad).unwrap_err();
+            assert!(e.contains("not in the header's folder"), "{e}");
+        }
+        // A Latin-1 name (MRtrix opens it) is the file's bytes, shown escaped.
+        let latin = Inputs::detached(Path::new("x.mih"), b"caf\xe9.dat").unwrap();
+        #[cfg(unix)]
+        assert_eq!(
+            latin.path.as_os_str().as_encoded_bytes(),
+            b"caf\xe9.dat".as_slice()
+        );
+        assert!(!latin.shown.contains('\u{fffd}'), "{}", latin.shown);
     }
 
     #[test]

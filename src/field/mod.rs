@@ -35,7 +35,9 @@ pub use options::ReadOptions;
 pub use order::ComponentOrder;
 pub use scalar::ScalarVolume;
 pub use sh_field::{Coefficients, ShField, ShLayout};
-pub use tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField, rotate_tensor};
+pub use tensor_field::{
+    DatasetKind, Location, Positions, TensorArrayInfo, TensorField, Tensors, rotate_tensor,
+};
 
 use std::path::Path;
 
@@ -67,6 +69,25 @@ pub fn read_field_from(
     } else {
         vtk::read_field_from(inputs, path, opts)
     }
+}
+
+/// The files besides `path` itself that reading it will open, as far as its header says (a
+/// `.mih`'s or `.nhdr`'s data file, the members of an FSL eigen set): so that a front end can
+/// refuse an output over one of them before any work. Read in full, [`Inputs::paths_read`]
+/// has every file (a `.pvti`'s pieces too).
+pub fn companion_files(path: &Path) -> Vec<std::path::PathBuf> {
+    let inputs = Inputs::file_system();
+    if let Some(set) = fsl_eigen::EigenSet::named_by(path, &inputs) {
+        return set.files();
+    }
+    let named = if nrrd::is_nrrd_path(path) {
+        nrrd::data_file(&inputs, path)
+    } else if mif::is_mif_path(path) {
+        mif::data_file(&inputs, path)
+    } else {
+        None
+    };
+    named.into_iter().collect()
 }
 
 /// A NIfTI tensor file; a BEP016 map's frame and order from its sidecar, unless the options

@@ -45,6 +45,17 @@ impl Scalar {
         }
     }
 
+    /// Whether the type's values (and their scaled values, to float32's relative precision) are
+    /// held by float32: what the file gives is kept at the file's precision, and float32 is
+    /// enough for every type up to 16 bits (a field of int8 values kept as float64 cost 8x its
+    /// bytes).
+    pub fn fits_f32(self) -> bool {
+        matches!(
+            self,
+            Scalar::I8 | Scalar::U8 | Scalar::I16 | Scalar::U16 | Scalar::F32
+        )
+    }
+
     /// One element from the first [`Self::size`] bytes of `b` (zero if `b` is shorter), as
     /// f64; 64-bit integers beyond 2^53 lose their last bits.
     pub fn read(self, b: &[u8], big_endian: bool) -> f64 {

@@ -24,7 +24,9 @@
 use serde::Serialize;
 
 use super::frame::{FrameInfo, ReadMeta, TensorFrame, Why};
-use super::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
+use super::tensor_field::{
+    DatasetKind, Location, Positions, TensorArrayInfo, TensorField, Tensors,
+};
 use crate::error::LoadErrorKind;
 use crate::sh::{ShBasis, ShError, ShEval, lmax_of_count};
 
@@ -47,7 +49,8 @@ impl Coefficients {
         self.len() == 0
     }
 
-    fn get(&self, i: usize) -> f64 {
+    /// Value `i` (coefficient c of voxel v at c · voxels + v) as f64.
+    pub fn get(&self, i: usize) -> f64 {
         match self {
             Coefficients::F32(v) => v[i] as f64,
             Coefficients::F64(v) => v[i],
@@ -141,8 +144,14 @@ impl ShField {
                 components: self.layout.count,
                 location: Location::Point,
             },
-            positions: (0..self.voxels()).map(|v| self.position(v)).collect(),
-            tensors: Vec::new(),
+            positions: Positions::Lattice {
+                dims: self.dims,
+                to_world: {
+                    let m = self.frame.voxel_to_world.unwrap_or_default();
+                    [m[0], m[1], m[2]]
+                },
+            },
+            tensors: Tensors::default(),
             direction: None,
             spacing: Some(self.spacing()),
             meta: ReadMeta {

@@ -22,8 +22,9 @@
 //!
 //! `T = O diag(λ) Oᵀ`, stored row-major (exactly symmetric by construction).
 //!
-//! Generation writes straight into the final vectors in parallel (no intermediate buffers):
-//! `grid(256)` (16.7 M tensors) needs 96 bytes per point, about 1.6 GB.
+//! Generation writes straight into the final vector in parallel (no intermediate buffers), the
+//! positions implied by the lattice: `grid(256)` (16.7 M tensors) needs 72 bytes per point,
+//! about 1.2 GB (the tensors are the analytic field's f64 values).
 
 use std::f64::consts::PI;
 use std::io::Write;
@@ -31,7 +32,7 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
-use super::tensor_field::{DatasetKind, Location, TensorField};
+use super::tensor_field::{DatasetKind, Location, Positions, TensorField, Tensors};
 
 /// Soft-max sharpness of the shape weights (larger: fewer unclassified tensors).
 const SHAPE_BETA: f64 = 2.6;
@@ -49,14 +50,6 @@ pub fn grid(n: usize) -> TensorField {
     let inv = if n > 1 { 1.0 / (n - 1) as f64 } else { 0.0 };
     let ijk = |idx: usize| (idx % n, (idx / n) % n, idx / (n * n));
 
-    let mut positions = Vec::new();
-    (0..total)
-        .into_par_iter()
-        .map(|idx| {
-            let (i, j, k) = ijk(idx);
-            [i as f64, j as f64, k as f64]
-        })
-        .collect_into_vec(&mut positions);
     let mut tensors = Vec::new();
     (0..total)
         .into_par_iter()
@@ -72,7 +65,17 @@ pub fn grid(n: usize) -> TensorField {
         dims: Some([n; 3]),
         cells: n.saturating_sub(1).pow(3),
         spacing: Some(1.0),
-        ..TensorField::from_points(positions, tensors)
+        positions: Positions::Lattice {
+            dims: [n; 3],
+            to_world: [
+                [1.0, 0.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0, 0.0],
+                [0.0, 0.0, 1.0, 0.0],
+            ],
+        },
+        points: total,
+        tensors: Tensors::F64(tensors),
+        ..TensorField::from_points(Vec::new(), Vec::new())
     }
 }
 
@@ -148,11 +151,11 @@ pub fn write_legacy_vtk(field: &TensorField, path: &Path) -> std::io::Result<()>
     if field.tensors.len() != n || field.positions.len() != n {
         return Err(invalid("field size does not match its dims"));
     }
-    let origin = field.positions.first().copied().unwrap_or([0.0; 3]);
+    let origin = if n > 0 { field.position(0) } else { [0.0; 3] };
     let stride = [1, dims[0], dims[0] * dims[1]];
     let spacing: [f64; 3] = std::array::from_fn(|k| {
         if dims[k] > 1 {
-            field.positions[stride[k]][k] - origin[k]
+            field.position(stride[k])[k] - origin[k]
         } else {
             field.spacing.unwrap_or(1.0)
         }
@@ -189,9 +192,9 @@ pub fn write_legacy_vtk(field: &TensorField, path: &Path) -> std::io::Result<()>
             name
         )?;
         let mut buf = Vec::with_capacity(72 * 1024);
-        for chunk in field.tensors.chunks(1024) {
+        for chunk in (0..n).collect::<Vec<_>>().chunks(1024) {
             buf.clear();
-            for t in chunk {
+            for t in chunk.iter().map(|&i| field.tensor(i)) {
                 for x in t {
                     buf.extend_from_slice(&x.to_be_bytes());
                 }
@@ -212,9 +215,9 @@ mod tests {
     fn grid40_has_all_classes() {
         let f = grid40();
         assert_eq!(f.len(), 64_000);
-        assert_eq!(f.positions[1], [1.0, 0.0, 0.0]);
-        assert_eq!(f.positions[40], [0.0, 1.0, 0.0]);
-        assert_eq!(f.positions[63_999], [39.0, 39.0, 39.0]);
+        assert_eq!(f.position(1), [1.0, 0.0, 0.0]);
+        assert_eq!(f.position(40), [0.0, 1.0, 0.0]);
+        assert_eq!(f.position(63_999), [39.0, 39.0, 39.0]);
         let set = derive_glyphs(&f, &crate::progress::Silent);
         let s = &set.stats;
         assert_eq!(s.valid, 64_000);
@@ -251,7 +254,7 @@ mod tests {
             if (idx + 1) % 40 == 0 {
                 continue;
             }
-            let (a, b) = (&f.tensors[idx], &f.tensors[idx + 1]);
+            let (a, b) = (&f.tensor(idx), &f.tensor(idx + 1));
             let d: [f64; 9] = std::array::from_fn(|k| a[k] - b[k]);
             worst = worst.max(norm(&d) / norm(a));
         }

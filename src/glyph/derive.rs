@@ -254,7 +254,7 @@ pub fn derive_glyphs(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
             let mut filled = 0;
             for i in range {
                 let t = field.world_tensor(i);
-                if let Some(g) = p.add(process(&t, field.positions[i], i)) {
+                if let Some(g) = p.add(process(&t, field.position(i), i)) {
                     *slots.next().expect("no more valid tensors than counted") = g;
                     filled += 1;
                 }
@@ -285,7 +285,7 @@ pub fn derive_glyphs(field: &TensorField, progress: &dyn Progress) -> GlyphSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::field::{DatasetKind, Location, TensorArrayInfo};
+    use crate::field::{DatasetKind, Location, Positions, TensorArrayInfo, Tensors};
 
     fn field(tensors: Vec<[f64; 9]>) -> TensorField {
         let n = tensors.len();
@@ -300,8 +300,8 @@ mod tests {
                 components: 9,
                 location: Location::Point,
             },
-            positions: (0..n).map(|i| [i as f64, 0.0, 0.0]).collect(),
-            tensors,
+            positions: Positions::Points((0..n).map(|i| [i as f64, 0.0, 0.0]).collect()),
+            tensors: Tensors::F64(tensors),
             direction: None,
             spacing: None,
             meta: Default::default(),

@@ -225,7 +225,7 @@ pub fn brightest(
 
 /// The world position of the voxel centre `ijk` (indices as reals: half-way points too).
 fn world(field: &TensorField, dims: [usize; 3], ijk: [f64; 3]) -> DVec3 {
-    let at = |c: [usize; 3]| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])]);
+    let at = |c: [usize; 3]| DVec3::from(field.position(c[0] + dims[0] * (c[1] + dims[1] * c[2])));
     let origin = at([0; 3]);
     let mut p = origin;
     for (a, &v) in ijk.iter().enumerate() {

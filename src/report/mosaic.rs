@@ -115,7 +115,7 @@ pub fn lattice_axis(field: &TensorField, dims: [usize; 3], world: usize) -> usiz
 
 /// The world position of lattice voxel (i, j, k) of `field`.
 fn position_in(field: &TensorField, dims: [usize; 3]) -> impl Fn([usize; 3]) -> DVec3 + '_ {
-    move |c| DVec3::from(field.positions[c[0] + dims[0] * (c[1] + dims[1] * c[2])])
+    move |c| DVec3::from(field.position(c[0] + dims[0] * (c[1] + dims[1] * c[2])))
 }
 
 /// [`lattice_axis`] of any lattice, its voxels' world positions given by `at` (an SH field

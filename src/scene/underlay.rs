@@ -220,7 +220,7 @@ impl Lattice {
             return Err(UnderlayError::NoLattice);
         }
         let at = |i: usize, j: usize, k: usize| {
-            DVec3::from(field.positions[i + dims[0] * (j + dims[1] * k)])
+            DVec3::from(field.position(i + dims[0] * (j + dims[1] * k)))
         };
         let origin = at(0, 0, 0);
         let last = [
@@ -295,8 +295,7 @@ impl Lattice {
                 ijk[axis] = plane.index;
                 ijk[a] = ia;
                 ijk[b] = jb;
-                let p =
-                    DVec3::from(field.positions[ijk[0] + dims[0] * (ijk[1] + dims[1] * ijk[2])]);
+                let p = DVec3::from(field.position(ijk[0] + dims[0] * (ijk[1] + dims[1] * ijk[2])));
                 let expect = centre0 + sa * ia as f64 + sb * jb as f64;
                 let off = (p - expect).length();
                 // NaN positions count as irregular too.

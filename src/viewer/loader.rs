@@ -133,7 +133,9 @@ fn load_sh(
     Ok(Loaded {
         source: source.clone(),
         spacing: field_spacing(&field),
-        bounds: crate::select::point_bounds(field.positions.par_iter().copied()),
+        bounds: crate::select::point_bounds(
+            (0..field.len()).into_par_iter().map(|i| field.position(i)),
+        ),
         field: Arc::new(field),
         set: Arc::new(GlyphSet::default()),
         odf: Some(Arc::new(sh)),

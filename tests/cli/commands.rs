@@ -192,6 +192,18 @@ fn bad_options_exit_2_with_a_clear_message() {
             ],
             "mrtrix_lmax8.mif: holds SH series, drawn as --glyph odf, not cylinder",
         ),
+        // Ellipsoid too, when asked for (it is only the default for tensors).
+        (
+            &[
+                "render",
+                "tests/data/sh/mrtrix_lmax8.mif",
+                "-o",
+                o,
+                "--glyph",
+                "ellipsoid",
+            ],
+            "mrtrix_lmax8.mif: holds SH series, drawn as --glyph odf, not ellipsoid",
+        ),
         (
             &[
                 "render",
@@ -322,6 +334,21 @@ fn info_json_on_the_demo() {
     assert_eq!(j["samples"][1]["index"], 63);
     let bad = tg(&["info", "--demo", "grid:4", "--sample", "64"]);
     assert_eq!(bad.status.code(), Some(2));
+    // The one line names what was read: the demo, or the file (tensors and SH alike).
+    let e = stderr(&bad);
+    assert!(e.starts_with("error: demo grid:4: sample index 64"), "{e}");
+    for file in ["dti/nrrd_detached.nhdr", "sh/mrtrix_lmax8.mif"] {
+        let f = crate::data::path(file);
+        let bad = tg(&["info", f.to_str().unwrap(), "--sample", "99999"]);
+        assert_eq!(bad.status.code(), Some(2));
+        let e = stderr(&bad);
+        assert!(
+            e.contains(&format!("{}: ", f.display()))
+                && e.contains("99999")
+                && e.lines().count() == 1,
+            "{file}: {e}"
+        );
+    }
 }
 
 /// Tensors whose eigenvalues leave the f32 range a glyph stores are a skipped category: counted
@@ -632,4 +659,42 @@ fn a_closed_pipe_is_not_a_panic() {
         .unwrap();
     assert!(!err.contains("panicked"), "{err}");
     assert!(status.success(), "{status:?}: {err}");
+}
+
+/// An output over a file the input's header names (a `.mih`'s data file, `--diff` or `-o`) is
+/// refused before any work, in one line naming it; the data file is left as it was.
+#[test]
+fn an_output_over_a_headers_data_file_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for f in ["tensor_detached.mih", "tensor_detached.dat"] {
+        std::fs::copy(crate::data::path(&format!("mif/{f}")), d.join(f)).unwrap();
+    }
+    let mih = d.join("tensor_detached.mih");
+    let dat = d.join("tensor_detached.dat");
+    let before = std::fs::read(&dat).unwrap();
+    let png = d.join("x.png");
+    for args in [
+        vec!["-o", dat.to_str().unwrap()],
+        vec![
+            "-o",
+            png.to_str().unwrap(),
+            "--reference-check",
+            "--diff",
+            dat.to_str().unwrap(),
+        ],
+    ] {
+        let mut all = vec!["render", mih.to_str().unwrap(), "--method", "reference"];
+        all.extend(args);
+        let o = tg(&all);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{e}");
+        assert!(
+            e.contains("refusing to overwrite") && e.contains("tensor_detached.dat"),
+            "{e}"
+        );
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+        assert!(!png.exists(), "nothing was rendered");
+    }
+    assert_eq!(std::fs::read(&dat).unwrap(), before);
 }

@@ -96,7 +96,7 @@ fn the_image_lies_on_the_slice_lattice_half_a_voxel_beyond_its_centres() {
     let field = read_field(&dti(FILE), &ReadOptions::default()).unwrap();
     let g = s.scene.underlay.as_ref().unwrap().planes[0].geometry;
     // Voxel centres of the plane's corners, from the reader's positions.
-    let at = |i: usize, j: usize| DVec3::from(field.positions[i + 5 * (j + 4 * plane.index)]);
+    let at = |i: usize, j: usize| DVec3::from(field.position(i + 5 * (j + 4 * plane.index)));
     let step_u = (at(4, 0) - at(0, 0)) / 4.0;
     let step_v = (at(0, 3) - at(0, 0)) / 3.0;
     let close = |a: DVec3, b: DVec3| (a - b).length() < 1e-9 * (1.0 + b.length());

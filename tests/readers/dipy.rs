@@ -84,9 +84,9 @@ fn dipy_tensors_read_numpys_eigenvalues_at_nibabels_positions() {
         for (a, row) in affine.iter().take(3).enumerate() {
             let p = (0..3).map(|c| row[c] * ijk[c]).sum::<f64>() + row[3];
             assert!(
-                (f.positions[i][a] - p).abs() <= 1e-9,
+                (f.position(i)[a] - p).abs() <= 1e-9,
                 "voxel {i}: {:?}, nibabel's affine puts it at {a}: {p}",
-                f.positions[i]
+                f.position(i)
             );
         }
     }

@@ -174,7 +174,7 @@ fn same_glyphs(name: &str, f: &TensorField, twin: &TensorField) {
         .iter()
         .map(|p| serde_json::json!(p))
         .collect();
-    let at = matching(&f.positions, &truth);
+    let at = matching(&f.positions.to_vec(), &truth);
     for (i, &j) in at.iter().enumerate() {
         let (a, b) = (twin.world_tensor(i), f.world_tensor(j));
         let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -269,8 +269,8 @@ fn permuted_axes_are_placed_by_the_transform_as_mrtrix_places_them() {
         &twin_options(),
     )
     .unwrap();
-    let mut ours: Vec<[f64; 9]> = f.tensors.clone();
-    let mut theirs: Vec<[f64; 9]> = twin.tensors.clone();
+    let mut ours: Vec<[f64; 9]> = f.tensors.iter().collect();
+    let mut theirs: Vec<[f64; 9]> = twin.tensors.iter().collect();
     let key = |t: &[f64; 9]| t.map(f64::to_bits);
     ours.sort_by_key(key);
     theirs.sort_by_key(key);
@@ -546,4 +546,64 @@ fn a_detached_data_file_is_read_next_to_its_header_and_only_as_far_as_it_goes() 
         &remake(&lines, &[], Some("file: y.dat")),
         "y.dat holds 1439",
     );
+}
+
+/// What a header may name (issue 56): a data file in its folder or below it, by the bytes of
+/// its name whatever their encoding (a Latin-1 name, which MRtrix 3.0.3 opens); never an
+/// absolute path or one through `..`. Refused in one line naming the header, before any read.
+#[test]
+fn a_header_names_its_data_beside_or_below_it_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (lines, data) = parts();
+    let want = read_field(&mif("tensor_oblique.mif"), &ReadOptions::default()).unwrap();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    std::fs::write(d.join("sub/x.dat"), &data).unwrap();
+    std::fs::write(
+        d.join("below.mih"),
+        remake(&lines, &[], Some("file: sub/x.dat")),
+    )
+    .unwrap();
+    let f = read_field(&d.join("below.mih"), &ReadOptions::default()).unwrap();
+    assert_eq!(f.tensors, want.tensors);
+    for (name, target) in [
+        ("abs.mih", "/etc/passwd"),
+        ("proc.mih", "/proc/self/exe"),
+        ("up.mih", "../x.dat"),
+        ("down_up.mih", "sub/../../x.dat"),
+    ] {
+        refused(
+            &d.join("sub"),
+            name,
+            &remake(&lines, &[], Some(&format!("file: {target}"))),
+            "is not in the header's folder or below it",
+        );
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::ffi::OsStrExt as _;
+        let latin = std::ffi::OsStr::from_bytes(b"caf\xe9.dat");
+        std::fs::write(d.join(latin), &data).unwrap();
+        let mut header = remake(&lines, &[], Some("file: caf\u{e9}.dat"));
+        // The name's bytes as a Latin-1 writer leaves them: é is one byte, 0xE9.
+        let at = header.windows(2).position(|w| w == "é".as_bytes()).unwrap();
+        header.splice(at..at + 2, [0xE9u8]);
+        std::fs::write(d.join("latin.mih"), &header).unwrap();
+        let f = read_field(&d.join("latin.mih"), &ReadOptions::default()).unwrap();
+        assert_eq!(f.tensors, want.tensors);
+    }
+}
+
+/// `scaling` applies to integer data only, as MRtrix 3.0.3 reads it (`mrdump` of a Float32
+/// image with `scaling: 10,3` prints the stored values; of an Int16 one, 10 + 3·stored).
+#[test]
+fn float_data_is_read_as_stored_whatever_its_scaling() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (mut lines, data) = parts();
+    lines.push("scaling: 10,3".into());
+    std::fs::write(d.join("scaled.mif"), remake(&lines, &data, None)).unwrap();
+    let f = read_field(&d.join("scaled.mif"), &ReadOptions::default()).unwrap();
+    let want = read_field(&mif("tensor_oblique.mif"), &ReadOptions::default()).unwrap();
+    assert_eq!(f.tensors, want.tensors);
 }

@@ -252,13 +252,20 @@ fn fifo_input_is_refused_without_blocking() {
         matches!(kind, LoadErrorKind::NotRegularFile("a FIFO")),
         "{kind:?}"
     );
-    // As a .pvti piece, by relative and by absolute Source.
+    // As a .pvti piece beside it; by absolute Source it is not even looked at (a header names
+    // files in its folder or below it).
     let pvti = std::fs::read_to_string(data("pvti_3pieces_binary.pvti")).unwrap();
-    for src in ["pipe.vtk".to_string(), fifo.display().to_string()] {
+    for (src, want) in [
+        ("pipe.vtk".to_string(), "not a regular file (a FIFO)"),
+        (
+            fifo.display().to_string(),
+            "is not in the header's folder or below it",
+        ),
+    ] {
         let p = dir.path().join("via_fifo.pvti");
         std::fs::write(&p, pvti.replacen("pvti_3pieces_binary_0.vti", &src, 1)).unwrap();
         let msg = within(10, move || clean_error(&p).1);
-        assert!(msg.contains("not a regular file (a FIFO)"), "{msg}");
+        assert!(msg.contains(want), "{msg}");
     }
 }
 
@@ -278,11 +285,12 @@ fn devices_are_refused_as_input_and_as_piece() {
             matches!(kind, LoadErrorKind::NotRegularFile("a character device")),
             "{dev}: {kind:?}"
         );
+        // As a piece: refused by its place before it is opened.
         let p = dir.path().join("via_dev.pvti");
         std::fs::write(&p, pvti.replacen("pvti_3pieces_binary_0.vti", dev, 1)).unwrap();
         let msg = within(10, move || clean_error(&p).1);
         assert!(
-            msg.contains("not a regular file (a character device)"),
+            msg.contains("is not in the header's folder or below it"),
             "{msg}"
         );
     }

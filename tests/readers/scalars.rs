@@ -101,7 +101,7 @@ fn lines_up(tensor_file: &str, scalar_file: &Path, value_of: impl Fn(usize) -> f
     assert_eq!(f.dims, Some(v.dims));
     for (i, p) in f.positions.iter().enumerate() {
         assert_eq!(
-            v.nearest(DVec3::from_array(*p)),
+            v.nearest(DVec3::from_array(p)),
             Some(value_of(i)),
             "{tensor_file} voxel {i} at {p:?}"
         );

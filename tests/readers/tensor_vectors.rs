@@ -4,7 +4,7 @@
 
 #![allow(clippy::needless_range_loop)] // index-parallel comparisons of small arrays
 use serde_json::Value;
-use tensorglyph::field::{DatasetKind, Location, TensorArrayInfo, TensorField};
+use tensorglyph::field::{DatasetKind, Location, Positions, TensorArrayInfo, TensorField};
 use tensorglyph::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, derive_glyphs};
 use tensorglyph::info::canonical_sign;
 use tensorglyph::tensor::eigen::{quat_to_frame, symmetric_eigen, symmetrise};
@@ -62,8 +62,8 @@ fn single_field(t: [f64; 9]) -> TensorField {
             components: 9,
             location: Location::Point,
         },
-        positions: vec![[0.5, -1.0, 2.0]],
-        tensors: vec![t],
+        positions: Positions::Points(vec![[0.5, -1.0, 2.0]]),
+        tensors: vec![t].into(),
         direction: None,
         spacing: None,
         meta: Default::default(),

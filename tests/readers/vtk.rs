@@ -82,17 +82,17 @@ fn check_array(file: &str, e: &Value, arr: &Value, by_name: bool) {
         let p = s["position"].as_array().unwrap();
         for a in 0..3 {
             assert!(
-                close(f.positions[i][a], num(&p[a]), prel),
+                close(f.position(i)[a], num(&p[a]), prel),
                 "{ctx} position {i}: {:?} vs {p:?}",
-                f.positions[i]
+                f.position(i)
             );
         }
         let t = s["tensor"].as_array().unwrap();
         for k in 0..9 {
             assert!(
-                close(f.tensors[i][k], num(&t[k]), trel),
+                close(f.tensor(i)[k], num(&t[k]), trel),
                 "{ctx} tensor {i}[{k}]: {:?} vs {t:?}",
-                f.tensors[i]
+                f.tensor(i)
             );
         }
     }
@@ -204,7 +204,7 @@ fn component_orders_expand_six_component_arrays() {
             ..ReadOptions::default()
         };
         let f = read_field(&path, &o).unwrap();
-        for (a, b) in vtk.tensors.iter().zip(&f.tensors) {
+        for (a, b) in vtk.tensors.iter().zip(f.tensors.iter()) {
             // The stored components, recovered from the VTK-order expansion.
             let c = [a[0], a[4], a[8], a[1], a[5], a[2]];
             let want = order.expand(&c);

@@ -172,7 +172,7 @@ fn vtkio_agrees_where_it_reads_and_fails_only_where_documented() {
             )
             .unwrap_or_else(|err| panic!("{file}: our reader: {err}"));
             let ours: Vec<f64> = if components == 9 {
-                ours.tensors.iter().flatten().copied().collect()
+                ours.tensors.iter().flatten().collect()
             } else {
                 // 6-component arrays are stored XX YY ZZ XY YZ XZ.
                 ours.tensors

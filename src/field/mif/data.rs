@@ -7,7 +7,7 @@ use std::io::Read as _;
 use std::path::Path;
 
 use super::header::{DataFile, Header, Res, field};
-use crate::error::{LoadErrorKind, escape_for_error, escape_path};
+use crate::error::LoadErrorKind;
 use crate::field::inputs::{Input, Inputs};
 
 /// Bytes decoded at a time.
@@ -57,17 +57,11 @@ pub(super) fn locate<'a>(
     let (source, start, what) = match &h.data {
         DataFile::Same(offset) => (Source::Header(input), *offset, None),
         DataFile::Detached(name, offset) => {
-            // The folder is the user's; the name is the file's, shown escaped as file text is.
-            let shown = match path.parent() {
-                Some(d) if !d.as_os_str().is_empty() => {
-                    format!("{}/{}", escape_path(d), escape_for_error(name))
-                }
-                _ => escape_for_error(name),
-            };
+            let d = Inputs::detached(path, name).map_err(|e| field("file", e))?;
             let detached = inputs
-                .open(&Inputs::next_to(path, name))
-                .map_err(|e| field("file", format!("{shown}: {e}")))?;
-            (Source::Detached(detached), *offset, Some(shown))
+                .open(&d.path)
+                .map_err(|e| field("file", format!("{}: {e}", d.shown)))?;
+            (Source::Detached(detached), *offset, Some(d.shown))
         }
     };
     let needed = start

@@ -6,14 +6,14 @@
 //! read up to its `END` line and no further, every value the header asks for is checked to be
 //! in the file before anything is allocated for it (a `.mif.gz` is inflated within its budget,
 //! [`crate::field::gzip`]), and a detached data file is read only if it is a regular file
-//! next to the header.
+//! in the header's folder or below it ([`Inputs::detached`]).
 //!
 //! Read: any `dim` (spatial axes first, as MRtrix has them), any `layout` (the order and
 //! direction in which the axes are stored: values go to their voxel and volume whatever it
 //! is), the integer and float `datatype`s in either byte order (`Bit` and the complex types
-//! are refused), `scaling`, and `transform`, MRtrix's scanner-space (RAS, as NIfTI) placement
-//! of the image axes, to which the voxel sizes of `vox` are applied. Positions are the voxel
-//! centres in that space.
+//! are refused), `scaling` (of integer data: MRtrix 3.0.3 reads float data as stored), and
+//! `transform`, MRtrix's scanner-space (RAS, as NIfTI) placement of the image axes, to which
+//! the voxel sizes of `vox` are applied. Positions are the voxel centres in that space.
 //!
 //! Tensors (`dwi2tensor`): 4-D with 6 volumes in MRtrix's order D11 D22 D33 D12 D13 D23 and in
 //! scanner axes, so the defaults are `--order mrtrix` and `--tensor-frame world`; 9 volumes are
@@ -35,12 +35,12 @@ use std::path::Path;
 use crate::field::frame::{FrameInfo, Layout, TensorFrame, Why, rows4};
 use crate::field::inputs::Inputs;
 use crate::field::nifti::lattice_field;
-use crate::field::number::{Scalar, try_vec};
+use crate::field::number::try_vec;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
 use crate::field::sh_field::{self, Coefficients, ShField, Writer};
-use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField};
+use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField, Tensors};
 use header::{Header, Res, field, read_header};
 
 /// Whether `path` names an MRtrix image by its extension (`.mif`, `.mif.gz`, `.mih`).
@@ -61,14 +61,11 @@ pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField
     let (layout, order) = layout(components, opts);
     let values = data::locate(inputs, path, &input, &h)?;
     let voxels = h.dims().iter().product::<usize>();
-    let mut tensors: Vec<[f64; 9]> = try_vec(voxels)?;
-    tensors.resize(voxels, [0.0; 9]);
-    values.each(&h, |c, v, x| tensors[v][c] = x)?;
+    // Known to be in the file (`locate`): allocated only now, in the file's precision.
+    let mut tensors = Tensors::zeros(voxels, h.ty.fits_f32())?;
+    values.each(&h, |c, v, x| tensors.set(v, c, x))?;
     if let Some(order) = order {
-        for t in &mut tensors {
-            let c = *t;
-            *t = order.expand(&c[..6]);
-        }
+        tensors.map_in_place(|t| order.expand(&t[..6]));
     }
     let array = TensorArrayInfo {
         name: "tensor".into(),
@@ -177,6 +174,16 @@ pub fn read_volumes(inputs: &Inputs, path: &Path) -> Res<Volumes> {
     })
 }
 
+/// The detached data file the MRtrix header `path` names (a `.mih`'s), from its header only;
+/// `None` when the data is in the file itself or the header cannot say.
+pub(crate) fn data_file(inputs: &Inputs, path: &Path) -> Option<std::path::PathBuf> {
+    let input = inputs.open(path).ok()?;
+    match read_header(&input).ok()?.data {
+        header::DataFile::Detached(name, _) => Inputs::detached(path, &name).ok().map(|d| d.path),
+        header::DataFile::Same(_) => None,
+    }
+}
+
 /// What deciding between SH and tensors needs of an MRtrix image (its header only): values per
 /// voxel, and whether it is a DWI series (`dw_scheme`).
 pub(crate) fn sh_probe(inputs: &Inputs, path: &Path) -> Res<(usize, bool)> {
@@ -187,7 +194,8 @@ pub(crate) fn sh_probe(inputs: &Inputs, path: &Path) -> Res<(usize, bool)> {
 
 /// Read an MRtrix image of SH coefficients (`dwi2fod`'s output) from `path` among `inputs`:
 /// tournier07 unless `opts.sh_basis` says otherwise, directions in scanner axes unless
-/// `opts.tensor_frame` does. Float32 without `scaling` stays float32; the rest is float64.
+/// `opts.tensor_frame` does. Kept in float32 unless the file's type is wider (float64, 32- and
+/// 64-bit integers: [`fits_f32`](crate::field::number::Scalar::fits_f32)).
 pub(crate) fn read_sh(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<ShField> {
     let input = inputs.open(path)?;
     let h = read_header(&input)?;
@@ -198,7 +206,7 @@ pub(crate) fn read_sh(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<S
     let voxels = h.dims().iter().product::<usize>();
     // Known to be in the file (`locate`): allocated only now.
     let n = voxels * count;
-    let coefficients = if h.ty == Scalar::F32 && h.scaling == (0.0, 1.0) {
+    let coefficients = if h.ty.fits_f32() {
         let mut out: Vec<f32> = try_vec(n)?;
         out.resize(n, 0.0);
         values.each(&h, |c, v, x| out[c * voxels + v] = x as f32)?;

@@ -44,6 +44,9 @@ pub(super) enum Values {
     Tensor,
     /// A scalar volume: any integer or float datatype, one value per voxel.
     Scalar,
+    /// Series of spherical-harmonic coefficients: laid out as tensors are, of any integer or
+    /// float datatype (MRtrix reads an integer image of them, `scl_slope` applied).
+    Series,
 }
 
 /// A NIfTI-1 file's header and the lattice it gives, read before any voxel data is inflated.
@@ -159,7 +162,7 @@ impl Shape {
         let at = |i: usize| d.get(i).copied().unwrap_or(1);
         let dims = [at(0), at(1), at(2)];
         let (components, five_d) = match values {
-            Values::Tensor => match nd {
+            Values::Tensor | Values::Series => match nd {
                 1..=3 => (1, false),
                 4 => (at(3), false),
                 5 if at(3) == 1 => (at(4), true),
@@ -211,7 +214,9 @@ impl Shape {
                     type_name(t),
                     match values {
                         Values::Tensor => "tensors are read as float32 (16) or float64 (64)",
-                        Values::Scalar => "scalar volumes are read as integers or float32/float64",
+                        Values::Scalar | Values::Series => {
+                            "read are the integer types, float32 and float64"
+                        }
                     }
                 ),
             )

@@ -41,16 +41,16 @@ use nalgebra::{Matrix3, Matrix4};
 use nifti::NiftiHeader;
 
 use crate::field::frame::{
-    FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
-    smallest_spacing, tensor_rotation,
+    FrameInfo, Layout, ReadMeta, TensorFrame, Why, rows3, rows4, smallest_spacing, tensor_rotation,
 };
 use crate::field::inputs::Input;
-use crate::field::number::Scalar;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
 use crate::field::sh_field::{self, Coefficients, ShField, Writer};
-use crate::field::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
+use crate::field::tensor_field::{
+    DatasetKind, Location, Positions, TensorArrayInfo, TensorField, Tensors,
+};
 pub(crate) use header::{Header, read_header};
 use header::{Res, Shape, Values, field, read_head};
 
@@ -66,20 +66,17 @@ pub fn read(input: &Input, opts: &ReadOptions) -> Res<TensorField> {
     // tensors are the only copy of the data ever held.
     // They grow with the values read (voxel after voxel of the first volume), never ahead of
     // them: a header asking for more than the data holds allocates nothing for it.
-    let mut tensors: Vec<[f64; 9]> = Vec::new();
+    let mut tensors = Tensors::new(head.shape.ty.fits_f32());
     head.each_value(input, |c, v, x| {
         if c == 0 {
             let mut t = [0.0; 9];
             t[0] = x;
             tensors.push(t);
         } else {
-            tensors[v][c] = x;
+            tensors.set(v, c, x);
         }
     })?;
-    for t in &mut tensors {
-        let comps = *t;
-        *t = expand(&comps[..components]);
-    }
+    tensors.map_in_place(|t| expand(&t[..components]));
     let array = TensorArrayInfo {
         name: "tensor".into(),
         components,
@@ -106,7 +103,7 @@ pub(crate) fn lattice_field(
     dims: [usize; 3],
     (a, source): (Matrix4<f64>, &'static str),
     opts: &ReadOptions,
-    tensors: Vec<[f64; 9]>,
+    tensors: Tensors,
     array: TensorArrayInfo,
     layout: Layout,
 ) -> Res<TensorField> {
@@ -127,7 +124,7 @@ pub(crate) fn lattice_field(
         points: n,
         cells: dims.iter().map(|d| d.saturating_sub(1)).product(),
         array,
-        positions: lattice_positions(&a, dims),
+        positions: Positions::lattice(&a, dims),
         tensors,
         direction: rotation.as_ref().map(rows3),
         spacing: smallest_spacing(&linear, dims),
@@ -213,22 +210,25 @@ fn sh_writer(h: &NiftiHeader) -> Writer {
 /// What deciding between SH and tensors needs of a NIfTI file (its header only): values per
 /// voxel.
 pub(crate) fn sh_probe(input: &Input) -> Res<usize> {
-    Ok(read_header(input, |_| Ok(()))?.shape.components)
+    Ok(read_head(input, Values::Series, |_| Ok(()))?
+        .shape
+        .components)
 }
 
 /// Read a NIfTI-1 volume of SH coefficients (4-D, coefficients along the fourth axis, or
-/// 5-D `X×Y×Z×1×C`; float32 or float64) from `input`: the basis from `opts.sh_basis`, else
+/// 5-D `X×Y×Z×1×C`; any integer or float datatype) from `input`: the basis from `opts.sh_basis`, else
 /// by the writer (MRtrix: tournier07; others: DIPY's descoteaux07-legacy), directions in
 /// scanner axes for MRtrix's files and voxel axes for the others unless `opts.tensor_frame`
-/// says otherwise. Float32 without `scl_slope` stays float32.
+/// says otherwise. Kept in float32 unless the file's type is wider (float64, 32- and 64-bit
+/// integers: [`fits_f32`](crate::field::number::Scalar::fits_f32)).
 pub(crate) fn read_sh(input: &Input, opts: &ReadOptions) -> Res<ShField> {
-    let head = read_header(input, |_| Ok(()))?;
+    let head = read_head(input, Values::Series, |_| Ok(()))?;
     let writer = sh_writer(&head.h);
     let layout = sh_field::layout(head.shape.components, writer, opts.sh_basis)?;
     let (a, source) = head.affine()?;
     // Volume after volume, as the file stores them and as the field keeps them: the values
     // grow with the bytes read.
-    let coefficients = if head.shape.ty == Scalar::F32 && voxels::scaling(&head.h) == (1.0, 0.0) {
+    let coefficients = if head.shape.ty.fits_f32() {
         let mut v = Vec::new();
         head.each_value(input, |_, _, x| v.push(x as f32))?;
         Coefficients::F32(v)

@@ -6,7 +6,7 @@ use std::io::{BufRead as _, Read as _};
 use std::path::Path;
 
 use super::header::{Header, Res, field, number};
-use crate::error::{LoadErrorKind, escape_for_error, escape_path};
+use crate::error::{LoadErrorKind, escape_for_error};
 use crate::field::inputs::{Input, Inputs};
 use crate::field::number::Scalar;
 
@@ -73,17 +73,10 @@ pub(super) fn payload<'a>(
                     "only a single data file is read (no LIST or file patterns)",
                 ));
             }
-            let p = Inputs::next_to(path, name);
-            // The folder is the user's; the name is the file's, shown cut as file text is.
-            let shown = match path.parent() {
-                Some(d) if !d.as_os_str().is_empty() => {
-                    format!("{}/{}", escape_path(d), escape_for_error(name))
-                }
-                _ => escape_for_error(name),
-            };
+            let d = Inputs::detached(path, name.as_bytes()).map_err(|e| field("data file", e))?;
             let input = inputs
-                .open(&p)
-                .map_err(|e| field("data file", format!("{shown}: {e}")))?;
+                .open(&d.path)
+                .map_err(|e| field("data file", format!("{}: {e}", d.shown)))?;
             Ok(Region { input, start: 0 })
         }
         None => Ok(Region {
@@ -406,7 +399,7 @@ mod tests {
         assert_eq!(f.tensors.len(), 2);
         for (i, t) in f.tensors.iter().enumerate() {
             assert_eq!(
-                *t,
+                t,
                 ComponentOrder::Fsl.expand(&v[6 * i..6 * i + 6]),
                 "voxel {i}"
             );
@@ -430,7 +423,7 @@ mod tests {
             "endian: little\nencoding: raw\n",
             &junk_then(b"\x00\x01\x02\x03\x04", &le_bytes()),
         );
-        assert_ne!(read(p, &b).unwrap().tensors[0][0], 1.0);
+        assert_ne!(read(p, &b).unwrap().tensor(0)[0], 1.0);
     }
 
     #[test]
@@ -460,7 +453,7 @@ mod tests {
         holds_the_values(&read(&nhdr, &h).unwrap());
         // Line skip alone leaves the three bytes in front of the values.
         let h = header("endian: little\nencoding: raw\nline skip: 2\ndata file: d.raw\n");
-        assert_ne!(read(&nhdr, &h).unwrap().tensors[0][0], 1.0);
+        assert_ne!(read(&nhdr, &h).unwrap().tensor(0)[0], 1.0);
         let h = header("endian: little\nencoding: raw\nline skip: 3\ndata file: d.raw\n");
         let e = read(&nhdr, &h).unwrap_err().to_string();
         assert!(
@@ -485,7 +478,7 @@ mod tests {
         holds_the_values(&read(Path::new("a.nrrd"), &[b, be64].concat()).unwrap());
         // Read as little-endian, the same bytes are other numbers.
         let b = attached("endian: little\nencoding: raw\n", &be);
-        assert_ne!(read(Path::new("a.nrrd"), &b).unwrap().tensors[0][0], 1.0);
+        assert_ne!(read(Path::new("a.nrrd"), &b).unwrap().tensor(0)[0], 1.0);
     }
 
     #[test]

@@ -32,15 +32,16 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::error::escape_for_error;
 use crate::field::frame::{
-    FrameInfo, Layout, ReadMeta, TensorFrame, Why, lattice_positions, rows3, rows4,
-    smallest_spacing, tensor_rotation,
+    FrameInfo, Layout, ReadMeta, TensorFrame, Why, rows3, rows4, smallest_spacing, tensor_rotation,
 };
 use crate::field::inputs::{Input, Inputs};
 use crate::field::number::Scalar;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
 use crate::field::scalar::{self, ScalarVolume};
-use crate::field::tensor_field::{DatasetKind, Location, TensorArrayInfo, TensorField};
+use crate::field::tensor_field::{
+    DatasetKind, Location, Positions, TensorArrayInfo, TensorField, Tensors,
+};
 use data::{big_endian, decode, encoding, payload, skip};
 use header::{Header, Res, field, header_end, number, parse_header, sizes, vectors};
 use space::{Placement, placement};
@@ -95,6 +96,15 @@ fn open_header<'a>(inputs: &'a Inputs, path: &Path) -> Res<(Header, Input<'a>)> 
 
 /// Read a NRRD tensor volume (`.nrrd`, or a `.nhdr` and its detached data file next to it)
 /// from `inputs`.
+/// The detached data file the NRRD header `path` names (a `.nhdr`'s `data file`), from its
+/// header only; `None` when the data follows the header or the header cannot say.
+pub(crate) fn data_file(inputs: &Inputs, path: &Path) -> Option<std::path::PathBuf> {
+    let (h, _) = open_header(inputs, path).ok()?;
+    Inputs::detached(path, h.get("data file")?.as_bytes())
+        .ok()
+        .map(|d| d.path)
+}
+
 pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField> {
     let (h, input) = open_header(inputs, path)?;
     let ty = match h.need("type")? {
@@ -169,7 +179,7 @@ pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField
     let mut masked = 0;
     // Each voxel's values are gathered and expanded as they are decoded: the tensors are the
     // only copy of the data ever held, and grow with the values read, never ahead of them.
-    let mut tensors = Vec::new();
+    let mut tensors = Tensors::new(ty.fits_f32());
     let per = kind.values();
     let mut c = [0.0f64; 9];
     let mut k = 0;
@@ -232,7 +242,7 @@ pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField
             components: kind.values(),
             location: Location::Point,
         },
-        positions: lattice_positions(&a, dims),
+        positions: Positions::lattice(&a, dims),
         tensors,
         direction: (!identity).then(|| rows3(&q)),
         spacing: smallest_spacing(&linear, dims),

@@ -6,7 +6,7 @@ use super::malformed::{Res, malformed};
 use crate::error::LoadErrorKind;
 use crate::field::frame::{FrameInfo, Layout, ReadMeta, TensorFrame, Why};
 use crate::field::options::ReadOptions;
-use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField};
+use crate::field::tensor_field::{Location, Positions, TensorArrayInfo, TensorField, Tensors};
 
 /// Pick the array, load and check it, compute positions.
 pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField> {
@@ -127,8 +127,8 @@ pub(crate) fn assemble(mut p: Parsed<'_>, opts: &ReadOptions) -> Res<TensorField
             components: desc.ncomp,
             location,
         },
-        positions,
-        tensors,
+        positions: Positions::Points(positions),
+        tensors: Tensors::F64(tensors),
         direction,
         spacing,
         meta,

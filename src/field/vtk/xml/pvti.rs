@@ -86,8 +86,10 @@ pub(super) fn read_pvti(
         let src = t
             .get("Source")
             .ok_or_else(|| malformed("<Piece> without Source"))?;
-        let ppath = Inputs::next_to(path, src);
         let piece_err = |k: LoadErrorKind| malformed(format!("piece '{}': {k}", esc(src)));
+        let ppath = Inputs::detached(path, src.as_bytes())
+            .map_err(|e| malformed(format!("piece {e}")))?
+            .path;
         if let Some(id) = inputs.identity(&ppath) {
             if seen.contains(&id) {
                 return Err(piece_err(malformed("the same file is listed twice")));
