@@ -21,7 +21,7 @@ use std::sync::{Arc, Mutex};
 use bytemuck::{Pod, Zeroable};
 
 use crate::camera::{Camera, Projection};
-use crate::effects::ao::{AmbientOcclusion, DensityVolume};
+use crate::effects::ao::DensityVolume;
 use crate::effects::{Effects, KEY_SHARE, light, outline};
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
@@ -30,7 +30,6 @@ use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{COMMON, SCREEN_BOX};
 use crate::render::targets::{COLOR_FORMAT, DEPTH_FORMAT, TargetViews, Targets};
 use crate::request::{AuxTarget, FrameRequest, GlyphKind, UnderlayView};
-use crate::scene::Scene;
 
 pub const SHADER: &str = include_str!("../../shaders/effects/composite.wgsl");
 
@@ -187,80 +186,6 @@ impl EffectsUniform {
                 v.cell.min_element() as f32,
             ],
             volume_scale: [scale.x as f32, scale.y as f32, scale.z as f32, 0.0],
-        }
-    }
-}
-
-/// A scene's ambient-occlusion volume on the GPU: built when the scene is uploaded (one pass
-/// over the glyphs; at most 64³ cells of 2 bytes and their mips), whether or not a frame asks
-/// for occlusion, so turning `--ao` on in the viewer costs nothing.
-pub(crate) struct AoVolume {
-    pub(crate) volume: DensityVolume,
-    /// The volume's unit: the scene's mean largest glyph radius.
-    pub(crate) unit: f64,
-    _texture: wgpu::Texture,
-    pub(crate) view: wgpu::TextureView,
-}
-
-impl AoVolume {
-    pub(crate) fn upload(ctx: &GpuContext, scene: &Scene) -> Self {
-        let unit = crate::effects::ao::reach(
-            scene,
-            &AmbientOcclusion {
-                reach: 1.0,
-                ..AmbientOcclusion::default()
-            },
-        );
-        let mut volume = DensityVolume::build(scene, unit);
-        let [w, h, d] = volume.dims;
-        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ambient occlusion volume"),
-            size: wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: d,
-            },
-            mip_level_count: volume.levels.len() as u32,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D3,
-            format: wgpu::TextureFormat::R16Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        let mut dims = [w, h, d];
-        for (level, values) in volume.levels.iter().enumerate() {
-            let bits: Vec<u16> = values
-                .iter()
-                .map(|&v| half::f16::from_f32(v).to_bits())
-                .collect();
-            ctx.queue.write_texture(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &texture,
-                    mip_level: level as u32,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                bytemuck::cast_slice(&bits),
-                wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(2 * dims[0]),
-                    rows_per_image: Some(dims[1]),
-                },
-                wgpu::Extent3d {
-                    width: dims[0],
-                    height: dims[1],
-                    depth_or_array_layers: dims[2],
-                },
-            );
-            dims = dims.map(|x| (x / 2).max(1));
-        }
-        // The texture holds the values; the uniform needs only the levels' count.
-        volume.levels.iter_mut().for_each(Vec::clear);
-        Self {
-            volume,
-            unit,
-            view: texture.create_view(&Default::default()),
-            _texture: texture,
         }
     }
 }

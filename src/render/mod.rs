@@ -2,6 +2,7 @@
 //! frame loop), the per-scene [`SceneBuffers`] made by upload, the [`targets`], and one folder
 //! or file per method, each recording its own passes through the [`drawer::Drawer`] trait.
 
+pub mod ao_volume;
 pub mod bricks;
 pub mod context;
 pub mod drawer;

@@ -11,9 +11,9 @@ use crate::camera::Camera;
 use crate::error::RenderError;
 use wgpu::util::DeviceExt;
 
+use crate::render::ao_volume::AoVolume;
 use crate::render::bricks::Bricks;
 use crate::render::context::GpuContext;
-use crate::render::effects::AoVolume;
 use crate::render::gpu_data::{CameraUniform, ChunkParams, GPU_GLYPH_SIZE, GpuGlyph};
 use crate::render::underlay::{UnderlayBuffers, UnderlayPipeline};
 use crate::request::{FrameRequest, Method};
