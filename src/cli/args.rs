@@ -186,9 +186,10 @@ impl SceneArgs {
         );
         let mut style = self.style(defaults)?;
         ensure!(
-            style.color.colours(glyph),
-            "--color {} applies to --glyph odf",
-            style.color
+            glyph.colours(style.color),
+            "--color {} applies to --glyph {}",
+            style.color,
+            kinds_with(|c| c.amplitude)
         );
         if let (None, Some(color)) = (self.color, glyph.shape().default_color()) {
             style.color = color;

@@ -84,7 +84,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
         .as_ref()
         .is_some_and(|s| s.holds_sh(&args.scene.read_options()));
     let glyph = cam.glyph_for(sh, &source.as_ref().map_or(String::new(), |s| s.name()))?;
-    if !sh && !style.color.colours(glyph) {
+    if !sh && !glyph.colours(style.color) {
         bail!("--color {} applies to --glyph odf", style.color);
     }
     let settings = Settings {

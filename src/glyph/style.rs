@@ -94,11 +94,6 @@ impl ColorScheme {
             _ => return None,
         })
     }
-
-    /// Whether glyphs of `kind` can be coloured this way (amplitude: ODF glyphs only).
-    pub fn colours(self, kind: crate::shape::GlyphKind) -> bool {
-        self != ColorScheme::Amplitude || kind == crate::shape::GlyphKind::Odf
-    }
 }
 
 /// The room glyphs have, which `--scale auto` fits them to.

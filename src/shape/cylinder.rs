@@ -31,6 +31,7 @@ impl Shape for Kind {
             sharpness: false,
             benched_by_default: true,
             mesh_holes: false,
+            amplitude: false,
             arrows: false,
         }
     }

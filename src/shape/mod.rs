@@ -74,6 +74,12 @@ impl GlyphKind {
     pub fn caps(self) -> Capabilities {
         self.shape().caps()
     }
+
+    /// Whether glyphs of this kind can be coloured by `scheme` (amplitude: a kind whose
+    /// [`Capabilities::amplitude`] says so).
+    pub fn colours(self, scheme: crate::glyph::ColorScheme) -> bool {
+        scheme != crate::glyph::ColorScheme::Amplitude || self.caps().amplitude
+    }
 }
 
 /// One instance of a glyph, as a kind places it.
@@ -129,6 +135,8 @@ pub struct Capabilities {
     /// baseline of the kind leaves background pixels inside its outline, which the stability
     /// suite judges as the mesh's coverage error, not as cracks (`box` is still held to them).
     pub mesh_holes: bool,
+    /// Coloured by `--color amplitude` (its own radial function's value: ODF glyphs).
+    pub amplitude: bool,
 }
 
 /// A forward hit: distance along the unit ray and the unit outward normal (world).

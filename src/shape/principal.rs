@@ -51,6 +51,7 @@ impl Shape for Kind {
             sharpness: false,
             benched_by_default: false,
             mesh_holes: false,
+            amplitude: false,
             arrows: true,
         }
     }

@@ -221,6 +221,7 @@ impl Shape for Kind {
             sharpness: false,
             benched_by_default: false,
             mesh_holes: true,
+            amplitude: true,
             arrows: false,
         }
     }

@@ -41,6 +41,7 @@ impl Shape for Kind {
             sharpness: true,
             benched_by_default: false,
             mesh_holes: false,
+            amplitude: false,
             arrows: false,
         }
     }

@@ -28,7 +28,7 @@ pub(super) fn style_section(
         .show_ui(ui, |ui| {
             for &c in ColorScheme::VALUES
                 .iter()
-                .filter(|c| c.colours(settings.glyph))
+                .filter(|&&c| settings.glyph.colours(c))
             {
                 ui.selectable_value(&mut style.color, c, c.name());
             }
