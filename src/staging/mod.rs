@@ -7,8 +7,6 @@
 //! restyle and reselect, and calls [`read`], [`decompose`] and [`build`] itself.
 
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
-use std::sync::Arc;
 use web_time::Instant;
 
 use glam::DVec3;
@@ -16,170 +14,21 @@ use serde::Serialize;
 
 use crate::error::LoadError;
 use crate::field::scalar::ScalarVolume;
-use crate::field::{Inputs, ReadOptions, read_field_from};
+use crate::field::{Inputs, ReadOptions};
 use crate::field::{Positions, TensorField};
 use crate::glyph::style::{Spacing, local_spacing, units_in_name};
-use crate::glyph::{ColorScheme, GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
+use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
 use crate::progress::{Progress, stage as run_stage};
 use crate::request::GlyphKind;
 use crate::scene::Scene;
 use crate::scene::underlay::{self, UnderlayError, UnderlaySource, Values};
 use crate::select::{Plane, Selection, SelectionError, Slicing};
-use crate::shape::odf::OdfColoring;
 
-/// A built-in analytic field: `grid40` (the canonical 64,000-glyph demo) or `grid:N`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Demo {
-    pub n: usize,
-}
+mod sh;
+mod source;
 
-impl Demo {
-    /// The largest `grid:N`: its field and glyphs together (128 bytes per tensor while the
-    /// eigendecomposition runs, its positions implied) take about 4.3 GB, within this
-    /// project's 24 GB machines; grid:512 would need 17 GB.
-    pub const MAX_N: usize = 320;
-}
-
-impl FromStr for Demo {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        let n = match s {
-            "grid40" => 40,
-            _ => s
-                .strip_prefix("grid:")
-                .and_then(|n| n.parse::<usize>().ok())
-                .filter(|&n| (1..=Demo::MAX_N).contains(&n))
-                .ok_or_else(|| {
-                    format!(
-                        "unknown demo '{s}': use grid40 or grid:N (1 ≤ N ≤ {})",
-                        Demo::MAX_N
-                    )
-                })?,
-        };
-        Ok(Demo { n })
-    }
-}
-
-impl std::fmt::Display for Demo {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.n == 40 {
-            write!(f, "grid40")
-        } else {
-            write!(f, "grid:{}", self.n)
-        }
-    }
-}
-
-/// Where a scene comes from: a file, a built-in demo field, a field already in memory, or a
-/// file's bytes in memory.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Source {
-    File(PathBuf),
-    Demo(Demo),
-    Field(InMemory),
-    Bytes(InMemoryFile),
-}
-
-/// A file held in memory under its name, read as the file of that name is (the Python
-/// package's DIPY fits in spherical harmonics, made a NIfTI file in memory by nibabel: tensors
-/// or SH series, whatever the bytes hold).
-#[derive(Debug, Clone)]
-pub struct InMemoryFile {
-    /// Its name, whose extension says the format (`fit.nii`), and what messages call it.
-    pub name: String,
-    pub bytes: Arc<Vec<u8>>,
-}
-
-impl InMemoryFile {
-    /// The file as the readers' inputs, and its path among them.
-    pub fn inputs(&self) -> (Inputs, PathBuf) {
-        (
-            Inputs::named([(self.name.clone(), self.bytes.to_vec())]),
-            PathBuf::from(&self.name),
-        )
-    }
-}
-
-/// The same bytes (one allocation) under the same name.
-impl PartialEq for InMemoryFile {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.bytes, &other.bytes) && self.name == other.name
-    }
-}
-
-impl Eq for InMemoryFile {}
-
-/// A field the caller made or read itself (the Python package's arrays), shared: staging
-/// copies it, the caller keeps it for the next image.
-#[derive(Debug, Clone)]
-pub struct InMemory {
-    pub field: Arc<TensorField>,
-    /// What messages and the legend call it.
-    pub name: String,
-    /// Diffusion data (a lattice from a DTI fit): the DTI defaults, as NIfTI and NRRD files
-    /// get them ([`crate::defaults`]).
-    pub diffusion: bool,
-}
-
-/// The same field (one allocation), name and kind: a field is never changed once made.
-impl PartialEq for InMemory {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.field, &other.field)
-            && self.name == other.name
-            && self.diffusion == other.diffusion
-    }
-}
-
-impl Eq for InMemory {}
-
-impl Source {
-    /// The field, read (the read options apply to files only: an in-memory field was read
-    /// or made with its own).
-    pub fn load(&self, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-        self.load_from(&Inputs::file_system(), opts)
-    }
-
-    /// [`Self::load`], a file read from `inputs` (which record the files read).
-    pub fn load_from(&self, inputs: &Inputs, opts: &ReadOptions) -> Result<TensorField, LoadError> {
-        match self {
-            Source::File(p) => read_field_from(inputs, p, opts),
-            Source::Demo(d) => Ok(crate::field::synthetic::grid(d.n)),
-            Source::Field(f) => Ok((*f.field).clone()),
-            Source::Bytes(b) => {
-                let (inputs, path) = b.inputs();
-                read_field_from(&inputs, &path, opts)
-            }
-        }
-    }
-
-    /// Whether the source is a file (on disk or in memory) of SH series ([`crate::field::holds_sh`]),
-    /// which `render` draws as ODF glyphs.
-    pub fn holds_sh(&self, opts: &ReadOptions) -> bool {
-        self.holds_sh_in(&Inputs::file_system(), opts)
-    }
-
-    /// [`Self::holds_sh`], a file looked for among `inputs` (the page's files).
-    pub fn holds_sh_in(&self, inputs: &Inputs, opts: &ReadOptions) -> bool {
-        match self {
-            Source::File(p) => crate::field::holds_sh_from(inputs, p, opts),
-            Source::Bytes(b) => {
-                let (inputs, path) = b.inputs();
-                crate::field::holds_sh_from(&inputs, &path, opts)
-            }
-            Source::Demo(_) | Source::Field(_) => false,
-        }
-    }
-
-    /// The file's path, `demo grid40`, or the in-memory field's name.
-    pub fn name(&self) -> String {
-        match self {
-            Source::File(p) => p.display().to_string(),
-            Source::Demo(d) => format!("demo {d}"),
-            Source::Field(f) => f.name.clone(),
-            Source::Bytes(b) => b.name.clone(),
-        }
-    }
-}
+pub use sh::{build_sh, sh_face_on};
+pub use source::{Demo, InMemory, InMemoryFile, Source};
 
 /// The room `--scale auto` fits glyphs to: a lattice's grid spacing, else each position's own
 /// spacing ([`local_spacing`]: the centres of unstructured data, a tetrahedral mesh's cells
@@ -462,11 +311,11 @@ pub fn stage(
     recipe.selection.check()?;
     match source {
         Source::File(path) if source.holds_sh(&recipe.read) => {
-            return stage_sh(&Inputs::file_system(), path, recipe, progress);
+            return sh::stage_sh(&Inputs::file_system(), path, recipe, progress);
         }
         Source::Bytes(b) if source.holds_sh(&recipe.read) => {
             let (inputs, path) = b.inputs();
-            return stage_sh(&inputs, &path, recipe, progress);
+            return sh::stage_sh(&inputs, &path, recipe, progress);
         }
         _ => {}
     }
@@ -526,157 +375,6 @@ pub fn stage(
         scene: built.scene,
         timings,
         read: inputs.paths_read(),
-    })
-}
-
-/// [`stage`] for a file of SH series: read, then [`build_sh`].
-fn stage_sh(
-    inputs: &Inputs,
-    path: &Path,
-    recipe: &Recipe,
-    progress: &dyn Progress,
-) -> Result<Staged, StageError> {
-    let mut timings = Timings::default();
-    let t = Instant::now();
-    let field = run_stage(progress, "reading SH series", None, || {
-        crate::field::read_sh_field_from(inputs, path, &recipe.read)
-    })?;
-    timings.load = ms(t);
-    timings.peak_rss_after[0] = crate::mem::peak_rss_bytes();
-    let t = Instant::now();
-    let built = build_sh(&field, &crate::error::escape_path(path), recipe, progress)?;
-    timings.scene = ms(t);
-    timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
-    let n = built.scene.instances.len();
-    Ok(Staged {
-        glyphs_selected: n,
-        glyphs_clamped: 0,
-        glyphs_valid: n,
-        face: built.face,
-        frame_centre: built.frame_centre,
-        frame_radius: built.frame_radius,
-        frame_half: built.frame_half,
-        style: built.style,
-        scene: built.scene,
-        timings,
-        read: inputs.paths_read(),
-    })
-}
-
-/// The scene of ODF glyphs ([`crate::scene::odf`]) of `field` (called `name` in errors) on the
-/// lattice planes the selection asks for (with none, the middle axial one where `middle_slice`
-/// says so, as for DTI), seen face-on when one plane is shown. Only `--slice` selects: FA,
-/// stride, ROI and mask are the tensors' ([`Selection::check`] refused none of them here, so
-/// they are refused now). The scene's instances name their voxel (`glyph`), and `selected`
-/// lists those voxels.
-pub fn build_sh(
-    field: &crate::field::ShField,
-    name: &str,
-    recipe: &Recipe,
-    progress: &dyn Progress,
-) -> Result<Built, StageError> {
-    let of = |error: StageError| StageError::Of {
-        name: name.to_string(),
-        error: Box::new(error),
-    };
-    let sel = &recipe.selection;
-    let rest = Selection {
-        slicing: Slicing::Whole,
-        ..sel.clone()
-    };
-    if !rest.is_everything() || recipe.underlay.is_some() {
-        return Err(of(StageError::Selection(SelectionError(
-            "a file of SH series is selected by --slice only (--fa-*, --stride, --roi, \
-             --mask and --underlay are for tensors)"
-                .into(),
-        ))));
-    }
-    let d = field.dims;
-    let planes = sel.slicing.planes().or_else(|| {
-        recipe.middle_slice.then(|| {
-            vec![Plane {
-                axis: 2,
-                index: d[2] / 2,
-            }]
-        })
-    });
-    if let Some(p) = planes
-        .iter()
-        .flatten()
-        .find(|p| p.index >= d[p.axis.min(2)])
-    {
-        return Err(of(StageError::Selection(SelectionError(format!(
-            "--slice {p}: the lattice is {}x{}x{}",
-            d[0], d[1], d[2]
-        )))));
-    }
-    // An ODF is coloured per pixel (direction, amplitude) or by one colour; the tensors'
-    // colourings have nothing to read in a series.
-    let mut style = recipe.style.clone();
-    let coloring = match style.color {
-        ColorScheme::Auto | ColorScheme::Dec => {
-            style.color = ColorScheme::Dec;
-            OdfColoring::Direction
-        }
-        ColorScheme::Amplitude => OdfColoring::Amplitude,
-        ColorScheme::Solid => OdfColoring::Base,
-        other => {
-            return Err(of(StageError::Selection(SelectionError(format!(
-                "--color {other}: a file of SH series is coloured by dec, amplitude or solid"
-            )))));
-        }
-    };
-    let [r, g, b] = style.solid_color;
-    let opts = crate::scene::odf::OdfOptions {
-        planes: planes.clone(),
-        normalize: recipe.odf_normalize.unwrap_or_default(),
-        coloring,
-        color: [r, g, b, 255],
-        ..Default::default()
-    };
-    let scene = run_stage(progress, "scene", None, || {
-        crate::scene::odf::odf_scene(field, &opts)
-    });
-    if scene.instances.is_empty() {
-        return Err(of(StageError::EmptySelection {
-            asked: planes.map_or("the whole lattice".into(), |p| {
-                p.iter()
-                    .map(|p| p.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            }),
-            valid: 0,
-        }));
-    }
-    let face = match opts.planes.as_deref() {
-        Some([plane]) => sh_face_on(field, *plane, &scene),
-        _ => None,
-    };
-    Ok(Built {
-        selected: scene.instances.iter().map(|i| i.glyph as usize).collect(),
-        glyphs_clamped: 0,
-        glyphs_valid: scene.instances.len(),
-        face,
-        frame_centre: scene.centre,
-        frame_radius: scene.radius,
-        frame_half: scene.half,
-        style: style.resolve(&GlyphSet::default(), 1.0),
-        scene,
-    })
-}
-
-/// How to see lattice plane `plane` of an SH field face-on, framing `scene` (its ODF glyphs);
-/// `None` without an affine or for a degenerate one. `render` and `report` frame ODF slices
-/// with it alike.
-pub fn sh_face_on(field: &crate::field::ShField, plane: Plane, scene: &Scene) -> Option<FaceOn> {
-    let m = field.frame.voxel_to_world?;
-    let steps = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
-    let toward = underlay::face_on_steps(steps, plane)?;
-    Some(FaceOn {
-        toward,
-        centre: scene.centre,
-        radius: scene.radius,
-        half: scene.half,
     })
 }
 
