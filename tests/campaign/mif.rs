@@ -379,7 +379,12 @@ pub fn run_all(
     }
     // Headers as large as allowed (16 MiB, in a few KB of gzip): one line, and a million
     // `transform` rows (issue 56's cases: 5–8 s to refuse the first, 71 MB for the second).
-    let line = [b"mrtrix image\ncomment: ".as_slice(), &vec![b'x'; 16 << 20], b"\n"].concat();
+    let line = [
+        b"mrtrix image\ncomment: ".as_slice(),
+        &vec![b'x'; 16 << 20],
+        b"\n",
+    ]
+    .concat();
     let row = b"transform: 1,0,0,0\n";
     let rows = [
         b"mrtrix image\ndim: 2,2,2,6\nvox: 1,1,1\nlayout: +0,+1,+2,+3\ndatatype: Float32LE\n"
@@ -388,7 +393,10 @@ pub fn run_all(
         b"file: . 99999999\nEND\n",
     ]
     .concat();
-    for (what, text) in [("one 16 MiB line", line), ("16 MiB of transform rows", rows)] {
+    for (what, text) in [
+        ("one 16 MiB line", line),
+        ("16 MiB of transform rows", rows),
+    ] {
         let gz = super::dti::gzip(&text);
         let path = work.join("header.mif.gz");
         std::fs::write(&path, &gz).unwrap();
