@@ -10,6 +10,7 @@
 //! it is removed: a report is whole or absent. A report that fails does not stop the others.
 
 pub mod inset;
+pub mod lattice;
 pub mod mosaic;
 pub mod odf;
 pub mod page;

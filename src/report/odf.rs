@@ -14,6 +14,7 @@
 use glam::DVec3;
 use web_time::Instant;
 
+use super::lattice;
 use super::mosaic::{self, FigureError, Mosaic, Orientation};
 use crate::backend::Backend;
 use crate::camera::{Camera, ViewPreset};
@@ -79,13 +80,13 @@ pub fn render(
     let t = Instant::now();
     let dims = field.dims;
     let at = position(field);
-    let axis = mosaic::lattice_axis_of(&at, dims, orientation.world_axis);
+    let axis = lattice::lattice_axis_of(&at, dims, orientation.world_axis);
     let mut count = vec![0usize; dims[axis]];
     for (v, _) in held.iter().enumerate().filter(|(_, h)| **h) {
         count[crate::select::lattice_coords(v, dims)[axis]] += 1;
     }
-    let slices = mosaic::slices_of(&count, mosaic::SLICES);
-    let lattice = mosaic::lattice_box_of(&at, dims);
+    let slices = lattice::slices_of(&count, mosaic::SLICES);
+    let lattice = lattice::lattice_box_of(&at, dims);
     let tiles = slices.len() as u32;
     let (width, height) = (tiles * tile + mosaic::LEGEND_WIDTH, tile);
     let mut rgba = vec![0u8; (width * height * 4) as usize];
@@ -125,7 +126,7 @@ pub fn render(
                 w: i64::from(width),
                 h: i64::from(height),
             };
-            let [top, bottom] = mosaic::slice_place_of(&at, axis, index, orientation, anatomical);
+            let [top, bottom] = lattice::slice_place_of(&at, axis, index, orientation, anatomical);
             mosaic::label_tile(
                 &mut canvas,
                 pen,
