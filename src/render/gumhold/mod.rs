@@ -7,6 +7,7 @@
 //! prepass, with splats ([`prepass`]). The f64 twin of the shaders is
 //! [`crate::twin::gumhold_ellipsoid`].
 
+pub mod frames;
 pub mod occlusion;
 pub mod prepass;
 
