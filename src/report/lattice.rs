@@ -4,11 +4,33 @@
 
 use glam::DVec3;
 
-use super::mosaic::Orientation;
 use crate::field::TensorField;
 use crate::glyph::GlyphSet;
 use crate::legend::axis_labels;
 use crate::select::lattice_coords;
+
+/// A row's orientation: its name and the world axis (x, y, z) its slices are normal to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Orientation {
+    pub name: &'static str,
+    pub world_axis: usize,
+}
+
+/// The three rows of a map's report.
+pub const ORIENTATIONS: [Orientation; 3] = [
+    Orientation {
+        name: "axial",
+        world_axis: 2,
+    },
+    Orientation {
+        name: "coronal",
+        world_axis: 1,
+    },
+    Orientation {
+        name: "sagittal",
+        world_axis: 0,
+    },
+];
 
 /// The lattice axis whose steps run most nearly along world axis `world`: the axis whose
 /// slices are this orientation's, whatever order the voxels are stored in.

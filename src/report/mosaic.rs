@@ -14,7 +14,7 @@ use web_time::Instant;
 
 use super::Options;
 use super::inset::{self, Region, ZoomRegion};
-pub use super::lattice::{edge_labels, lattice_axis, slices};
+pub use super::lattice::{ORIENTATIONS, Orientation, edge_labels, lattice_axis, slices};
 use super::lattice::{lattice_box, slice_place};
 use crate::backend::{Backend, StageFailed};
 use crate::camera::{Camera, Framing};
@@ -41,29 +41,6 @@ pub const SLICES: usize = 5;
 /// The legend panel's width, in pixels.
 pub(super) const LEGEND_WIDTH: u32 = 200;
 pub(super) const BLACK: [f64; 4] = [0.0, 0.0, 0.0, 1.0];
-
-/// A row's orientation: its name and the world axis (x, y, z) its slices are normal to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Orientation {
-    pub name: &'static str,
-    pub world_axis: usize,
-}
-
-/// The three rows of a map's report.
-pub const ORIENTATIONS: [Orientation; 3] = [
-    Orientation {
-        name: "axial",
-        world_axis: 2,
-    },
-    Orientation {
-        name: "coronal",
-        world_axis: 1,
-    },
-    Orientation {
-        name: "sagittal",
-        world_axis: 0,
-    },
-];
 
 /// Why a figure could not be made.
 #[derive(Debug, thiserror::Error)]
