@@ -52,14 +52,8 @@ pub struct ShPeak {
 /// naming the valid range.
 pub fn report(field: &ShField, samples: &[usize]) -> Result<ShInfoReport, String> {
     let n = field.voxels();
-    let count = field.layout.count;
-    let mut c = vec![0.0; count];
-    let zero = (0..n)
-        .filter(|&v| {
-            field.coefficients_of(v, &mut c);
-            c.iter().all(|&x| x == 0.0)
-        })
-        .count();
+    let zero = n - field.series();
+    let mut c = vec![0.0; field.layout.count];
     let mut finder =
         PeakFinder::new(field.layout.lmax, field.layout.basis).map_err(|e| format!("{e}"))?;
     let samples = samples

@@ -108,6 +108,18 @@ impl ShField {
         }
     }
 
+    /// Voxels holding a series (some coefficient not zero; a fit's mask leaves zeros outside).
+    pub fn series(&self) -> usize {
+        let n = self.voxels();
+        let mut c = vec![0.0; self.layout.count];
+        (0..n)
+            .filter(|&v| {
+                self.coefficients_of(v, &mut c);
+                c.iter().any(|&x| x != 0.0)
+            })
+            .count()
+    }
+
     /// The world position of voxel `v`'s centre.
     pub fn position(&self, v: usize) -> [f64; 3] {
         let d = self.dims;

@@ -38,6 +38,9 @@ pub struct Loaded {
     /// The underlay file's volume, when one was given.
     pub underlay: Option<Arc<ScalarVolume>>,
     pub timings: LoadTimings,
+    /// The glyphs the data holds, shown or not: its valid tensors, or the voxels holding a
+    /// series (counted once: the status line says "N of total").
+    pub total: usize,
 }
 
 /// How long opening took (the page's status says it: one thread reads and decomposes there).
@@ -100,6 +103,7 @@ pub fn load_now_from(
     Ok(Loaded {
         source: source.clone(),
         field: Arc::new(field),
+        total: set.glyphs.len(),
         set: Arc::new(set),
         spacing,
         bounds,
@@ -138,6 +142,7 @@ fn load_sh(
         ),
         field: Arc::new(field),
         set: Arc::new(GlyphSet::default()),
+        total: sh.series(),
         odf: Some(Arc::new(sh)),
         underlay: None,
         timings: LoadTimings {
@@ -342,6 +347,7 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(5));
         };
         assert_eq!(loaded.set.glyphs.len(), 125);
+        assert_eq!(loaded.total, 125);
         assert!(loaded.spacing.typical() > 0.0);
 
         let dir = tempfile::tempdir().unwrap();
@@ -387,6 +393,9 @@ mod tests {
             assert_eq!(l.field.lattice_dims(), Some([4, 4, 4]));
             assert_eq!(l.field.positions.len(), 64);
             assert!(l.set.glyphs.is_empty() && l.field.tensors.is_empty());
+            // The status line's total: the voxels holding a series (all 64 of MRtrix's fit,
+            // where sh2peaks finds peaks: expected.json), not the empty tensor set's 0.
+            assert_eq!(l.total, 64);
         }
         let slice = crate::select::Plane { axis: 1, index: 2 };
         let recipe = crate::staging::Recipe {

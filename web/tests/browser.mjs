@@ -16,7 +16,8 @@
 //   - the underlay input: DIPY's FA map under its fit gives the figure of `tensorglyph render
 //     tensors.nii.gz --underlay fa.nii.gz` (>= 99 % of pixels within 3/255);
 //   - SH series: MRtrix's CSD fit (.mif) opens as ODF glyphs whose figure is `tensorglyph
-//     render`'s (the same bound) and a hovered glyph's largest peak is sh2peaks' (within 1°);
+//     render`'s (the same bound), the status counts its 64 series, and a hovered glyph's
+//     largest peak is sh2peaks' (within 1°);
 //   - BEP016: a map and its JSON sidecar given together open, and a picked glyph's principal
 //     direction is numpy's in the frame the sidecar names (tests/data/bids);
 //   - without a WebGPU adapter the page names browsers that have one.
@@ -358,6 +359,9 @@ try {
     const frac = cmp.close / cmp.n;
     check(!cmp.size && (await text(page, 'error')) === '', `the CSD fit opens as ODF glyphs (${cmp.size || 'no error'})`);
     check(frac >= 0.99, `its figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
+    // The status counts the series the file holds (every voxel sh2peaks found peaks in), not the
+    // empty tensor set's 0 ("16 of 0 glyphs" before).
+    await statusMatching(page, new RegExp(`^\\d+ of ${Object.keys(truth.peaks).length} glyphs · `));
     const box = await page.locator('#view').boundingBox();
     let seen = null;
     let last = '';

@@ -22,7 +22,7 @@ impl ViewerApp {
                     ctx.request_repaint_after(std::time::Duration::from_millis(10));
                 }
                 frame.map(|f| {
-                    let (shown, total) = (built.selected.len(), data.set.glyphs.len());
+                    let (shown, total) = (built.selected.len(), data.total);
                     let glyphs = if shown == total {
                         format!("{total} glyphs")
                     } else {

@@ -419,7 +419,7 @@ fn stats_section(ui: &mut Ui, info: &PanelInfo<'_>) {
     if let Some(status) = info.status {
         ui.label(status);
     }
-    let total = info.data.map_or(0, |d| d.set.glyphs.len());
+    let total = info.data.map_or(0, |d| d.total);
     egui::Grid::new("stats").num_columns(2).show(ui, |ui| {
         ui.label("glyphs");
         ui.label(format!(
