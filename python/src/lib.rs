@@ -71,7 +71,8 @@ impl Failure {
             Some(LoadErrorKind::Io(_) | LoadErrorKind::NotRegularFile(_)) => {
                 Failure::Unreadable(line)
             }
-            _ => Failure::Value(line),
+            // The library's own checks speak command-line flags: Python names keywords.
+            _ => Failure::Value(keywords_of(&line)),
         }
     }
 
@@ -91,6 +92,42 @@ impl Failure {
             Err(_) => PyValueError::new_err(line),
         }
     }
+}
+
+/// `line` with the command line's flags spelled as the Python keywords that give them
+/// (`--ao-reach` → `ao_reach=`, `--fa-*` → `fa_*=`): a flag is `--` at the line's start or after
+/// a space, bracket or quote, then a lowercase name. The rest of the line is left as it is.
+fn keywords_of(line: &str) -> String {
+    let b = line.as_bytes();
+    let mut out = String::with_capacity(line.len());
+    let mut copied = 0;
+    let mut i = 0;
+    while i + 2 < b.len() {
+        let starts = b[i] == b'-'
+            && b[i + 1] == b'-'
+            && b[i + 2].is_ascii_lowercase()
+            && (i == 0 || matches!(b[i - 1], b' ' | b'(' | b'\'' | b'"' | b'`'));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let mut end = i + 2;
+        while end < b.len()
+            && (b[end].is_ascii_lowercase() || b[end].is_ascii_digit() || b[end] == b'-')
+        {
+            end += 1;
+        }
+        if end < b.len() && b[end] == b'*' {
+            end += 1;
+        }
+        out.push_str(&line[copied..i]);
+        out.push_str(&line[i + 2..end].trim_end_matches('-').replace('-', "_"));
+        out.push('=');
+        copied = end;
+        i = end;
+    }
+    out.push_str(&line[copied..]);
+    out
 }
 
 /// An option the command line's parser refused, named as Python spells the keyword that gave

@@ -33,7 +33,7 @@ def one_line(excinfo):
         (lambda: tg.render(demo="grid:3", glyhp="cylinder"), "glyhp=: no such option (did you mean glyph=?)"),
         (lambda: tg.render(demo="grid:3", size=(0, 10)), "size='0x10': "),
         (lambda: tg.render(demo="grid:3", ssaa=0), "ssaa=0: "),
-        (lambda: tg.render(demo="grid:3", method="sigg", splat=16), "--splat"),
+        (lambda: tg.render(demo="grid:3", method="sigg", splat=16), "splat= applies to"),
         (lambda: tg.render(demo="grid:3", preset="splat", baseline=True), "preset= cannot be used with baseline="),
         (lambda: tg.read(np.ones((3, 3, 3, 6)), layout="fsl", array="x"), "apply to files"),
         (lambda: tg.render(demo="grid:3", output="x.png"), "image.save"),

@@ -48,5 +48,5 @@ def test_odf_normalize_is_the_command_lines(tmp_path):
     for how in ["minmax", "none"]:
         image = tg.render(path, size=(160, 120), odf_normalize=how)
         same_pixels(image, cli_render(path, tmp_path, "--size", "160x120", "--odf-normalize", how))
-    with pytest.raises(ValueError, match="--odf-normalize applies to files of SH series"):
+    with pytest.raises(ValueError, match="odf_normalize= applies to files of SH series"):
         tg.render(REPO / "tests" / "data" / "extremes" / "needles.vtk", odf_normalize="max")
