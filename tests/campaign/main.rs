@@ -368,7 +368,7 @@ fn data_files(dir: &Path) -> Vec<PathBuf> {
             p.is_file()
                 && !p
                     .extension()
-                    .is_some_and(|e| e == "py" || e == "json" || e == "md")
+                    .is_some_and(|e| e == "py" || e == "json" || e == "md" || e == "sh")
         })
         .collect();
     v.sort();

@@ -607,3 +607,26 @@ fn float_data_is_read_as_stored_whatever_its_scaling() {
     let want = read_field(&mif("tensor_oblique.mif"), &ReadOptions::default()).unwrap();
     assert_eq!(f.tensors, want.tensors);
 }
+
+/// An image MRtrix's `sh2peaks` wrote (`tests/data/sh/make_peaks.sh`: 9 volumes, three peaks
+/// of 3 values) was read silently as a field of full 3×3 tensors; its header says what it is
+/// (`command_history` ends with sh2peaks), so it is refused in one line naming that.
+#[test]
+fn an_sh2peaks_image_is_not_read_as_tensors() {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sh/sh2peaks_lmax8.mif");
+    let e = read_field(&p, &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("'command_history'") && e.contains("sh2peaks") && e.contains("not tensors"),
+        "{e}"
+    );
+    let o = tg(&["info", p.to_str().unwrap()]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("sh2peaks_lmax8.mif") && err.contains("sh2peaks:"),
+        "{err}"
+    );
+}

@@ -76,6 +76,9 @@ pub(super) struct Header {
     /// Whether the header has a `dw_scheme`: a DWI series (`dwi2fod` keeps it as
     /// `prior_dw_scheme`).
     pub(super) dw_scheme: bool,
+    /// Whether the last program of its `command_history` that makes tensors or peaks was
+    /// `sh2peaks`: the image holds fibre directions (3 values a peak), whatever its count.
+    pub(super) peaks: bool,
 }
 
 impl Header {
@@ -267,6 +270,7 @@ struct Raw {
     transform: Vec<String>,
     transform_rows: usize,
     dw_scheme: bool,
+    peaks: bool,
 }
 
 /// The header `text` (up to and including its `END` line) checked into a [`Header`].
@@ -314,6 +318,15 @@ pub(super) fn parse(text: &[u8], gz: bool) -> Res<Header> {
         }
         if is("dw_scheme") {
             raw.dw_scheme = true;
+            continue;
+        }
+        if is("command_history") {
+            // Each line a command, the program first (MRtrix keeps one line per command run).
+            match bytes.split(|c| c.is_ascii_whitespace()).next() {
+                Some(b"sh2peaks") => raw.peaks = true,
+                Some(b"dwi2tensor" | b"tensor2metric" | b"dwi2fod") => raw.peaks = false,
+                _ => {}
+            }
             continue;
         }
         let (name, slot) = if is("dim") {
@@ -397,6 +410,7 @@ pub(super) fn parse(text: &[u8], gz: bool) -> Res<Header> {
         data,
         gz,
         dw_scheme: raw.dw_scheme,
+        peaks: raw.peaks,
     })
 }
 

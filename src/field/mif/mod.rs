@@ -85,6 +85,16 @@ pub fn read(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<TensorField
 /// 6 or 9 values per voxel along the fourth axis (any further axes of size 1).
 fn tensor_components(h: &Header) -> Res<usize> {
     let n = h.per_voxel()?;
+    if h.peaks {
+        // Its 6 or 9 volumes are 2 or 3 peaks, not a tensor.
+        return Err(field(
+            "command_history",
+            format!(
+                "written by MRtrix's sh2peaks: fibre directions ({n} values, 3 a peak), not \
+                 tensors; peak images are not read yet"
+            ),
+        ));
+    }
     if n == 1 {
         return Err(field(
             "dim",

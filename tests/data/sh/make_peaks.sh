@@ -1,0 +1,7 @@
+#!/bin/sh
+# MRtrix's sh2peaks of the CSD fit in this folder (Debian's mrtrix3 3.0.3): the three largest
+# peaks of each voxel, 3 values each (9 volumes, NaN where a voxel has fewer), as pipelines keep
+# them. The header's command_history ends with the sh2peaks line that names what the image is.
+# Run from this folder: sh make_peaks.sh
+set -e
+sh2peaks mrtrix_lmax8.mif sh2peaks_lmax8.mif -num 3 -force -quiet
