@@ -14,6 +14,12 @@
 //! very same instances. The crate root re-exports what a program needs for that; the modules
 //! hold the rest.
 //!
+//! Cargo features, all on by default: `viewer` (the interactive viewer, `viewer`: eframe, egui,
+//! winit), `bench` (`bench` and `stability`: plotters) and `cli` (the command line and the
+//! binary: clap, indicatif; it takes the other two). With `default-features = false` the crate
+//! is the core above: the readers, fields, glyphs, scenes, both renderers, PNG output and
+//! reports.
+//!
 //! ```no_run
 //! use tensorglyph::{Backend, Camera, Demo, FrameRequest, Framing, Method, Preset, Recipe,
 //!                   Silent, Source, stage};
@@ -74,12 +80,13 @@ pub mod sh_info;
 // Front ends in the library; `cli` is the command line (arguments, dispatch and output
 // formatting), which the binary and the Python package's console script run. The viewer is
 // the one front end of the web build (web/); the others are the desktop's.
-#[cfg(not(target_arch = "wasm32"))]
+#[cfg(all(feature = "bench", not(target_arch = "wasm32")))]
 pub mod bench;
-#[cfg(not(target_arch = "wasm32"))]
+#[cfg(all(feature = "cli", not(target_arch = "wasm32")))]
 pub mod cli;
-#[cfg(not(target_arch = "wasm32"))]
+#[cfg(all(feature = "bench", not(target_arch = "wasm32")))]
 pub mod stability;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 
 #[cfg(test)]
