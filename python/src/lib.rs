@@ -667,9 +667,9 @@ impl Renderer {
     /// when it names some), in `out_dir`. Returns JSON: `written` (name, page, figures) and
     /// `failed` (name, the command line's error line without `error: `). `tile_size` and
     /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`, `sh_basis` and
-    /// `odf_normalize` are `--sh-basis` and `--odf-normalize`; a bad one raises, naming the
-    /// keyword.
-    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None, odf_normalize=None))]
+    /// `odf_normalize` are `--sh-basis` and `--odf-normalize`, `reproducible` is
+    /// `--reproducible`; a bad one raises, naming the keyword.
+    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None, odf_normalize=None, reproducible=false))]
     #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
@@ -682,9 +682,13 @@ impl Renderer {
         zoom_region: Option<String>,
         sh_basis: Option<String>,
         odf_normalize: Option<String>,
+        reproducible: bool,
     ) -> PyResult<String> {
         use tensorglyph::report::inset;
-        let mut options = tensorglyph::report::Options::default();
+        let mut options = tensorglyph::report::Options {
+            reproducible,
+            ..Default::default()
+        };
         if let Some(px) = tile_size {
             options.tile = inset::check_tile(px)
                 .map_err(|e| Failure::value(format!("tile_size={e}")).into_py(py))?;
@@ -746,6 +750,23 @@ impl Renderer {
     }
 }
 
+/// `tensorglyph report BIDS_DIR OUT_DIR group`: the group page over the participant level's
+/// reports in `out_dir` (no image is drawn). Returns the outcome as JSON.
+#[pyfunction]
+#[pyo3(signature = (bids_dir, out_dir, participant_label=Vec::new()))]
+fn group_report(
+    py: Python<'_>,
+    bids_dir: PathBuf,
+    out_dir: PathBuf,
+    participant_label: Vec<String>,
+) -> PyResult<String> {
+    detached(py, move || {
+        let o = tensorglyph::report::group::run(&bids_dir, &out_dir, &participant_label)
+            .map_err(Failure::value)?;
+        serde_json::to_string(&o).map_err(Failure::value)
+    })
+}
+
 /// The PNG of RGBA pixels `(H, W, 4)`, as the command line writes it (`dpi` in its pHYs).
 #[pyfunction]
 #[pyo3(signature = (rgba, dpi=None))]
@@ -795,6 +816,7 @@ fn _tensorglyph(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Renderer>()?;
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
     m.add_function(wrap_pyfunction!(encode_png, m)?)?;
+    m.add_function(wrap_pyfunction!(group_report, m)?)?;
     m.add_function(wrap_pyfunction!(write_png, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -42,6 +42,7 @@ __all__ = [
     "Renderer",
     "read",
     "render",
+    "group_report",
     "report",
     "widget",
 ]
@@ -494,6 +495,7 @@ def report(
     zoom_region: "str | Sequence[int] | None" = None,
     sh_basis: Optional[str] = None,
     odf_normalize: Optional[str] = None,
+    reproducible: bool = False,
     renderer: Optional[Renderer] = None,
 ) -> dict:
     """Glyph reports, as ``tensorglyph report`` makes them: ``report(files, out_dir)`` writes one
@@ -514,9 +516,15 @@ def report(
     ``--sh-basis``: the basis of the files of SH series (``"tournier07"``, ``"descoteaux07"``,
     ``"descoteaux07-legacy"``); by default each file's writer's. ``odf_normalize`` is
     ``--odf-normalize`` for the ODF maps' figures (``"max"``, the default, ``"minmax"``,
-    ``"none"``)."""
+    ``"none"``). ``reproducible`` is ``--reproducible``: the pages leave out times and
+    memory, so that two runs over the same data on the same machine write the same bytes (a
+    cohort run in parallel, e.g. one Dask task per participant, checked against a serial run).
+    The participant level also writes ``sub-<label>.json`` beside each page, which
+    :func:`group_report` reads."""
     if out_dir is None:
         raise Error("report needs out_dir, the folder the reports go to")
+    if not isinstance(reproducible, bool):
+        raise Error(f"reproducible={reproducible!r}: give True or False")
     if isinstance(files, (str, os.PathLike)):
         files = [files]
     if isinstance(participant_label, str):
@@ -546,6 +554,7 @@ def report(
         zoom_region=zoom_region,
         sh_basis=sh_basis,
         odf_normalize=odf_normalize,
+        reproducible=reproducible,
     )
     done = json.loads(text)
     return {
@@ -554,6 +563,27 @@ def report(
         },
         "failed": {f["name"]: f["error"] for f in done["failed"]},
     }
+
+
+def group_report(
+    bids_dir: "str | os.PathLike",
+    out_dir: "str | os.PathLike",
+    *,
+    participant_label: "Sequence[str] | str | None" = None,
+) -> dict:
+    """The group level, as ``tensorglyph report BIDS_DIR OUT_DIR group``: ``group.html`` and
+    ``group.tsv`` in ``out_dir`` over the participant level's reports there (one row per map,
+    outliers flagged by robust z-scores; a participant whose report failed or is missing is a
+    row saying so). No image is drawn. Returns ``{"page", "table", "participants", "maps",
+    "without_report": [names], "flagged": [[participant, map]]}``; raises ``tensorglyph.Error``
+    for a usage error (no such folder, an unknown participant)."""
+    if isinstance(participant_label, str):
+        participant_label = [participant_label]
+    return json.loads(
+        _tensorglyph.group_report(
+            os.fspath(bids_dir), os.fspath(out_dir), list(participant_label or [])
+        )
+    )
 
 
 def widget(data: Any = None, **options: Any):

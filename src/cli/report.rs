@@ -4,6 +4,8 @@
 //! - `report FILE... -o OUT_DIR`: one report per file (of tensors, or of SH series: ODFs).
 //! - `report BIDS_DIR OUT_DIR participant [--participant-label L …]`: one per participant of a
 //!   BIDS derivatives folder of BEP016 tensor maps and ODF maps, as a BIDS App is called.
+//! - `report BIDS_DIR OUT_DIR group [--participant-label L …]`: the group page over what the
+//!   participant level wrote ([`crate::report::group`]).
 
 use std::path::PathBuf;
 
@@ -20,11 +22,15 @@ use crate::sh::ShBasis;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
-    /// Tensor files or files of SH series (with -o), or BIDS_DIR OUT_DIR participant: a BIDS
+    /// Tensor files or files of SH series (with -o), or BIDS_DIR OUT_DIR LEVEL: a BIDS
     /// derivatives folder holding BEP016 tensor maps and ODF maps (_param-fod_, _param-sh_) in
     /// sub-LABEL/[ses-LABEL/]dwi/, where the reports go, and the analysis level (participant:
-    /// one page per participant).
-    #[arg(required = true, value_name = "FILE... | BIDS_DIR OUT_DIR participant")]
+    /// one page per participant; group: one page over the participants' reports, outliers
+    /// flagged).
+    #[arg(
+        required = true,
+        value_name = "FILE... | BIDS_DIR OUT_DIR participant|group"
+    )]
     pub paths: Vec<PathBuf>,
     /// Where the reports of the files named go: NAME.html and NAME/figures/ per file.
     #[arg(short, long = "output-dir", value_name = "OUT_DIR")]
@@ -54,6 +60,11 @@ pub struct ReportArgs {
     /// none (sizes comparable across voxels).
     #[arg(long, default_value = "max", value_parser = one_of::<OdfNormalize>(OdfNormalize::NAMES))]
     pub odf_normalize: OdfNormalize,
+    /// Leave out of the pages what differs from run to run (times, memory): two runs over the
+    /// same data on the same machine write the same bytes, so a cohort run in parallel can be
+    /// checked against a serial run.
+    #[arg(long)]
+    pub reproducible: bool,
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {
@@ -71,36 +82,41 @@ pub fn options(args: &ReportArgs) -> Options {
         zoom: args.zoom_region,
         sh_basis: args.sh_basis,
         odf_normalize: args.odf_normalize,
+        reproducible: args.reproducible,
     }
 }
 
-/// The job and the output folder the arguments ask for.
-pub fn job(args: ReportArgs) -> Result<(Job, PathBuf)> {
+/// The job and the output folder the arguments ask for, and whether it is the group level.
+pub fn job(args: ReportArgs) -> Result<(Job, PathBuf, bool)> {
     if let Some(out) = args.output_dir {
         if !args.participant_label.is_empty() {
             bail!("--participant-label applies to the BIDS form (BIDS_DIR OUT_DIR participant)");
         }
-        return Ok((Job::Files(args.paths), out));
+        return Ok((Job::Files(args.paths), out, false));
     }
     let [dir, out, level] = <[PathBuf; 3]>::try_from(args.paths).map_err(|paths| {
         anyhow::anyhow!(
-            "report takes FILE... -o OUT_DIR, or BIDS_DIR OUT_DIR participant (got {} paths \
-             and no -o)",
+            "report takes FILE... -o OUT_DIR, or BIDS_DIR OUT_DIR participant|group (got {} \
+             paths and no -o)",
             paths.len()
         )
     })?;
-    if level.as_os_str() != "participant" {
-        bail!(
-            "analysis level {}: only participant is supported (one report per participant)",
+    let group = match level.to_str() {
+        Some("participant") => false,
+        Some("group") => true,
+        _ => bail!(
+            "analysis level {}: participant (one report per participant) or group (one page \
+             over them)",
             crate::error::escape_path(&level)
-        );
-    }
+        ),
+    };
     Ok((
         Job::Bids {
             dir,
             labels: args.participant_label,
         },
         out,
+        group,
     ))
 }
 
@@ -108,7 +124,23 @@ pub fn job(args: ReportArgs) -> Result<(Job, PathBuf)> {
 /// stderr line.
 pub fn run(args: ReportArgs) -> Result<bool> {
     let options = options(&args);
-    let (job, out) = job(args)?;
+    let (job, out, group) = job(args)?;
+    if group {
+        let Job::Bids { dir, labels } = &job else {
+            unreachable!("the group level is the BIDS form's")
+        };
+        // No image is read or drawn: no back end.
+        let o = report::group::run(dir, &out, labels)?;
+        println!(
+            "{}: {} participants, {} maps; {} without a report, {} maps flagged",
+            crate::error::escape_path(&o.page),
+            o.participants,
+            o.maps,
+            o.without_report.len(),
+            o.flagged.len()
+        );
+        return Ok(true);
+    }
     let plan = Plan::new(&job)?.with_options(options);
     let progress = Terminal::new(true);
     // One back end for every image: the GPU's pipelines are built once.

@@ -9,6 +9,7 @@
 //! file, then renamed), figures first and the page last; if a write fails, what was written of
 //! it is removed: a report is whole or absent. A report that fails does not stop the others.
 
+pub mod group;
 pub mod inset;
 pub mod lattice;
 pub mod mosaic;
@@ -58,6 +59,10 @@ pub struct Options {
     pub sh_basis: Option<crate::sh::ShBasis>,
     /// How each voxel's ODF is scaled in the ODF maps' figures (`--odf-normalize`).
     pub odf_normalize: crate::scene::odf::OdfNormalize,
+    /// Leave out what differs from run to run (times and memory), so that two runs over the
+    /// same data on the same machine write the same bytes (`--reproducible`): a cohort run in
+    /// parallel can be checked against a serial one.
+    pub reproducible: bool,
 }
 
 impl Default for Options {
@@ -67,6 +72,7 @@ impl Default for Options {
             zoom: None,
             sh_basis: None,
             odf_normalize: crate::scene::odf::OdfNormalize::default(),
+            reproducible: false,
         }
     }
 }
@@ -151,6 +157,8 @@ pub struct RunInfo {
     pub backend: String,
     pub total_ms: f64,
     pub peak_rss_bytes: Option<u64>,
+    /// Whether the page states times and memory ([`Options::reproducible`] leaves them out).
+    pub timings: bool,
 }
 
 /// One figure, encoded, and what it shows.
@@ -383,13 +391,27 @@ impl Plan {
             written: Vec::new(),
             failed: Vec::new(),
         };
+        let bids = self.bids.is_some();
         for unit in &self.units {
-            match report(unit, out, &self.options, backend, progress) {
+            match report(unit, out, &self.options, backend, progress, bids) {
                 Ok(w) => outcome.written.push(w),
-                Err(error) => outcome.failed.push(Failed {
-                    name: unit.name.clone(),
-                    error,
-                }),
+                Err(error) => {
+                    // The group level lists it with its error; a summary that cannot be
+                    // written leaves it "without a report" there, which it is.
+                    if bids {
+                        let failed = group::ParticipantSummary {
+                            name: unit.name.clone(),
+                            page: None,
+                            error: Some(error.to_string()),
+                            maps: Vec::new(),
+                        };
+                        let _ = group::write_summary(out, &failed, &[]);
+                    }
+                    outcome.failed.push(Failed {
+                        name: unit.name.clone(),
+                        error,
+                    })
+                }
             }
         }
         Ok(outcome)
@@ -423,12 +445,14 @@ fn write_dataset_description(out: &Path) -> Result<(), ReportError> {
     .map_err(|source| ReportError::Write { path, source })
 }
 
+/// One report; with `summary`, the group level's summary of it too ([`group`]), written last.
 fn report(
     unit: &Unit,
     out: &Path,
     options: &Options,
     backend: &Backend,
     progress: &dyn Progress,
+    summary: bool,
 ) -> Result<Written, UnitError> {
     let t = Instant::now();
     if let Some(label) = &unit.missing {
@@ -451,6 +475,7 @@ fn report(
         backend: backend_name(backend),
         total_ms: staging::ms(t),
         peak_rss_bytes: crate::mem::peak_rss_bytes(),
+        timings: !options.reproducible,
     };
     let html = page::html(&unit.name, &maps, &run);
     let folder = out.join(&unit.name).join("figures");
@@ -467,7 +492,18 @@ fn report(
             write_bytes(&path, &inputs, &f.png)?;
             written.push(path);
         }
-        write_bytes(&page, &inputs, html.as_bytes())
+        write_bytes(&page, &inputs, html.as_bytes())?;
+        if summary {
+            let s = group::summary(&unit.name, &maps);
+            group::write_summary(out, &s, &inputs).map_err(|source| {
+                let _ = std::fs::remove_file(&page);
+                UnitError::Write {
+                    path: group::summary_path(out, &unit.name),
+                    source,
+                }
+            })?;
+        }
+        Ok(())
     })();
     if let Err(e) = result {
         for p in &written {

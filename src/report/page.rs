@@ -80,7 +80,7 @@ fn inset(i: &InsetInfo, anatomical: bool) -> String {
     )
 }
 
-fn section(page: &mut String, map: &MapReport) {
+fn section(page: &mut String, map: &MapReport, timings: bool) {
     let _ = writeln!(page, "<h2>{}</h2>\n<table>", esc(&map.name));
     let mut row = |k: &str, v: String| {
         let _ = writeln!(page, "<tr><th>{k}</th><td>{v}</td></tr>");
@@ -123,15 +123,17 @@ fn section(page: &mut String, map: &MapReport) {
         .iter()
         .map(|f| format!("{} {:.0} ms", f.orientation, f.ms))
         .collect();
-    row(
-        "timings",
-        format!(
-            "read {:.0} ms, decompose {:.0} ms; figures: {}",
-            map.read_ms,
-            map.decompose_ms,
-            figures.join(", ")
-        ),
-    );
+    if timings {
+        row(
+            "timings",
+            format!(
+                "read {:.0} ms, decompose {:.0} ms; figures: {}",
+                map.read_ms,
+                map.decompose_ms,
+                figures.join(", ")
+            ),
+        );
+    }
     let _ = writeln!(page, "</table>");
     for f in &map.figures {
         let axis = ["i", "j", "k"][f.lattice_axis];
@@ -169,7 +171,7 @@ fn embed(page: &mut String, f: &FigureReport, caption: &str) {
     );
 }
 
-fn odf_section(page: &mut String, map: &OdfReport) {
+fn odf_section(page: &mut String, map: &OdfReport, timings: bool) {
     let _ = writeln!(page, "<h2>{}</h2>\n<table>", esc(&map.name));
     let mut row = |k: &str, v: String| {
         let _ = writeln!(page, "<tr><th>{k}</th><td>{v}</td></tr>");
@@ -222,14 +224,16 @@ fn odf_section(page: &mut String, map: &OdfReport) {
         .iter()
         .map(|f| format!("{} {:.0} ms", f.orientation, f.ms))
         .collect();
-    row(
-        "timings",
-        format!(
-            "read {:.0} ms; figures: {}",
-            map.read_ms,
-            figures.join(", ")
-        ),
-    );
+    if timings {
+        row(
+            "timings",
+            format!(
+                "read {:.0} ms; figures: {}",
+                map.read_ms,
+                figures.join(", ")
+            ),
+        );
+    }
     let _ = writeln!(page, "</table>");
     for f in &map.figures {
         let axis = ["i", "j", "k"][f.lattice_axis];
@@ -253,8 +257,8 @@ pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
     let mut body = String::new();
     for m in maps {
         match m {
-            Section::Tensor(m) => section(&mut body, m),
-            Section::Odf(m) => odf_section(&mut body, m),
+            Section::Tensor(m) => section(&mut body, m, run.timings),
+            Section::Odf(m) => odf_section(&mut body, m, run.timings),
         }
     }
     let mut glyphs = String::new();
@@ -277,6 +281,14 @@ pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
         .map_or("not known on this system".into(), |b| {
             format!("{:.0} MiB (the process's, so far)", b as f64 / 1048576.0)
         });
+    let cost = if run.timings {
+        format!(
+            "<p>Time for this page {:.0} ms; peak memory {peak}.</p>\n",
+            run.total_ms
+        )
+    } else {
+        String::new()
+    };
     format!(
         "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\
          <title>{title}: tensorglyph report</title>\n<style>body{{font-family:sans-serif;\
@@ -287,10 +299,9 @@ pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
          neurological convention: the subject's right on the image's right in axial and \
          coronal slices, anterior on the left in sagittal ones; the letters at each tile's \
          edges name the world directions (RAS, from the file's affine) that lie there.</p>\n\
-         <p>Time for this page {total:.0} ms; peak memory {peak}.</p>\n{body}</body></html>\n",
+         {cost}{body}</body></html>\n",
         title = esc(title),
         version = env!("CARGO_PKG_VERSION"),
         backend = esc(&run.backend),
-        total = run.total_ms,
     )
 }

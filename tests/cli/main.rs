@@ -12,6 +12,7 @@ mod xvfb;
 
 mod bench_large;
 mod brain_report;
+mod cohort;
 mod commands;
 mod container;
 mod report;

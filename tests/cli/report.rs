@@ -192,12 +192,14 @@ fn chosen_participants_only_and_usage_errors() {
             "dataset_description.json",
             "sub-01",
             "sub-01.html",
+            "sub-01.json",
             "sub-02",
-            "sub-02.html"
+            "sub-02.html",
+            "sub-02.json"
         ]
     );
     for (args, want) in [
-        (vec!["group"], "group"),
+        (vec!["groups"], "analysis level groups: participant"),
         (
             vec!["participant", "--participant-label", "99"],
             "no participant 99",
