@@ -124,19 +124,10 @@ fn sidecar(orig: &str, k: usize, rng: &mut Rng) -> (Vec<u8>, String) {
 /// Every map of `bids` with its sidecar, mutated in turn; the sidecar also missing, a folder,
 /// a FIFO or a device. Read by the map's name, as everywhere.
 fn bep016(bids: &Path, dir: &Path, seed: u64, per_file: usize, fifo: Option<&Path>, run: &mut Run) {
-    let mut maps: Vec<PathBuf> = Vec::new();
-    let mut stack = vec![bids.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else if name_of(&p).ends_with("_dwimap.nii.gz") {
-                maps.push(p);
-            }
-        }
-    }
-    maps.sort();
+    let maps: Vec<PathBuf> = super::data::files_below(bids)
+        .into_iter()
+        .filter(|p| name_of(p).ends_with("_dwimap.nii.gz"))
+        .collect();
     assert!(maps.len() >= 5, "{} BEP016 maps", maps.len());
     let work = dir.join("bep016");
     for (mi, map) in maps.iter().enumerate() {
@@ -526,17 +517,7 @@ pub fn run_all(dir: &Path, seed: u64, per_file: usize, fifo: Option<&Path>, run:
     scalars(&data("scalars"), dir, seed, per_file, run);
     let mut gz: Vec<PathBuf> = data_files(&data("dti"));
     gz.extend(data_files(&data("scalars")));
-    let mut stack = vec![data("bids/derivatives")];
-    while let Some(d) = stack.pop() {
-        for e in std::fs::read_dir(&d).unwrap() {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                stack.push(p);
-            } else {
-                gz.push(p);
-            }
-        }
-    }
+    gz.extend(super::data::files_below(&data("bids/derivatives")));
     // Not the members of an FSL eigen set: alone they are refused for the missing five.
     let member = |n: &str| {
         ["L1", "L2", "L3", "V1", "V2", "V3"]
