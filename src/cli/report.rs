@@ -46,7 +46,7 @@ pub struct ReportArgs {
     /// The region each figure's zoomed inset shows: the voxel I,J,K (lattice indices) it is
     /// centred on and its side in voxels (2 to 128), e.g. 64,64,35:48; each row's inset is
     /// the slice through that voxel. Default: the 48-voxel square of the row's middle slice
-    /// where FA is highest.
+    /// where FA is highest (an ODF map's: where the fibre density, the l = 0 term, is).
     #[arg(long = "zoom-region", value_name = "I,J,K:SIZE")]
     pub zoom_region: Option<report::inset::ZoomRegion>,
     /// The basis of the files of SH series (tournier07, descoteaux07, descoteaux07-legacy),

@@ -14,7 +14,6 @@ use std::str::FromStr;
 use glam::{DVec3, DVec4, Vec4Swizzles as _};
 
 use crate::camera::{Camera, Framing};
-use crate::field::TensorField;
 use crate::glyph::GlyphSet;
 use crate::select::lattice_coords;
 use crate::tensor::shape::fa;
@@ -186,17 +185,32 @@ pub fn brightest(
     slice: usize,
     size: usize,
 ) -> Region {
+    let fa_of = set.glyphs.iter().map(|g| {
+        (
+            lattice_coords(g.index as usize, dims),
+            fa(g.eigenvalues.map(f64::from)),
+        )
+    });
+    brightest_of(fa_of, dims, axis, slice, size)
+}
+
+/// The `size`-voxel square (cut to the lattice) of slice `slice` along `axis` where `values`
+/// (a voxel's lattice coordinates and its value; other slices' are passed over) sum highest,
+/// the first such in storage order.
+pub fn brightest_of(
+    values: impl IntoIterator<Item = ([usize; 3], f64)>,
+    dims: [usize; 3],
+    axis: usize,
+    slice: usize,
+    size: usize,
+) -> Region {
     let [a, b] = across(axis);
     let (na, nb) = (dims[a], dims[b]);
-    // A summed-area table of FA over the slice: every square's sum in four look-ups.
+    // A summed-area table over the slice: every square's sum in four look-ups.
     let mut sum = vec![0.0f64; (na + 1) * (nb + 1)];
-    for g in &set.glyphs {
-        let ijk = lattice_coords(g.index as usize, dims);
-        if ijk[axis] == slice {
-            let value = fa(g.eigenvalues.map(f64::from));
-            if value.is_finite() {
-                sum[(ijk[b] + 1) * (na + 1) + ijk[a] + 1] += value;
-            }
+    for (ijk, value) in values {
+        if ijk[axis] == slice && value.is_finite() {
+            sum[(ijk[b] + 1) * (na + 1) + ijk[a] + 1] += value;
         }
     }
     for y in 1..=nb {
@@ -223,9 +237,12 @@ pub fn brightest(
     Region { axis, lo, hi }
 }
 
+/// The world position of voxel (i, j, k) of a lattice: what the inset's geometry needs of a
+/// field (a tensor field's `lattice::position_in`, an SH field's affine).
+pub type At<'a> = &'a dyn Fn([usize; 3]) -> DVec3;
+
 /// The world position of the voxel centre `ijk` (indices as reals: half-way points too).
-fn world(field: &TensorField, dims: [usize; 3], ijk: [f64; 3]) -> DVec3 {
-    let at = |c: [usize; 3]| DVec3::from(field.position(c[0] + dims[0] * (c[1] + dims[1] * c[2])));
+fn world(at: At<'_>, dims: [usize; 3], ijk: [f64; 3]) -> DVec3 {
     let origin = at([0; 3]);
     let mut p = origin;
     for (a, &v) in ijk.iter().enumerate() {
@@ -240,7 +257,7 @@ fn world(field: &TensorField, dims: [usize; 3], ijk: [f64; 3]) -> DVec3 {
 
 /// The region's outline on its slice: the four corners of its voxels' cells (half a voxel
 /// beyond the outer centres), in order around it.
-pub fn corners(field: &TensorField, dims: [usize; 3], region: &Region) -> [DVec3; 4] {
+pub fn corners(at: At<'_>, dims: [usize; 3], region: &Region) -> [DVec3; 4] {
     let [a, b] = region.across();
     let mut c = [region.slice() as f64; 3];
     let lo = |x: usize| region.lo[x] as f64 - 0.5;
@@ -254,12 +271,12 @@ pub fn corners(field: &TensorField, dims: [usize; 3], region: &Region) -> [DVec3
     .map(|(u, v)| {
         c[a] = u;
         c[b] = v;
-        world(field, dims, c)
+        world(at, dims, c)
     })
 }
 
 /// The world range `[min, max]` along x, y and z of the region's voxel centres.
-pub fn world_range(field: &TensorField, dims: [usize; 3], region: &Region) -> [[f64; 2]; 3] {
+pub fn world_range(at: At<'_>, dims: [usize; 3], region: &Region) -> [[f64; 2]; 3] {
     let mut out = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
     for k in 0..8 {
         let c: [f64; 3] = std::array::from_fn(|x| {
@@ -269,7 +286,7 @@ pub fn world_range(field: &TensorField, dims: [usize; 3], region: &Region) -> [[
                 region.lo[x] as f64
             }
         });
-        let p = world(field, dims, c);
+        let p = world(at, dims, c);
         for w in 0..3 {
             out[w] = [out[w][0].min(p[w]), out[w][1].max(p[w])];
         }
@@ -278,19 +295,19 @@ pub fn world_range(field: &TensorField, dims: [usize; 3], region: &Region) -> [[
 }
 
 /// The lengths of one step along each lattice axis, world units.
-fn steps(field: &TensorField, dims: [usize; 3]) -> [f64; 3] {
-    let origin = world(field, dims, [0.0; 3]);
+fn steps(at: At<'_>, dims: [usize; 3]) -> [f64; 3] {
+    let origin = world(at, dims, [0.0; 3]);
     std::array::from_fn(|a| {
         let mut c = [0.0; 3];
         c[a] = 1.0;
-        (world(field, dims, c) - origin).length()
+        (world(at, dims, c) - origin).length()
     })
 }
 
 /// The inset's side in pixels: the region's longer side at [`PX_PER_VOXEL`] of its shorter
 /// voxel step, the region filling [`FILL`] of it.
-pub fn side(field: &TensorField, dims: [usize; 3], region: &Region) -> u32 {
-    let step = steps(field, dims);
+pub fn side(at: At<'_>, dims: [usize; 3], region: &Region) -> u32 {
+    let step = steps(at, dims);
     let [a, b] = region.across();
     let extent = ((region.hi[a] - region.lo[a]) as f64 * step[a])
         .max((region.hi[b] - region.lo[b]) as f64 * step[b]);
@@ -306,13 +323,13 @@ pub fn side(field: &TensorField, dims: [usize; 3], region: &Region) -> u32 {
 /// The camera that shows `region` face-on (`toward`: view direction and up) filling [`FILL`]
 /// of a `side`-pixel square.
 pub fn camera(
-    field: &TensorField,
+    at: At<'_>,
     dims: [usize; 3],
     region: &Region,
     toward: (DVec3, DVec3),
     side: u32,
 ) -> Camera {
-    let c = corners(field, dims, region);
+    let c = corners(at, dims, region);
     let lo = c.iter().fold(DVec3::INFINITY, |m, p| m.min(*p));
     let hi = c.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p));
     let framing = Framing {
@@ -334,8 +351,8 @@ pub fn to_pixel(camera: &Camera, p: DVec3) -> [f64; 2] {
 
 /// Pixels per voxel along the slice in `camera`'s image: of the shorter step across it (the
 /// one that shows the fewest pixels per voxel).
-pub fn px_per_voxel(field: &TensorField, dims: [usize; 3], axis: usize, camera: &Camera) -> f64 {
-    let step = steps(field, dims);
+pub fn px_per_voxel(at: At<'_>, dims: [usize; 3], axis: usize, camera: &Camera) -> f64 {
+    let step = steps(at, dims);
     let per_unit = camera.pixels_per_unit();
     across(axis)
         .into_iter()

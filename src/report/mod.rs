@@ -694,6 +694,7 @@ fn odf_map(
             anatomical,
             normalize,
             options.tile,
+            options.zoom,
             backend,
             progress,
         )?;

@@ -15,7 +15,7 @@ use web_time::Instant;
 use super::Options;
 use super::inset::{self, Region, ZoomRegion};
 pub use super::lattice::{ORIENTATIONS, Orientation, edge_labels, lattice_axis, slices};
-use super::lattice::{lattice_box, slice_place};
+use super::lattice::{lattice_box, position_in, slice_place};
 use crate::backend::{Backend, StageFailed};
 use crate::camera::{Camera, Framing};
 use crate::effects::Effects;
@@ -89,8 +89,9 @@ pub(crate) fn style() -> GlyphStyle {
 #[derive(Debug, Clone, PartialEq)]
 pub struct InsetInfo {
     pub region: Region,
-    /// Chosen where FA is highest (no region asked for).
-    pub by_fa: bool,
+    /// What the region was chosen by where none was asked for: where this sums highest on
+    /// the middle slice (`FA`, an ODF map's fibre density); `None`: as asked.
+    pub chosen_by: Option<&'static str>,
     /// The world range of its voxel centres along x, y and z.
     pub world: [[f64; 2]; 3],
     pub px_per_voxel: f64,
@@ -207,7 +208,8 @@ pub fn draw_inset(
     backend: &Backend,
     progress: &dyn Progress,
 ) -> Result<Option<Drawn>, FigureError> {
-    let side = inset::side(field, dims, region);
+    let at = position_in(field, dims);
+    let side = inset::side(&at, dims, region);
     let plane = Plane {
         axis: region.axis,
         index: region.slice(),
@@ -220,7 +222,7 @@ pub fn draw_inset(
         &mut None,
         backend,
         progress,
-        |toward, _| inset::camera(field, dims, region, toward, side),
+        |toward, _| inset::camera(&at, dims, region, toward, side),
     )
 }
 
@@ -269,17 +271,10 @@ pub fn render(
     let axis = lattice_axis(field, dims, orientation.world_axis);
     let mut slices = slices(set, dims, axis, SLICES);
     let region = inset_region(set, dims, axis, &slices, options.zoom)?;
-    // The slice the inset is cut from is among the overview's, its outline drawn on it: the
-    // nearest of them gives way to it.
-    if let Some(r) = &region
-        && !slices.contains(&r.slice())
-        && let Some(near) = slices.iter_mut().min_by_key(|s| s.abs_diff(r.slice()))
-    {
-        *near = r.slice();
-        slices.sort_unstable();
-    }
+    with_inset_slice(&mut slices, region.as_ref());
     let lattice = lattice_box(field, dims);
-    let inset_side = region.map_or(0, |r| inset::side(field, dims, &r));
+    let at = position_in(field, dims);
+    let inset_side = region.map_or(0, |r| inset::side(&at, dims, &r));
     let tiles = slices.len() as u32;
     let (width, height) = (
         tiles * tile + inset_side + LEGEND_WIDTH,
@@ -312,11 +307,11 @@ pub fn render(
         };
         drawn += d.glyphs_drawn;
         window = window.or(d.window);
-        overview_px_per_voxel = inset::px_per_voxel(field, dims, axis, &d.camera);
+        overview_px_per_voxel = inset::px_per_voxel(&at, dims, axis, &d.camera);
         let x0 = n as u32 * tile;
         blit(&mut rgba, width, &d.frame, x0);
-        if let Some(r) = region.filter(|r| r.slice() == index) {
-            outline = Some((x0, d.camera, r));
+        if region.is_some_and(|r| r.slice() == index) {
+            outline = Some((x0, d.camera));
         }
         if let Some(pen) = &pen {
             let mut canvas = Canvas {
@@ -340,63 +335,27 @@ pub fn render(
         w: i64::from(width),
         h: i64::from(height),
     };
-    // The inset's region outlined on its slice, where the affine puts its voxels.
-    if let Some((x0, camera, r)) = &outline {
-        let c = inset::corners(field, dims, r).map(|p| {
-            let [x, y] = inset::to_pixel(camera, p);
-            [x + f64::from(*x0), y]
-        });
-        for k in 0..4 {
-            canvas.line(c[k], c[(k + 1) % 4], 2.0, OUTLINE);
-        }
-    }
     let x_inset = tiles * tile;
-    let mut inset_info = None;
-    if let Some(r) = region {
-        let d = draw_inset(field, set, dims, &r, window, backend, progress)?;
-        let (px_per_voxel, glyphs_drawn) = match &d {
-            Some(d) => {
-                blit(canvas.rgba, width, &d.frame, x_inset);
-                (
-                    inset::px_per_voxel(field, dims, axis, &d.camera),
-                    d.glyphs_drawn,
-                )
-            }
-            None => (f64::NAN, 0),
-        };
-        let (x, s) = (i64::from(x_inset), i64::from(inset_side));
-        for (x, y, w, h) in [
-            (x, 0, s, 2),
-            (x, s - 2, s, 2),
-            (x, 0, 2, s),
-            (x + s - 2, 0, 2, s),
-        ] {
-            canvas.rect(x, y, w, h, OUTLINE);
-        }
-        if let (Some(pen), Some(d)) = (&pen, &d) {
-            // The region's voxels and world range are the page's caption: short lines here,
-            // clear of the edge letters.
-            let top = format!("inset {}={}", ["i", "j", "k"][axis], r.slice());
-            let bottom = format!("{px_per_voxel:.1} px/voxel");
-            label_tile(
-                &mut canvas,
-                pen,
-                (x_inset, inset_side),
-                (d.camera.forward(), d.camera.up),
-                anatomical,
-                [top.as_str(), bottom.as_str()],
-            );
-        }
-        inset_info = Some(InsetInfo {
-            region: r,
-            by_fa: options.zoom.is_none(),
-            world: inset::world_range(field, dims, &r),
-            px_per_voxel,
-            glyphs_drawn,
-            x0: x_inset,
-            side: inset_side,
-        });
-    }
+    let placed = Placed {
+        region,
+        outline,
+        x0: x_inset,
+        side: inset_side,
+    };
+    let chosen_by = options.zoom.is_none().then_some("FA");
+    let inset_info = place_inset(
+        &mut canvas,
+        pen.as_ref(),
+        &at,
+        dims,
+        placed,
+        anatomical,
+        |r| {
+            let d = draw_inset(field, set, dims, r, window, backend, progress)?;
+            Ok(d.map(|d| (d.frame, d.camera, d.glyphs_drawn)))
+        },
+    )?
+    .map(|i| InsetInfo { chosen_by, ..i });
     if let Some(pen) = &pen {
         legend(
             &mut canvas,
@@ -422,6 +381,101 @@ pub fn render(
         ms: staging::ms(t),
         underlay_missing,
     })
+}
+
+/// Put the inset's slice among the overview's (its outline is drawn there): the nearest of
+/// them gives way to it.
+pub(super) fn with_inset_slice(slices: &mut [usize], region: Option<&Region>) {
+    if let Some(r) = region
+        && !slices.contains(&r.slice())
+        && let Some(near) = slices.iter_mut().min_by_key(|s| s.abs_diff(r.slice()))
+    {
+        *near = r.slice();
+        slices.sort_unstable();
+    }
+}
+
+/// Where a figure's inset goes: its region (none: no inset), the overview tile that shows its
+/// slice (left edge and camera) if one does, and its square's left edge and side in the figure.
+pub(super) struct Placed {
+    pub region: Option<Region>,
+    pub outline: Option<(u32, Camera)>,
+    pub x0: u32,
+    pub side: u32,
+}
+
+/// The inset's part of a figure, the same for tensor and ODF rows: the region outlined on its
+/// slice where the affine puts its voxels, the inset's frame (`draw` of the region: frame,
+/// camera, glyphs; `None` where it holds none) copied into its square, boxed and labelled.
+/// Its [`InsetInfo::chosen_by`] is `None` (as asked); the caller says otherwise.
+pub(super) fn place_inset(
+    canvas: &mut Canvas<'_>,
+    pen: Option<&Pen<'_>>,
+    at: inset::At<'_>,
+    dims: [usize; 3],
+    placed: Placed,
+    anatomical: bool,
+    draw: impl FnOnce(&Region) -> Result<Option<(Frame, Camera, usize)>, FigureError>,
+) -> Result<Option<InsetInfo>, FigureError> {
+    let Placed {
+        region,
+        outline,
+        x0,
+        side,
+    } = placed;
+    let Some(r) = region else {
+        return Ok(None);
+    };
+    let drawn = draw(&r)?;
+    if let Some((tile_x0, camera)) = &outline {
+        let c = inset::corners(at, dims, &r).map(|p| {
+            let [x, y] = inset::to_pixel(camera, p);
+            [x + f64::from(*tile_x0), y]
+        });
+        for k in 0..4 {
+            canvas.line(c[k], c[(k + 1) % 4], 2.0, OUTLINE);
+        }
+    }
+    let width = canvas.w as u32;
+    let (px_per_voxel, glyphs_drawn) = match &drawn {
+        Some((frame, camera, glyphs)) => {
+            blit(canvas.rgba, width, frame, x0);
+            (inset::px_per_voxel(at, dims, r.axis, camera), *glyphs)
+        }
+        None => (f64::NAN, 0),
+    };
+    let (x, s) = (i64::from(x0), i64::from(side));
+    for (x, y, w, h) in [
+        (x, 0, s, 2),
+        (x, s - 2, s, 2),
+        (x, 0, 2, s),
+        (x + s - 2, 0, 2, s),
+    ] {
+        canvas.rect(x, y, w, h, OUTLINE);
+    }
+    if let (Some(pen), Some((_, camera, _))) = (pen, &drawn) {
+        // The region's voxels and world range are the page's caption: short lines here,
+        // clear of the edge letters.
+        let top = format!("inset {}={}", ["i", "j", "k"][r.axis], r.slice());
+        let bottom = format!("{px_per_voxel:.1} px/voxel");
+        label_tile(
+            canvas,
+            pen,
+            (x0, side),
+            (camera.forward(), camera.up),
+            anatomical,
+            [top.as_str(), bottom.as_str()],
+        );
+    }
+    Ok(Some(InsetInfo {
+        region: r,
+        chosen_by: None,
+        world: inset::world_range(at, dims, &r),
+        px_per_voxel,
+        glyphs_drawn,
+        x0,
+        side,
+    }))
 }
 
 /// The camera of an overview tile of `tile` pixels showing the slice seen along `toward` whose
@@ -574,15 +628,21 @@ fn legend(
         y += lh;
     }
     if inset {
-        canvas.rect(
-            x as i64,
-            (y + (lh - bar_h) / 2.0) as i64,
-            bar_h as i64,
-            bar_h as i64,
-            OUTLINE,
-        );
-        pen.draw(canvas, x + bar_h + 6.0, y, "the inset's region", ink);
+        inset_key(canvas, pen, x, y, bar_h);
     }
+}
+
+/// The legend's key to the inset's outline at (`x`, `y`), its swatch `side` pixels.
+pub(super) fn inset_key(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, side: f64) {
+    let lh = pen.line_height();
+    canvas.rect(
+        x as i64,
+        (y + (lh - side) / 2.0) as i64,
+        side as i64,
+        side as i64,
+        OUTLINE,
+    );
+    pen.draw(canvas, x + side + 6.0, y, "the inset's region", [1.0; 3]);
 }
 
 #[cfg(test)]

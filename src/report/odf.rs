@@ -5,22 +5,27 @@
 //!
 //! The tiles are the tensor rows' ([`super::mosaic`]): the same slice choice (up to
 //! [`mosaic::SLICES`] through the voxels that hold a series), the same framing (every tile of a
-//! row at one scale), labels and back end. There is no FA underlay (an SH series has none) and
-//! no zoomed inset yet: each ODF slice costs its scene (every voxel's ODF sampled for its size
-//! and bounds: about 30 µs a voxel in the release build since the sampling became a table's dot
-//! products) and a ray-marched frame (the dearer part on a CPU rasteriser), and an inset would
-//! add both again for every row.
+//! row at one scale), labels, back end and zoomed inset ([`super::inset`]: a square of one slice
+//! at ≥ 8 pixels per voxel, outlined on its slice). There is no FA underlay (an SH series has
+//! none). The inset's region is the one `--zoom-region` asks for or, by default, the square of
+//! the middle slice where the fibre density (each ODF's l = 0 coefficient, MRtrix's AFD, the
+//! same in every basis read) sums highest: white matter. Its glyphs are those of the overview's
+//! scene of that slice, so a glyph has the same size in both (with `--odf-normalize none` too),
+//! and the scene is built once.
 
 use glam::DVec3;
 use web_time::Instant;
 
+use super::inset::{self, ZoomRegion};
 use super::lattice;
-use super::mosaic::{self, FigureError, Mosaic, Orientation};
+use super::mosaic::{self, FigureError, Mosaic, Orientation, Placed};
 use crate::backend::Backend;
 use crate::camera::{Camera, ViewPreset};
 use crate::field::ShField;
 use crate::legend::raster::{Canvas, Pen};
 use crate::progress::Progress;
+use crate::request::GlyphKind;
+use crate::scene::Scene;
 use crate::scene::odf::{OdfNormalize, OdfOptions, odf_scene};
 use crate::select::Plane;
 use crate::staging;
@@ -64,8 +69,40 @@ fn preset_view(orientation: Orientation) -> (DVec3, DVec3) {
     .direction_up()
 }
 
+/// The fibre density of the voxels of slice `slice` along `axis` that hold a series: their
+/// l = 0 coefficient (the first of every basis read).
+fn density<'a>(
+    field: &'a ShField,
+    held: &'a [bool],
+    axis: usize,
+    slice: usize,
+) -> impl Iterator<Item = ([usize; 3], f64)> + 'a {
+    let mut c = vec![0.0; field.layout.count];
+    held.iter().enumerate().filter_map(move |(v, &h)| {
+        let ijk = crate::select::lattice_coords(v, field.dims);
+        (h && ijk[axis] == slice).then(|| {
+            field.coefficients_of(v, &mut c);
+            (ijk, c[0])
+        })
+    })
+}
+
+/// The glyphs of `scene` (one slice's) whose voxels lie in `region`, sized as in `scene`.
+fn scene_in(scene: &Scene, dims: [usize; 3], region: &inset::Region) -> Scene {
+    let kept = scene
+        .instances
+        .iter()
+        .filter(|g| region.contains(crate::select::lattice_coords(g.glyph as usize, dims)))
+        .copied()
+        .collect();
+    let mut s = Scene::from_instances_as(scene.origin, kept, GlyphKind::Odf);
+    s.payload = scene.payload.clone();
+    s
+}
+
 /// Draw the ODF figure of `orientation` of `field` (`held`: [`held`] of it), in `tile`-pixel
-/// tiles, each voxel's ODF normalised as `normalize` says.
+/// tiles, each voxel's ODF normalised as `normalize` says, with the inset of `zoom` (or of
+/// where the fibre density is highest) beside them.
 #[allow(clippy::too_many_arguments)]
 pub fn render(
     field: &ShField,
@@ -74,6 +111,7 @@ pub fn render(
     anatomical: bool,
     normalize: OdfNormalize,
     tile: u32,
+    zoom: Option<ZoomRegion>,
     backend: &Backend,
     progress: &dyn Progress,
 ) -> Result<Mosaic, FigureError> {
@@ -85,10 +123,22 @@ pub fn render(
     for (v, _) in held.iter().enumerate().filter(|(_, h)| **h) {
         count[crate::select::lattice_coords(v, dims)[axis]] += 1;
     }
-    let slices = lattice::slices_of(&count, mosaic::SLICES);
+    let mut slices = lattice::slices_of(&count, mosaic::SLICES);
+    let region = match zoom {
+        Some(z) => Some(inset::given(z, dims, axis)?),
+        None => slices.get(slices.len() / 2).map(|&s| {
+            let values = density(field, held, axis, s);
+            inset::brightest_of(values, dims, axis, s, inset::DEFAULT_SIZE)
+        }),
+    };
+    mosaic::with_inset_slice(&mut slices, region.as_ref());
+    let inset_side = region.map_or(0, |r| inset::side(&at, dims, &r));
     let lattice = lattice::lattice_box_of(&at, dims);
     let tiles = slices.len() as u32;
-    let (width, height) = (tiles * tile + mosaic::LEGEND_WIDTH, tile);
+    let (width, height) = (
+        tiles * tile + inset_side + mosaic::LEGEND_WIDTH,
+        tile.max(inset_side),
+    );
     let mut rgba = vec![0u8; (width * height * 4) as usize];
     for px in rgba.chunks_exact_mut(4) {
         px[3] = 255;
@@ -98,6 +148,10 @@ pub fn render(
     let across: Vec<usize> = (0..3).filter(|&a| a != axis && dims[a] > 1).collect();
     let mut drawn = 0;
     let mut px_per_voxel = f64::NAN;
+    // The inset's glyphs (cut from its slice's scene), the way that slice is seen, and where
+    // its tile is.
+    let mut cut = None;
+    let mut outline = None;
     for (n, &index) in slices.iter().enumerate() {
         let plane = Plane { axis, index };
         let opts = OdfOptions {
@@ -112,13 +166,17 @@ pub fn render(
         let toward = staging::sh_face_on(field, plane, &scene)
             .map_or_else(|| preset_view(orientation), |f| f.toward);
         let camera: Camera = mosaic::tile_camera(lattice, toward, scene.centre, tile);
+        let x0 = n as u32 * tile;
+        if let Some(r) = region.filter(|r| r.slice() == index) {
+            cut = Some((scene_in(&scene, dims, &r), toward));
+            outline = Some((x0, camera));
+        }
         let (frame, glyphs) = mosaic::draw_scene(&mut scene, &camera, None, backend, progress)?;
         drawn += glyphs;
         px_per_voxel = across
             .iter()
             .map(|&a| step[a] * camera.pixels_per_unit())
             .fold(f64::INFINITY, f64::min);
-        let x0 = n as u32 * tile;
         mosaic::blit(&mut rgba, width, &frame, x0);
         if let Some(pen) = &pen {
             let mut canvas = Canvas {
@@ -137,21 +195,47 @@ pub fn render(
             );
         }
     }
+    let mut canvas = Canvas {
+        rgba: &mut rgba,
+        w: i64::from(width),
+        h: i64::from(height),
+    };
+    let x_inset = tiles * tile;
+    let placed = Placed {
+        region,
+        outline,
+        x0: x_inset,
+        side: inset_side,
+    };
+    let chosen_by = zoom.is_none().then_some("the fibre density (l = 0)");
+    let inset_info = mosaic::place_inset(
+        &mut canvas,
+        pen.as_ref(),
+        &at,
+        dims,
+        placed,
+        anatomical,
+        |r| {
+            let Some((mut scene, toward)) = cut.filter(|(s, _)| !s.instances.is_empty()) else {
+                return Ok(None);
+            };
+            let camera = inset::camera(&at, dims, r, toward, inset_side);
+            let (frame, glyphs) = mosaic::draw_scene(&mut scene, &camera, None, backend, progress)?;
+            Ok(Some((frame, camera, glyphs)))
+        },
+    )?
+    .map(|i| mosaic::InsetInfo { chosen_by, ..i });
     if let Some(pen) = &pen {
-        let mut canvas = Canvas {
-            rgba: &mut rgba,
-            w: i64::from(width),
-            h: i64::from(height),
-        };
         legend(
             &mut canvas,
             pen,
-            (tiles * tile, height),
+            (x_inset + inset_side, height),
             orientation,
             field,
             normalize,
             anatomical,
             px_per_voxel,
+            inset_info.is_some(),
         );
     }
     Ok(Mosaic {
@@ -163,7 +247,7 @@ pub fn render(
         slices,
         glyphs_drawn: drawn,
         overview_px_per_voxel: px_per_voxel,
-        inset: None,
+        inset: inset_info,
         ms: staging::ms(t),
         underlay_missing: None,
     })
@@ -181,6 +265,7 @@ fn legend(
     normalize: OdfNormalize,
     anatomical: bool,
     px_per_voxel: f64,
+    inset: bool,
 ) {
     let w = mosaic::LEGEND_WIDTH;
     let x = f64::from(x0) + 10.0;
@@ -225,5 +310,8 @@ fn legend(
             &mut y,
             &format!("tiles: {px_per_voxel:.1} px/voxel"),
         );
+    }
+    if inset {
+        mosaic::inset_key(canvas, pen, x, y, lh * 0.7);
     }
 }

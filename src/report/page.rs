@@ -65,10 +65,9 @@ fn inset(i: &InsetInfo, anatomical: bool) -> String {
             }
         })
         .collect();
-    let why = if i.by_fa {
-        "where FA is highest on the middle slice"
-    } else {
-        "as asked (zoom region)"
+    let why = match i.chosen_by {
+        Some(what) => format!("where {what} is highest on the middle slice"),
+        None => "as asked (zoom region)".into(),
     };
     format!(
         "; inset (cyan outline): voxels {} ({}{unit}), {why}, {:.1} px per voxel, {} glyphs \
@@ -240,13 +239,16 @@ fn odf_section(page: &mut String, map: &OdfReport, timings: bool) {
         let slices: Vec<String> = f.slices.iter().map(|s| s.to_string()).collect();
         let caption = format!(
             "ODF glyphs (lmax {}, {}, normalised {}), slices {axis} = {}; {} glyphs drawn; \
-             no underlay, no inset; {}",
+             no underlay; {}{}",
             map.lmax,
             esc(&map.basis),
             map.normalize.name(),
             slices.join(", "),
             f.glyphs_drawn,
-            overview_scale(f.overview_px_per_voxel)
+            overview_scale(f.overview_px_per_voxel),
+            f.inset
+                .as_ref()
+                .map_or(String::new(), |i| inset(i, map.anatomical)),
         );
         embed(page, f, &caption);
     }

@@ -349,3 +349,83 @@ fn sh_basis_names_the_basis_of_the_reports_series() {
         stderr(&o)
     );
 }
+
+/// The inset each ODF figure's caption states: (region, px per voxel, glyphs drawn, why).
+fn odf_insets(html: &str) -> Vec<(String, f64, usize, String)> {
+    ["axial", "coronal", "sagittal"]
+        .iter()
+        .map(|o| {
+            let caption = html
+                .split(&format!("<figcaption>{o}: ODF glyphs"))
+                .nth(1)
+                .unwrap_or_else(|| panic!("no ODF figure {o}"));
+            let caption = &caption[..caption.find("</figcaption>").unwrap()];
+            let inset = caption
+                .split("inset (cyan outline): voxels ")
+                .nth(1)
+                .unwrap_or_else(|| panic!("{o}: no inset in {caption}"));
+            let region = inset[..inset.find(" (").unwrap()].to_string();
+            let parts: Vec<&str> = inset[inset.find("), ").unwrap() + 3..]
+                .split(", ")
+                .collect();
+            let why = parts[0].to_string();
+            let px: f64 = parts[1].trim_end_matches(" px per voxel").parse().unwrap();
+            let glyphs: usize = parts[2].trim_end_matches(" glyphs drawn").parse().unwrap();
+            (region, px, glyphs, why)
+        })
+        .collect()
+}
+
+/// An ODF figure has the tensor figures' zoomed inset: by default the square of the middle
+/// slice where the fibre density sums highest (here, the lattice being 4 voxels across, the
+/// whole slice), at 8 px per voxel or more, its glyphs the voxels of the region that hold a
+/// series (all 16 of the fit's, 8 of the half-zeroed fit's where i < 2 is cut, all 16 again on
+/// the half fit's row along i, whose middle slice is i = 3); `--zoom-region` picks another.
+#[test]
+fn odf_figures_have_the_zoomed_inset() {
+    let dir = tempfile::tempdir().unwrap();
+    let half = dir.path().join("half.nii");
+    std::fs::write(&half, half_fit()).unwrap();
+    let full = crate::data::path(FIT);
+    let report = |file: &Path, zoom: Option<&str>| {
+        let out = dir.path().join(format!("out{}", zoom.is_some()));
+        let mut args = vec![
+            "report",
+            file.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        if let Some(z) = zoom {
+            args.extend(["--zoom-region", z]);
+        }
+        let o = tg(&args);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let name = file.file_name().unwrap().to_str().unwrap();
+        let stem = name.split('.').next().unwrap();
+        std::fs::read_to_string(out.join(format!("{stem}.html"))).unwrap()
+    };
+    let chosen = "where the fibre density (l = 0) is highest on the middle slice";
+    let whole = odf_insets(&report(&full, None));
+    for (o, (region, px, glyphs, why)) in ["axial", "coronal", "sagittal"].iter().zip(&whole) {
+        assert_eq!((*glyphs, why.as_str()), (16, chosen), "{o}: {region}");
+        assert!(*px >= 8.0, "{o}: {px} px per voxel");
+    }
+    assert_eq!(whole[0].0, "i 0–3, j 0–3, k = 2");
+    // Which orientation's slices run along i is the affine's to say: the row along i keeps
+    // its 16, the two across it their 8.
+    let halved = odf_insets(&report(&half, None));
+    for (region, _, glyphs, _) in &halved {
+        let along_i = region.ends_with("i = 3");
+        assert_eq!(*glyphs, if along_i { 16 } else { 8 }, "{halved:?}");
+    }
+    assert_eq!(halved.iter().filter(|i| i.0.ends_with("i = 3")).count(), 1);
+    let zoomed = odf_insets(&report(&full, Some("0,0,1:2")));
+    assert_eq!(zoomed[0].0, "i 0–1, j 0–1, k = 1");
+    for (region, _, glyphs, why) in &zoomed {
+        assert_eq!(
+            (*glyphs, why.as_str()),
+            (4, "as asked (zoom region)"),
+            "{region}"
+        );
+    }
+}
