@@ -3,18 +3,19 @@
 //! off, as MRIQC's group reports are used.
 //!
 //! The participant level leaves beside each page a summary (`sub-<label>.json`: each map's
-//! size, valid share, FA and MD medians, its axial figure; or the error that stopped it). The
-//! group level reads no image: it lists the BIDS folder's participants (those of
-//! `--participant-label` when given), reads their summaries and writes `group.html` (a row per
-//! map: thumbnail, measures, robust z-scores, a link to the participant's page) and
-//! `group.tsv` (the same numbers, `n/a` where none). A participant whose report failed, or that
-//! has no summary, is a row saying so; it does not stop the page.
+//! size, valid share, FA and MD medians or an ODF map's crossing share, its axial figure; or
+//! the error that stopped it). The group level reads no image: it lists the BIDS folder's
+//! participants (those of `--participant-label` when given), reads their summaries and writes
+//! `group.html` (a row per map: thumbnail, measures, robust z-scores, a link to the
+//! participant's page) and `group.tsv` (the same numbers, `n/a` where none). A participant
+//! whose report failed, or that has no summary, is a row saying so; it does not stop the page.
 //!
 //! **Outliers** are flagged by the modified z-score of Iglewicz and Hoaglin (1993),
-//! z = 0.6745 (x − median) / MAD over the maps of one kind, |z| > 3.5: the median and the
-//! median absolute deviation are not pulled by the outliers they look for, as a mean and a
-//! standard deviation are in a small cohort. Where MAD is 0 (most maps equal) any map that
-//! differs is flagged (z = ±∞). Fewer than three maps of a kind get no z-scores.
+//! z = 0.6745 (x − median) / MAD over the maps of one kind (tensor maps: FA median, MD median,
+//! valid share; ODF maps: the share with a series, the crossing share), |z| > 3.5: the median
+//! and the median absolute deviation are not pulled by the outliers they look for, as a mean
+//! and a standard deviation are in a small cohort. Where MAD is 0 (most maps equal) any map
+//! that differs is flagged (z = ±∞). Fewer than three maps of a kind get no z-scores.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -58,6 +59,10 @@ pub struct MapSummary {
     pub valid: usize,
     pub fa_median: Option<f64>,
     pub md_median: Option<f64>,
+    /// An ODF map's share of sampled voxels with two peaks or more
+    /// ([`super::PeakStats::crossing_share`]).
+    #[serde(default)]
+    pub crossing_share: Option<f64>,
     /// The axial figure, relative to the output folder.
     pub thumbnail: Option<String>,
 }
@@ -93,6 +98,7 @@ pub(crate) fn summary(name: &str, maps: &[Section]) -> ParticipantSummary {
                 valid: t.valid,
                 fa_median: t.fa.map(|s| s.median),
                 md_median: t.md.map(|s| s.median),
+                crossing_share: None,
                 thumbnail: thumbnail(&t.figures),
             },
             Section::Odf(o) => MapSummary {
@@ -103,6 +109,7 @@ pub(crate) fn summary(name: &str, maps: &[Section]) -> ParticipantSummary {
                 valid: o.held,
                 fa_median: None,
                 md_median: None,
+                crossing_share: o.peaks.map(|p| p.crossing_share()),
                 thumbnail: thumbnail(&o.figures),
             },
         })
@@ -140,7 +147,7 @@ struct Measure {
     of: fn(&MapSummary) -> Option<f64>,
 }
 
-const MEASURES: [Measure; 4] = [
+const MEASURES: [Measure; 5] = [
     Measure {
         title: "FA median",
         kind: "tensor",
@@ -160,6 +167,11 @@ const MEASURES: [Measure; 4] = [
         title: "share with an ODF",
         kind: "odf",
         of: |m| Some(m.valid_share()),
+    },
+    Measure {
+        title: "crossing share",
+        kind: "odf",
+        of: |m| m.crossing_share,
     },
 ];
 
@@ -205,7 +217,7 @@ struct Row {
     /// Why there is no map: the report failed, or there is no summary.
     problem: Option<String>,
     /// z per measure (`MEASURES`' order), where the measure applies and there are enough maps.
-    z: [Option<f64>; 4],
+    z: [Option<f64>; 5],
 }
 
 impl Row {
@@ -305,7 +317,7 @@ pub fn run(dir: &Path, out: &Path, labels: &[String]) -> Result<GroupOutcome, Re
                 page: s.page.clone(),
                 map: Some(m),
                 problem: None,
-                z: [None; 4],
+                z: [None; 5],
             })),
             Err(problem) => {
                 without_report.push(name.clone());
@@ -314,7 +326,7 @@ pub fn run(dir: &Path, out: &Path, labels: &[String]) -> Result<GroupOutcome, Re
                     page: None,
                     map: None,
                     problem: Some(problem),
-                    z: [None; 4],
+                    z: [None; 5],
                 });
             }
         }
@@ -376,7 +388,8 @@ fn number(v: Option<f64>, digits: usize) -> String {
 fn tsv(rows: &[Row]) -> String {
     let mut t = String::from(
         "participant_id\tsession_id\tmap\tkind\tvoxels\tvalid_share\tfa_median\tmd_median\t\
-         z_fa_median\tz_md_median\tz_valid_share\tz_odf_share\tflagged\tproblem\n",
+         crossing_share\tz_fa_median\tz_md_median\tz_valid_share\tz_odf_share\t\
+         z_crossing_share\tflagged\tproblem\n",
     );
     // Tabs and line ends in file-derived text would break the table's columns.
     let cell = |s: &str| s.replace(['\t', '\n', '\r'], " ");
@@ -388,7 +401,7 @@ fn tsv(rows: &[Row]) -> String {
         let m = r.map.as_ref();
         let _ = writeln!(
             t,
-            "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+            "{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
             cell(&r.participant),
             m.and_then(|m| m.session.as_deref())
                 .map_or("n/a".into(), |s| format!("ses-{}", cell(s))),
@@ -399,6 +412,7 @@ fn tsv(rows: &[Row]) -> String {
             number(m.and_then(|m| m.fa_median), 4),
             m.and_then(|m| m.md_median)
                 .map_or("n/a".into(), |v| format!("{v:.4e}")),
+            number(m.and_then(|m| m.crossing_share), 4),
             z.join("\t"),
             format_args!(
                 "{}\t{}",
@@ -426,7 +440,7 @@ fn html(rows: &[Row], o: &GroupOutcome) -> String {
         let Some(m) = &r.map else {
             let _ = writeln!(
                 body,
-                "<tr{style}><td>{who}</td><td colspan=\"6\"></td><td>{}</td></tr>",
+                "<tr{style}><td>{who}</td><td colspan=\"7\"></td><td>{}</td></tr>",
                 esc(r.problem.as_deref().unwrap_or_default())
             );
             continue;
@@ -455,23 +469,25 @@ fn html(rows: &[Row], o: &GroupOutcome) -> String {
                 (Some(v), None) => v,
             }
         };
-        let (fa, md, share) = if m.kind == "odf" {
+        let (fa, md, share, crossing) = if m.kind == "odf" {
             (
                 "–".into(),
                 "–".into(),
                 measure(3, Some(m.valid_share()), false),
+                measure(4, m.crossing_share, false),
             )
         } else {
             (
                 measure(0, m.fa_median, false),
                 measure(1, m.md_median, true),
                 measure(2, Some(m.valid_share()), false),
+                "–".into(),
             )
         };
         let _ = writeln!(
             body,
             "<tr{style}><td>{who}{session}</td><td>{thumb}</td><td>{}<br>{}</td><td>{fa}</td>\
-             <td>{md}</td><td>{share}</td><td>{}</td><td>{}</td></tr>",
+             <td>{md}</td><td>{share}</td><td>{crossing}</td><td>{}</td><td>{}</td></tr>",
             esc(&m.name),
             if m.kind == "odf" {
                 "ODF map"
@@ -491,10 +507,11 @@ fn html(rows: &[Row], o: &GroupOutcome) -> String {
          where a measure's modified z-score (0.6745 (x − median) / MAD over the maps of its \
          kind; Iglewicz and Hoaglin) is beyond ±{Z_LIMIT}; with MAD 0 any map that differs \
          from the median is. MD is in the file's units. The valid share is the share of the \
-         lattice's voxels holding a valid tensor (tensor maps) or a series (ODF maps). Each \
+         lattice's voxels holding a valid tensor (tensor maps) or a series (ODF maps); the \
+         crossing share an ODF map's share of sampled voxels with two peaks or more. Each \
          participant links to its page.</p>\n<table>\n<tr><th>participant</th><th>axial</th>\
-         <th>map</th><th>FA median</th><th>MD median</th><th>valid share</th><th>size</th>\
-         <th>flags</th></tr>\n{body}</table>\n</body></html>\n",
+         <th>map</th><th>FA median</th><th>MD median</th><th>valid share</th>\
+         <th>crossing share</th><th>size</th><th>flags</th></tr>\n{body}</table>\n</body></html>\n",
         version = env!("CARGO_PKG_VERSION"),
         n = o.participants,
         maps = o.maps,

@@ -14,6 +14,7 @@ pub mod inset;
 pub mod lattice;
 pub mod mosaic;
 pub mod odf;
+mod odf_map;
 pub mod page;
 pub mod stats;
 
@@ -25,13 +26,14 @@ use web_time::Instant;
 use crate::backend::Backend;
 use crate::bids::{self, FindError, MapKind};
 use crate::error::{LoadError, escape_path};
-use crate::field::{Inputs, ReadOptions, ShField};
+use crate::field::{Inputs, ReadOptions};
 use crate::image_out::{encode_png, write_atomic};
 use crate::info::{Skipped, info_report, why_text};
 use crate::progress::Progress;
 use crate::staging::{self, Source, field_spacing};
 use inset::ZoomRegion;
 use mosaic::{FigureError, InsetInfo, ORIENTATIONS};
+pub use odf_map::{OdfReport, PeakStats};
 use stats::Summary;
 
 /// What to report on.
@@ -194,30 +196,6 @@ impl Section {
     }
 }
 
-/// An ODF map's part of a report.
-pub struct OdfReport {
-    pub name: String,
-    pub path: String,
-    pub session: Option<String>,
-    pub format: String,
-    pub lmax: u32,
-    /// Coefficients per voxel.
-    pub count: usize,
-    pub basis: String,
-    /// Why that basis (`field.layout.reason`), and why the file was read as SH.
-    pub basis_reason: String,
-    pub recognised: String,
-    /// The axes the series' directions are in, and the world and its source.
-    pub frame: String,
-    pub anatomical: bool,
-    pub dims: [usize; 3],
-    /// Voxels whose series is not all zero (those drawn).
-    pub held: usize,
-    pub normalize: crate::scene::odf::OdfNormalize,
-    pub read_ms: f64,
-    pub figures: Vec<FigureReport>,
-}
-
 /// One tensor map's part of a report.
 pub struct MapReport {
     pub name: String,
@@ -269,7 +247,7 @@ pub fn backend_name(backend: &Backend) -> String {
 }
 
 /// The file's name without its directory and its extensions (`.nii.gz`, `.nrrd` …).
-fn file_stem(path: &Path) -> String {
+pub(super) fn file_stem(path: &Path) -> String {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -466,7 +444,7 @@ fn report(
             MapKind::Tensor => {
                 Section::Tensor(map(path, session, options, backend, progress, &mut read)?)
             }
-            MapKind::Odf => Section::Odf(odf_map(
+            MapKind::Odf => Section::Odf(odf_map::map(
                 path, session, options, backend, progress, &mut read,
             )?),
         });
@@ -621,7 +599,7 @@ fn map(
 }
 
 /// The figure `m` of the map at `path` (`stem`, its name without extensions), encoded.
-fn figure(
+pub(super) fn figure(
     path: &Path,
     stem: &str,
     orientation: &'static str,
@@ -645,86 +623,5 @@ fn figure(
         inset: m.inset,
         ms: m.ms,
         underlay_missing: m.underlay_missing.map(|e| e.to_string()),
-    })
-}
-
-/// Read the ODF map at `path` once (confirmed by its header to hold SH series: a name proposes
-/// only) and draw its figures.
-fn odf_map(
-    path: &Path,
-    session: Option<String>,
-    options: &Options,
-    backend: &Backend,
-    progress: &dyn Progress,
-    read: &mut Vec<PathBuf>,
-) -> Result<OdfReport, UnitError> {
-    let inputs = Inputs::file_system();
-    let opts = ReadOptions {
-        sh_basis: options.sh_basis,
-        ..ReadOptions::default()
-    };
-    let t = Instant::now();
-    // Its count says whether it holds series, as for the report's files; --sh-basis only names
-    // their basis.
-    let sh = crate::field::holds_sh_from(&inputs, path, &ReadOptions::default());
-    let field: ShField = crate::field::read_sh_field_from(&inputs, path, &opts)?;
-    // The reader takes any SH count (6 is lmax 2); the probe, as `render`, reads 6 as tensors.
-    if !sh {
-        return Err(UnitError::NotSh {
-            path: path.to_path_buf(),
-            count: field.layout.count,
-        });
-    }
-    let read_ms = staging::ms(t);
-    read.extend(inputs.paths_read());
-    let held_voxels = odf::held(&field);
-    let held = held_voxels.iter().filter(|h| **h).count();
-    if held == 0 {
-        return Err(UnitError::NoOdf(path.to_path_buf()));
-    }
-    let anatomical = field.frame.world == "RAS";
-    let normalize = options.odf_normalize;
-    let stem = file_stem(path);
-    let mut figures = Vec::new();
-    for o in ORIENTATIONS {
-        let m = odf::render(
-            &field,
-            &held_voxels,
-            o,
-            anatomical,
-            normalize,
-            options.tile,
-            options.zoom,
-            backend,
-            progress,
-        )?;
-        figures.push(figure(path, &stem, o.name, m)?);
-    }
-    let f = &field.frame;
-    Ok(OdfReport {
-        name: path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        path: path.display().to_string(),
-        session,
-        format: field.format.clone(),
-        lmax: field.layout.lmax,
-        count: field.layout.count,
-        basis: field.layout.basis.name().to_string(),
-        basis_reason: field.layout.reason.clone(),
-        recognised: field.layout.recognised.clone(),
-        frame: format!(
-            "directions in {} axes; world {} from {}",
-            f.tensor_frame.name(),
-            f.world,
-            f.source
-        ),
-        anatomical,
-        dims: field.dims,
-        held,
-        normalize,
-        read_ms,
-        figures,
     })
 }

@@ -204,6 +204,31 @@ fn odf_section(page: &mut String, map: &OdfReport, timings: bool) {
             map.held
         ),
     );
+    if let Some(p) = &map.peaks {
+        let pct = |x: f64| format!("{:.1} %", 100.0 * x);
+        let sample = if p.sampled == p.of {
+            format!("all {} voxels with an ODF", p.of)
+        } else {
+            format!(
+                "{} of the {} voxels with an ODF (every k-th)",
+                p.sampled, p.of
+            )
+        };
+        row(
+            "peaks",
+            format!(
+                "{:.2} per voxel; none {}, one {}, two {}, three or more {}; crossing (two or \
+                 more) {} — in {sample}; a peak is a maximum at least half the largest, 25° from \
+                 a larger one (DIPY's peaks_from_model settings)",
+                p.mean,
+                pct(p.shares[0]),
+                pct(p.shares[1]),
+                pct(p.shares[2]),
+                pct(p.shares[3]),
+                pct(p.crossing_share()),
+            ),
+        );
+    }
     row(
         "normalisation",
         format!(
@@ -227,8 +252,9 @@ fn odf_section(page: &mut String, map: &OdfReport, timings: bool) {
         row(
             "timings",
             format!(
-                "read {:.0} ms; figures: {}",
+                "read {:.0} ms; peaks {:.0} ms; figures: {}",
                 map.read_ms,
+                map.peaks_ms,
                 figures.join(", ")
             ),
         );

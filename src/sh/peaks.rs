@@ -162,6 +162,7 @@ fn icosphere(level: u32) -> Seeds {
 
 /// Finds the peaks and range of SH series of one lmax and basis; holds the seed sphere's
 /// basis functions, so that each voxel costs one matrix–vector product and a few ascents.
+#[derive(Clone)]
 pub struct PeakFinder {
     eval: ShEval,
     /// Basis functions at each seed vertex, row after row.

@@ -429,3 +429,62 @@ fn odf_figures_have_the_zoomed_inset() {
         );
     }
 }
+
+/// An ODF map's page counts the peaks of its voxels as DIPY's `peak_directions_nl` finds them
+/// with `peaks_from_model`'s settings (half the largest, 25° apart): the fit with every voxel
+/// zeroed but the 16 whose peaks DIPY found for tests/data/sh/expected.json, so that the
+/// page's sample is exactly those 16.
+#[test]
+fn the_peak_counts_are_dipys() {
+    let text = std::fs::read_to_string(crate::data::path("sh/expected.json")).unwrap();
+    let truth: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let peaks = truth["files"]["dipy_lmax8_descoteaux07_legacy.nii.gz"]["peaks"]
+        .as_object()
+        .unwrap();
+    let kept: Vec<usize> = peaks.keys().map(|k| k.parse().unwrap()).collect();
+    let counts: Vec<usize> = peaks
+        .values()
+        .map(|p| p["directions"].as_array().unwrap().len())
+        .collect();
+    let mut b = fit_bytes();
+    let offset = f32::from_le_bytes(b[108..112].try_into().unwrap()) as usize;
+    for c in 0..45 {
+        for v in (0..64).filter(|v| !kept.contains(v)) {
+            let at = offset + (c * 64 + v) * 8;
+            b[at..at + 8].copy_from_slice(&0f64.to_le_bytes());
+        }
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("sixteen.nii");
+    std::fs::write(&file, b).unwrap();
+    let out = dir.path().join("out");
+    let o = tg(&[
+        "report",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let html = std::fs::read_to_string(out.join("sixteen.html")).unwrap();
+    let row = html
+        .split("<th>peaks</th><td>")
+        .nth(1)
+        .expect("a peaks row");
+    let row = &row[..row.find("</td>").unwrap()];
+    let n = counts.len() as f64;
+    let share = |k: usize| {
+        let c = counts.iter().filter(|&&c| c.min(3) == k).count();
+        format!("{:.1} %", 100.0 * c as f64 / n)
+    };
+    let mean = counts.iter().sum::<usize>() as f64 / n;
+    let want = format!(
+        "{mean:.2} per voxel; none {}, one {}, two {}, three or more {}; crossing (two or more) \
+         {:.1} % — in all 16 voxels with an ODF;",
+        share(0),
+        share(1),
+        share(2),
+        share(3),
+        100.0 * counts.iter().filter(|&&c| c >= 2).count() as f64 / n
+    );
+    assert!(row.starts_with(&want), "{row}\nwant {want}");
+}
