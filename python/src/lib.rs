@@ -667,9 +667,9 @@ impl Renderer {
     /// when it names some), in `out_dir`. Returns JSON: `written` (name, page, figures) and
     /// `failed` (name, the command line's error line without `error: `). `tile_size` and
     /// `zoom_region` (`"I,J,K:SIZE"`) are `--tile-size` and `--zoom-region`, `sh_basis` and
-    /// `odf_normalize` are `--sh-basis` and `--odf-normalize`, `reproducible` is
-    /// `--reproducible`; a bad one raises, naming the keyword.
-    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None, odf_normalize=None, reproducible=false))]
+    /// `odf_normalize` are `--sh-basis` and `--odf-normalize`, `color` is `--color` (of the ODF
+    /// maps), `reproducible` is `--reproducible`; a bad one raises, naming the keyword.
+    #[pyo3(signature = (out_dir, files=None, bids_dir=None, participant_label=Vec::new(), tile_size=None, zoom_region=None, sh_basis=None, odf_normalize=None, color=None, reproducible=false))]
     #[allow(clippy::too_many_arguments)]
     fn report(
         &self,
@@ -682,6 +682,7 @@ impl Renderer {
         zoom_region: Option<String>,
         sh_basis: Option<String>,
         odf_normalize: Option<String>,
+        color: Option<String>,
         reproducible: bool,
     ) -> PyResult<String> {
         use tensorglyph::report::inset;
@@ -709,6 +710,10 @@ impl Renderer {
             options.odf_normalize = n
                 .parse::<tensorglyph::scene::odf::OdfNormalize>()
                 .map_err(|e| Failure::value(format!("odf_normalize={e}")).into_py(py))?;
+        }
+        if let Some(c) = color {
+            options.odf_color = tensorglyph::cli::report::parse_odf_color(&c)
+                .map_err(|e| Failure::value(format!("color={e}")).into_py(py))?;
         }
         let job = match (files, bids_dir) {
             (Some(files), None) if participant_label.is_empty() => {

@@ -495,6 +495,7 @@ def report(
     zoom_region: "str | Sequence[int] | None" = None,
     sh_basis: Optional[str] = None,
     odf_normalize: Optional[str] = None,
+    color: Optional[str] = None,
     reproducible: bool = False,
     renderer: Optional[Renderer] = None,
 ) -> dict:
@@ -516,13 +517,16 @@ def report(
     ``--sh-basis``: the basis of the files of SH series (``"tournier07"``, ``"descoteaux07"``,
     ``"descoteaux07-legacy"``); by default each file's writer's. ``odf_normalize`` is
     ``--odf-normalize`` for the ODF maps' figures (``"max"``, the default, ``"minmax"``,
-    ``"none"``). ``reproducible`` is ``--reproducible``: the pages leave out times and
+    ``"none"``). ``color`` is ``--color`` for the ODF maps' figures (``"dec"``, the default,
+    or ``"amplitude"``). ``reproducible`` is ``--reproducible``: the pages leave out times and
     memory, so that two runs over the same data on the same machine write the same bytes (a
     cohort run in parallel, e.g. one Dask task per participant, checked against a serial run).
     The participant level also writes ``sub-<label>.json`` beside each page, which
     :func:`group_report` reads."""
     if out_dir is None:
         raise Error("report needs out_dir, the folder the reports go to")
+    if color is not None and not isinstance(color, str):
+        raise Error(f"color={color!r}: give 'dec' or 'amplitude'")
     if not isinstance(reproducible, bool):
         raise Error(f"reproducible={reproducible!r}: give True or False")
     if isinstance(files, (str, os.PathLike)):
@@ -554,6 +558,7 @@ def report(
         zoom_region=zoom_region,
         sh_basis=sh_basis,
         odf_normalize=odf_normalize,
+        color=color,
         reproducible=reproducible,
     )
     done = json.loads(text)

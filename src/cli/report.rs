@@ -19,6 +19,7 @@ use crate::report::{self, Job, Options, Outcome, Plan};
 use crate::request::Method;
 use crate::scene::odf::OdfNormalize;
 use crate::sh::ShBasis;
+use crate::shape::odf::OdfColoring;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
@@ -60,11 +61,29 @@ pub struct ReportArgs {
     /// none (sizes comparable across voxels).
     #[arg(long, default_value = "max", value_parser = one_of::<OdfNormalize>(OdfNormalize::NAMES))]
     pub odf_normalize: OdfNormalize,
+    /// How the ODF maps' glyphs are coloured, as `render --color` colours a file of SH series:
+    /// dec (each point by its direction from the centre, the default) or amplitude (its radius
+    /// through viridis, 0 to the full radius, as DIPY's odf_slicer). Tensor maps stay DEC.
+    #[arg(long, default_value = "dec", value_parser = parse_odf_color)]
+    pub color: OdfColoring,
     /// Leave out of the pages what differs from run to run (times, memory): two runs over the
     /// same data on the same machine write the same bytes, so a cohort run in parallel can be
     /// checked against a serial run.
     #[arg(long)]
     pub reproducible: bool,
+}
+
+/// `--color` of the ODF maps: the colourings `render` offers a file of SH series that read a
+/// series (`solid` would hide what the figure is for).
+pub fn parse_odf_color(s: &str) -> Result<OdfColoring, String> {
+    match s {
+        "dec" => Ok(OdfColoring::Direction),
+        "amplitude" => Ok(OdfColoring::Amplitude),
+        _ => Err(format!(
+            "'{}': the report colours ODFs by dec or amplitude",
+            crate::error::escape_for_error(s)
+        )),
+    }
 }
 
 fn parse_tile(s: &str) -> Result<u32, String> {
@@ -82,6 +101,7 @@ pub fn options(args: &ReportArgs) -> Options {
         zoom: args.zoom_region,
         sh_basis: args.sh_basis,
         odf_normalize: args.odf_normalize,
+        odf_color: args.color,
         reproducible: args.reproducible,
     }
 }

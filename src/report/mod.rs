@@ -61,6 +61,9 @@ pub struct Options {
     pub sh_basis: Option<crate::sh::ShBasis>,
     /// How each voxel's ODF is scaled in the ODF maps' figures (`--odf-normalize`).
     pub odf_normalize: crate::scene::odf::OdfNormalize,
+    /// How the ODF maps' glyphs are coloured (`--color`): by direction (DEC, the default) or
+    /// by the amplitude through viridis.
+    pub odf_color: crate::shape::odf::OdfColoring,
     /// Leave out what differs from run to run (times and memory), so that two runs over the
     /// same data on the same machine write the same bytes (`--reproducible`): a cohort run in
     /// parallel can be checked against a serial one.
@@ -74,6 +77,7 @@ impl Default for Options {
             zoom: None,
             sh_basis: None,
             odf_normalize: crate::scene::odf::OdfNormalize::default(),
+            odf_color: crate::shape::odf::OdfColoring::Direction,
             reproducible: false,
         }
     }

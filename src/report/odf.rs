@@ -16,7 +16,8 @@
 use glam::DVec3;
 use web_time::Instant;
 
-use super::inset::{self, ZoomRegion};
+use super::Options;
+use super::inset;
 use super::lattice;
 use super::mosaic::{self, FigureError, Mosaic, Orientation, Placed};
 use crate::backend::Backend;
@@ -28,6 +29,7 @@ use crate::request::GlyphKind;
 use crate::scene::Scene;
 use crate::scene::odf::{OdfNormalize, OdfOptions, odf_scene};
 use crate::select::Plane;
+use crate::shape::odf::OdfColoring;
 use crate::staging;
 
 /// The world position of voxel (i, j, k) of `field`.
@@ -100,22 +102,21 @@ fn scene_in(scene: &Scene, dims: [usize; 3], region: &inset::Region) -> Scene {
     s
 }
 
-/// Draw the ODF figure of `orientation` of `field` (`held`: [`held`] of it), in `tile`-pixel
-/// tiles, each voxel's ODF normalised as `normalize` says, with the inset of `zoom` (or of
-/// where the fibre density is highest) beside them.
-#[allow(clippy::too_many_arguments)]
+/// Draw the ODF figure of `orientation` of `field` (`held`: [`held`] of it) as `options` say:
+/// `tile`-pixel tiles, each voxel's ODF normalised and coloured as `odf_normalize` and
+/// `odf_color` say, with the inset of `zoom` (or of where the fibre density is highest) beside
+/// them.
 pub fn render(
     field: &ShField,
     held: &[bool],
     orientation: Orientation,
     anatomical: bool,
-    normalize: OdfNormalize,
-    tile: u32,
-    zoom: Option<ZoomRegion>,
+    options: &Options,
     backend: &Backend,
     progress: &dyn Progress,
 ) -> Result<Mosaic, FigureError> {
     let t = Instant::now();
+    let (tile, zoom, normalize) = (options.tile, options.zoom, options.odf_normalize);
     let dims = field.dims;
     let at = position(field);
     let axis = lattice::lattice_axis_of(&at, dims, orientation.world_axis);
@@ -157,6 +158,7 @@ pub fn render(
         let opts = OdfOptions {
             planes: Some(vec![plane]),
             normalize,
+            coloring: options.odf_color,
             ..OdfOptions::default()
         };
         let mut scene = odf_scene(field, &opts);
@@ -232,7 +234,7 @@ pub fn render(
             (x_inset + inset_side, height),
             orientation,
             field,
-            normalize,
+            (normalize, options.odf_color),
             anatomical,
             px_per_voxel,
             inset_info.is_some(),
@@ -254,7 +256,8 @@ pub fn render(
 }
 
 /// The legend panel at `x0`, `height` tall: the row's name, what the glyphs are (lmax, basis,
-/// normalisation), the direction colour key and the tiles' pixels per voxel.
+/// normalisation), the colour key (directions, or viridis from 0 to the full radius) and the
+/// tiles' pixels per voxel.
 #[allow(clippy::too_many_arguments)]
 fn legend(
     canvas: &mut Canvas<'_>,
@@ -262,7 +265,7 @@ fn legend(
     (x0, height): (u32, u32),
     orientation: Orientation,
     field: &ShField,
-    normalize: OdfNormalize,
+    (normalize, coloring): (OdfNormalize, OdfColoring),
     anatomical: bool,
     px_per_voxel: f64,
     inset: bool,
@@ -283,7 +286,38 @@ fn legend(
     line(canvas, &mut y, field.layout.basis.name());
     line(canvas, &mut y, &format!("normalised: {}", normalize.name()));
     y += lh * 0.3;
-    line(canvas, &mut y, "colour = direction");
+    if coloring == OdfColoring::Amplitude {
+        line(canvas, &mut y, "colour = amplitude");
+        // Viridis from 0 (left) to the full radius (right).
+        let (bar_w, bar_h) = (f64::from(w) - 40.0, lh * 0.7);
+        for px in 0..bar_w as i64 {
+            let c = crate::glyph::colormap::viridis(px as f64 / (bar_w - 1.0));
+            canvas.rect(x as i64 + px, y as i64, 1, bar_h as i64, c);
+        }
+        y += bar_h + 2.0;
+        line(canvas, &mut y, "0 … 1 (full radius)");
+    } else {
+        y = direction_key(canvas, pen, x, y, anatomical);
+    }
+    y += lh * 0.3;
+    if px_per_voxel.is_finite() {
+        line(
+            canvas,
+            &mut y,
+            &format!("tiles: {px_per_voxel:.1} px/voxel"),
+        );
+    }
+    if inset {
+        mosaic::inset_key(canvas, pen, x, y, lh * 0.7);
+    }
+}
+
+/// The direction colour key at (`x`, `y`): a title and three swatches; returns where the
+/// next line goes.
+fn direction_key(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, anatomical: bool) -> f64 {
+    let (lh, ink) = (pen.line_height(), [1.0; 3]);
+    pen.draw(canvas, x, y, "colour = direction", ink);
+    let mut y = y + lh;
     let names = if anatomical {
         ["R–L", "A–P", "S–I"]
     } else {
@@ -303,15 +337,5 @@ fn legend(
         pen.draw(canvas, x + swatch + 6.0, y, name, ink);
         y += lh;
     }
-    y += lh * 0.3;
-    if px_per_voxel.is_finite() {
-        line(
-            canvas,
-            &mut y,
-            &format!("tiles: {px_per_voxel:.1} px/voxel"),
-        );
-    }
-    if inset {
-        mosaic::inset_key(canvas, pen, x, y, lh * 0.7);
-    }
+    y
 }

@@ -105,6 +105,8 @@ pub struct OdfReport {
     /// Voxels whose series is not all zero (those drawn).
     pub held: usize,
     pub normalize: crate::scene::odf::OdfNormalize,
+    /// How the glyphs are coloured (`--color`: direction or amplitude).
+    pub coloring: crate::shape::odf::OdfColoring,
     /// The peaks of a sample of the voxels holding a series; `None` where the basis has no
     /// peak finder.
     pub peaks: Option<PeakStats>,
@@ -160,9 +162,7 @@ pub(super) fn map(
             &held_voxels,
             o,
             anatomical,
-            normalize,
-            options.tile,
-            options.zoom,
+            options,
             backend,
             progress,
         )?;
@@ -192,6 +192,7 @@ pub(super) fn map(
         dims: field.dims,
         held,
         normalize,
+        coloring: options.odf_color,
         peaks,
         read_ms,
         peaks_ms,

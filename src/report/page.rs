@@ -297,12 +297,19 @@ pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
              the FA of each slice. ",
         );
     }
-    if maps.iter().any(|m| matches!(m, Section::Odf(_))) {
-        glyphs.push_str(
+    for m in maps {
+        let Section::Odf(m) = m else { continue };
+        let colour = match m.coloring {
+            crate::shape::odf::OdfColoring::Amplitude => {
+                "coloured by amplitude (viridis, 0 to the full radius)"
+            }
+            _ => "coloured by direction (red R–L, green A–P, blue S–I)",
+        };
+        glyphs.push_str(&format!(
             "An ODF map's glyphs are each voxel's fibre ODF (its SH series' radius in every \
-             direction, negative values not drawn), sized to the voxel and coloured by \
-             direction (red R–L, green A–P, blue S–I), on black. ",
-        );
+             direction, negative values not drawn), sized to the voxel and {colour}, on black. "
+        ));
+        break;
     }
     let peak = run
         .peak_rss_bytes

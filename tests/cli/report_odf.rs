@@ -488,3 +488,66 @@ fn the_peak_counts_are_dipys() {
     );
     assert!(row.starts_with(&want), "{row}\nwant {want}");
 }
+
+/// `--color amplitude` colours the ODF figures by amplitude (viridis), as `render --color
+/// amplitude` does: the same glyphs (the pixels they cover are the DEC figure's), other
+/// colours, the page saying so; tensor maps stay DEC; a colouring the report has not is one line.
+#[test]
+fn color_amplitude_recolours_the_odf_figures_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let mif = crate::data::path("sh/mrtrix_lmax8.mif");
+    let figure = |color: &str| {
+        let out = dir.path().join(color);
+        let o = tg(&[
+            "report",
+            mif.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--color",
+            color,
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        let html = std::fs::read_to_string(out.join("mrtrix_lmax8.html")).unwrap();
+        let png = out.join("mrtrix_lmax8/figures/mrtrix_lmax8_axial.png");
+        (html, image::open(png).unwrap().to_rgba8())
+    };
+    let (dec_html, dec) = figure("dec");
+    let (amp_html, amp) = figure("amplitude");
+    assert!(dec_html.contains("coloured by direction (red R–L"));
+    assert!(amp_html.contains("coloured by amplitude (viridis"));
+    assert_eq!(dec.dimensions(), amp.dimensions());
+    // The tiles and the inset, not the legend panel (its key differs).
+    let (gd, ga) = (glyph_pixels(&dec), glyph_pixels(&amp));
+    let same_place = gd.iter().filter(|p| ga.contains(p)).count();
+    assert!(
+        same_place as f64 > 0.97 * gd.len().max(ga.len()) as f64,
+        "{same_place} of {} / {}",
+        gd.len(),
+        ga.len()
+    );
+    let recoloured = gd
+        .iter()
+        .filter(|&&(x, y)| dec.get_pixel(x, y).0 != amp.get_pixel(x, y).0)
+        .count();
+    // The rest are the labels, the tile borders and the inset's outline (16 % of the pixels
+    // here), drawn alike in both.
+    assert!(
+        recoloured as f64 > 0.75 * gd.len() as f64,
+        "{recoloured} of {}",
+        gd.len()
+    );
+    let o = tg(&[
+        "report",
+        mif.to_str().unwrap(),
+        "-o",
+        dir.path().join("bad").to_str().unwrap(),
+        "--color",
+        "fa",
+    ]);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("the report colours ODFs by dec or amplitude"),
+        "{err}"
+    );
+}
