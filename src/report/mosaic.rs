@@ -587,27 +587,7 @@ fn legend(
     let mut y = 6.0;
     pen.draw(canvas, x, y, orientation.name, ink);
     y += lh * 1.3;
-    pen.draw(canvas, x, y, "colour = |e1| × FA", ink);
-    y += lh;
-    let names = if anatomical {
-        ["R–L", "A–P", "S–I"]
-    } else {
-        ["x", "y", "z"]
-    };
-    let swatch = lh * 0.7;
-    for (k, name) in names.into_iter().enumerate() {
-        let mut c = [0.0; 3];
-        c[k] = 1.0;
-        canvas.rect(
-            x as i64,
-            (y + (lh - swatch) / 2.0) as i64,
-            swatch as i64,
-            swatch as i64,
-            c,
-        );
-        pen.draw(canvas, x + swatch + 6.0, y, name, ink);
-        y += lh;
-    }
+    y = direction_key(canvas, pen, (x, y), "colour = |e1| × FA", anatomical);
     y += lh * 0.3;
     let [lo, hi] = window.unwrap_or([0.0, 1.0]);
     pen.draw(canvas, x, y, "underlay: FA", ink);
@@ -630,6 +610,41 @@ fn legend(
     if inset {
         inset_key(canvas, pen, x, y, bar_h);
     }
+}
+
+/// The direction colour key at (`x`, `y`), tensor and ODF rows alike: `title`, then a swatch
+/// for each world axis (R–L, A–P, S–I, or x, y, z off an anatomical world); returns where the
+/// next line goes.
+pub(super) fn direction_key(
+    canvas: &mut Canvas<'_>,
+    pen: &Pen<'_>,
+    (x, y): (f64, f64),
+    title: &str,
+    anatomical: bool,
+) -> f64 {
+    let (lh, ink) = (pen.line_height(), [1.0; 3]);
+    pen.draw(canvas, x, y, title, ink);
+    let mut y = y + lh;
+    let names = if anatomical {
+        ["R–L", "A–P", "S–I"]
+    } else {
+        ["x", "y", "z"]
+    };
+    let swatch = lh * 0.7;
+    for (k, name) in names.into_iter().enumerate() {
+        let mut c = [0.0; 3];
+        c[k] = 1.0;
+        canvas.rect(
+            x as i64,
+            (y + (lh - swatch) / 2.0) as i64,
+            swatch as i64,
+            swatch as i64,
+            c,
+        );
+        pen.draw(canvas, x + swatch + 6.0, y, name, ink);
+        y += lh;
+    }
+    y
 }
 
 /// The legend's key to the inset's outline at (`x`, `y`), its swatch `side` pixels.

@@ -297,7 +297,7 @@ fn legend(
         y += bar_h + 2.0;
         line(canvas, &mut y, "0 … 1 (full radius)");
     } else {
-        y = direction_key(canvas, pen, x, y, anatomical);
+        y = mosaic::direction_key(canvas, pen, (x, y), "colour = direction", anatomical);
     }
     y += lh * 0.3;
     if px_per_voxel.is_finite() {
@@ -310,32 +310,4 @@ fn legend(
     if inset {
         mosaic::inset_key(canvas, pen, x, y, lh * 0.7);
     }
-}
-
-/// The direction colour key at (`x`, `y`): a title and three swatches; returns where the
-/// next line goes.
-fn direction_key(canvas: &mut Canvas<'_>, pen: &Pen<'_>, x: f64, y: f64, anatomical: bool) -> f64 {
-    let (lh, ink) = (pen.line_height(), [1.0; 3]);
-    pen.draw(canvas, x, y, "colour = direction", ink);
-    let mut y = y + lh;
-    let names = if anatomical {
-        ["R–L", "A–P", "S–I"]
-    } else {
-        ["x", "y", "z"]
-    };
-    let swatch = lh * 0.7;
-    for (k, name) in names.into_iter().enumerate() {
-        let mut c = [0.0; 3];
-        c[k] = 1.0;
-        canvas.rect(
-            x as i64,
-            (y + (lh - swatch) / 2.0) as i64,
-            swatch as i64,
-            swatch as i64,
-            c,
-        );
-        pen.draw(canvas, x + swatch + 6.0, y, name, ink);
-        y += lh;
-    }
-    y
 }
