@@ -39,6 +39,7 @@ pub mod camera;
 pub mod effects;
 pub mod error;
 pub mod frame;
+pub mod geodesic;
 mod names;
 pub mod percentile;
 pub mod progress;

@@ -82,67 +82,9 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// The icosahedron subdivided `level` times, its vertices pushed onto the unit sphere.
+/// The geodesic sphere of `level` ([`crate::geodesic`]) and each vertex's neighbours.
 fn icosphere(level: u32) -> Seeds {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut v: Vec<[f64; 3]> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .map(normalise)
-    .to_vec();
-    let mut faces: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..level {
-        let mut mid = std::collections::HashMap::new();
-        let mut next = Vec::with_capacity(faces.len() * 4);
-        for f in &faces {
-            let mut m = [0u32; 3];
-            for k in 0..3 {
-                let (a, b) = (f[k], f[(k + 1) % 3]);
-                m[k] = *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                    let (pa, pb) = (v[a as usize], v[b as usize]);
-                    v.push(normalise(std::array::from_fn(|i| pa[i] + pb[i])));
-                    (v.len() - 1) as u32
-                });
-            }
-            next.push([f[0], m[0], m[2]]);
-            next.push([f[1], m[1], m[0]]);
-            next.push([f[2], m[2], m[1]]);
-            next.push(m);
-        }
-        faces = next;
-    }
+    let (v, faces) = crate::geodesic::icosphere(level);
     let mut neighbours = vec![Vec::new(); v.len()];
     for f in &faces {
         for k in 0..3 {

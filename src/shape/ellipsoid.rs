@@ -3,12 +3,10 @@
 //! quad (shaders/method/gumhold_ellipsoid.wgsl, a specialisation); every other method through
 //! shaders/shape/ellipsoid.wgsl.
 
-use std::collections::HashMap;
-
 use glam::{DMat3, DVec3};
 
 use super::geometry::bounding_radius;
-use super::mesh::{Mesh, normalize};
+use super::mesh::Mesh;
 use super::rules::EYE_INSIDE_E2;
 use super::{
     Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, unit_sphere_roots,
@@ -137,64 +135,7 @@ pub fn intersect(o: DVec3, d: DVec3, c: DVec3, t_inv: &DMat3) -> Option<(f64, DV
 /// triangle, midpoints pushed onto the unit sphere: 10·4^N + 2 vertices, 20·4^N triangles.
 /// Positions are the normals.
 pub fn icosphere(level: u8) -> Mesh {
-    let t = (1.0 + 5f64.sqrt()) / 2.0;
-    let mut points: Vec<[f64; 3]> = [
-        [-1.0, t, 0.0],
-        [1.0, t, 0.0],
-        [-1.0, -t, 0.0],
-        [1.0, -t, 0.0],
-        [0.0, -1.0, t],
-        [0.0, 1.0, t],
-        [0.0, -1.0, -t],
-        [0.0, 1.0, -t],
-        [t, 0.0, -1.0],
-        [t, 0.0, 1.0],
-        [-t, 0.0, -1.0],
-        [-t, 0.0, 1.0],
-    ]
-    .into_iter()
-    .map(normalize)
-    .collect();
-    let mut faces: Vec<[u32; 3]> = vec![
-        [0, 11, 5],
-        [0, 5, 1],
-        [0, 1, 7],
-        [0, 7, 10],
-        [0, 10, 11],
-        [1, 5, 9],
-        [5, 11, 4],
-        [11, 10, 2],
-        [10, 7, 6],
-        [7, 1, 8],
-        [3, 9, 4],
-        [3, 4, 2],
-        [3, 2, 6],
-        [3, 6, 8],
-        [3, 8, 9],
-        [4, 9, 5],
-        [2, 4, 11],
-        [6, 2, 10],
-        [8, 6, 7],
-        [9, 8, 1],
-    ];
-    for _ in 0..level {
-        let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
-        let mut mid = |a: u32, b: u32, points: &mut Vec<[f64; 3]>| {
-            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
-                let (p, q) = (points[a as usize], points[b as usize]);
-                points.push(normalize([p[0] + q[0], p[1] + q[1], p[2] + q[2]]));
-                (points.len() - 1) as u32
-            })
-        };
-        let mut next = Vec::with_capacity(faces.len() * 4);
-        for [a, b, c] in faces {
-            let ab = mid(a, b, &mut points);
-            let bc = mid(b, c, &mut points);
-            let ca = mid(c, a, &mut points);
-            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
-        }
-        faces = next;
-    }
+    let (points, faces) = crate::geodesic::icosphere(u32::from(level));
     let mut mesh = Mesh::default();
     for p in points {
         mesh.push(p, p);
