@@ -21,16 +21,7 @@ impl Shape for Kind {
     }
 
     fn caps(&self) -> Capabilities {
-        Capabilities {
-            prepass: false,
-            splats: false,
-            conservative_depth: false,
-            sharpness: false,
-            benched_by_default: false,
-            mesh_holes: false,
-            amplitude: false,
-            arrows: false,
-        }
+        Capabilities::NONE
     }
 
     /// The cylinder's frame: the capsule's axis is the cylinder's.

@@ -25,14 +25,8 @@ impl Shape for Kind {
 
     fn caps(&self) -> Capabilities {
         Capabilities {
-            prepass: false,
-            splats: false,
-            conservative_depth: false,
-            sharpness: false,
             benched_by_default: true,
-            mesh_holes: false,
-            amplitude: false,
-            arrows: false,
+            ..Capabilities::NONE
         }
     }
 

@@ -28,11 +28,8 @@ impl Shape for Kind {
             prepass: true,
             splats: true,
             conservative_depth: true,
-            sharpness: false,
             benched_by_default: true,
-            mesh_holes: false,
-            amplitude: false,
-            arrows: false,
+            ..Capabilities::NONE
         }
     }
 

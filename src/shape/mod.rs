@@ -139,6 +139,20 @@ pub struct Capabilities {
     pub amplitude: bool,
 }
 
+impl Capabilities {
+    /// None of them: a kind names the ones it has (`..Capabilities::NONE`).
+    pub const NONE: Capabilities = Capabilities {
+        prepass: false,
+        splats: false,
+        conservative_depth: false,
+        sharpness: false,
+        arrows: false,
+        benched_by_default: false,
+        mesh_holes: false,
+        amplitude: false,
+    };
+}
+
 /// A forward hit: distance along the unit ray and the unit outward normal (world).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RayHit {

@@ -45,14 +45,8 @@ impl Shape for Kind {
 
     fn caps(&self) -> Capabilities {
         Capabilities {
-            prepass: false,
-            splats: false,
-            conservative_depth: false,
-            sharpness: false,
-            benched_by_default: false,
-            mesh_holes: false,
-            amplitude: false,
             arrows: true,
+            ..Capabilities::NONE
         }
     }
 

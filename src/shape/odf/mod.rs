@@ -215,14 +215,9 @@ impl Shape for Kind {
 
     fn caps(&self) -> Capabilities {
         Capabilities {
-            prepass: false,
-            splats: false,
-            conservative_depth: false,
-            sharpness: false,
-            benched_by_default: false,
             mesh_holes: true,
             amplitude: true,
-            arrows: false,
+            ..Capabilities::NONE
         }
     }
 

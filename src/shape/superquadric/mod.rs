@@ -37,12 +37,8 @@ impl Shape for Kind {
         Capabilities {
             prepass: true,
             splats: true,
-            conservative_depth: false,
             sharpness: true,
-            benched_by_default: false,
-            mesh_holes: false,
-            amplitude: false,
-            arrows: false,
+            ..Capabilities::NONE
         }
     }
 
