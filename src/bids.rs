@@ -10,7 +10,7 @@
 //!   image (`.mif[.gz]`), e.g. `sub-01_model-CSD_param-fod_dwimap.nii.gz`,
 //!   `sub-01_model-CSD_param-fod.mif`. Both spellings are taken
 //!   because pipelines differ in which they write. The name only proposes: the report confirms
-//!   each by its header ([`crate::field::holds_sh`]) and fails on one that holds no SH series,
+//!   each by its header ([`crate::field::FieldKind::of_file`]) and fails on one that holds no SH series,
 //!   naming it, rather than passing it over in silence.
 //!
 //! No file is both (an ODF name has a `param-` that is not `tensor`). Nothing is read but folder
@@ -20,15 +20,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::escape_path;
+use crate::field::FieldKind;
 use crate::field::bep016::is_bep016_name;
-
-/// What a map holds, as its name says.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MapKind {
-    Tensor,
-    /// SH coefficients (fibre ODFs).
-    Odf,
-}
 
 /// One map found.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -36,7 +29,7 @@ pub struct Map {
     /// The session label (without `ses-`), if the map is in a session folder.
     pub session: Option<String>,
     pub path: PathBuf,
-    pub kind: MapKind,
+    pub kind: FieldKind,
 }
 
 /// A participant and its maps (none: the participant is there but has nothing to report on).
@@ -165,7 +158,11 @@ fn maps_in(dwi: &Path, session: Option<String>) -> Result<Vec<Map>, FindError> {
         .map(|(odf, n)| Map {
             session: session.clone(),
             path: dwi.join(n),
-            kind: if odf { MapKind::Odf } else { MapKind::Tensor },
+            kind: if odf {
+                FieldKind::Series
+            } else {
+                FieldKind::Tensors
+            },
         })
         .collect())
 }
@@ -293,8 +290,8 @@ mod tests {
                 "sub-a_model-msmt_param-sh_dwimap.nii",
             ]
         );
-        let kinds: Vec<MapKind> = p[0].maps.iter().map(|m| m.kind).collect();
-        assert_eq!(kinds[0], MapKind::Tensor);
-        assert!(kinds[1..].iter().all(|k| *k == MapKind::Odf));
+        let kinds: Vec<FieldKind> = p[0].maps.iter().map(|m| m.kind).collect();
+        assert_eq!(kinds[0], FieldKind::Tensors);
+        assert!(kinds[1..].iter().all(|k| *k == FieldKind::Series));
     }
 }

@@ -397,18 +397,9 @@ pub struct CameraArgs {
 }
 
 impl CameraArgs {
-    /// The glyph to draw the source `name` with (`sh`: it holds SH series, drawn as ODF
-    /// glyphs): as asked, ellipsoids unasked; another glyph than `odf` on SH series is refused
-    /// before any work.
-    pub fn glyph_for(&self, sh: bool, name: &str) -> Result<GlyphKind> {
-        match (sh, self.glyph) {
-            (true, None | Some(GlyphKind::Odf)) => Ok(GlyphKind::Odf),
-            (true, Some(other)) => bail!(
-                "{}: holds SH series, drawn as --glyph odf, not {other}",
-                crate::error::escape_path(std::path::Path::new(name)),
-            ),
-            (false, g) => Ok(g.unwrap_or(GlyphKind::Ellipsoid)),
-        }
+    /// The glyph `--glyph` asks for, where a field of `kind` named `name` offers it.
+    pub fn glyph_for(&self, kind: crate::field::FieldKind, name: &str) -> Result<GlyphKind> {
+        kind.glyph(self.glyph, name).map_err(anyhow::Error::msg)
     }
 
     pub fn framing(&self) -> Result<Framing> {

@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::args::{SceneArgs, source};
 use super::progress::Terminal;
+use crate::field::{FieldKind, Inputs};
 use crate::staging::{self, Demo};
 
 #[derive(Args, Debug)]
@@ -32,7 +33,7 @@ pub struct InfoArgs {
 pub fn run(args: InfoArgs) -> Result<()> {
     let opts = args.scene.read_options();
     if let Some(path) = &args.file
-        && crate::field::holds_sh(path, &opts)
+        && FieldKind::of_file(&Inputs::file_system(), path, &opts) == FieldKind::Series
     {
         let field = crate::field::read_sh_field(path, &opts)?;
         let report = crate::sh_info::report(&field, &args.samples)

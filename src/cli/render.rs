@@ -336,7 +336,7 @@ where
     let (w, h) = image.size;
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
-    let glyph = cam.glyph_for(src.holds_sh(&scene_args.read_options()), &src.name())?;
+    let glyph = cam.glyph_for(src.kind(&scene_args.read_options()), &src.name())?;
     let options = draw.options(cam.method, glyph, depth_correction)?;
     let recipe = Recipe {
         underlay: select.underlay.clone(),

@@ -7,6 +7,7 @@ use clap::Args;
 
 use super::args::{CameraArgs, DrawArgs, EffectArgs, SceneArgs, SelectArgs, parse_size};
 use crate::defaults::DataKind;
+use crate::field::FieldKind;
 use crate::staging::{Demo, Source};
 use crate::viewer::{self, Options, state::Settings};
 
@@ -80,11 +81,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let [r, g, b, _] = defaults.background;
     let style = args.scene.style(&defaults)?;
     // A file of SH series is drawn as ODF glyphs, as `render` draws it.
-    let sh = source
+    let kind = source
         .as_ref()
-        .is_some_and(|s| s.holds_sh(&args.scene.read_options()));
-    let glyph = cam.glyph_for(sh, &source.as_ref().map_or(String::new(), |s| s.name()))?;
-    if !sh && !glyph.colours(style.color) {
+        .map_or(FieldKind::Tensors, |s| s.kind(&args.scene.read_options()));
+    let glyph = cam.glyph_for(kind, &source.as_ref().map_or(String::new(), |s| s.name()))?;
+    if kind == FieldKind::Tensors && !glyph.colours(style.color) {
         bail!("--color {} applies to --glyph odf", style.color);
     }
     let settings = Settings {

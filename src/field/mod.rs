@@ -8,7 +8,7 @@
 //! gets its bytes, and the record of what it read) and `guard`. `synthetic`
 //! makes fields in code, `array` of numbers handed over in memory (as the NIfTI reader would).
 //! [`read_sh_field`] reads spherical-harmonic coefficients (fibre ODFs) from NIfTI and MRtrix
-//! images into an [`ShField`] (`sh_field`), and [`holds_sh`] tells such a file from tensors.
+//! images into an [`ShField`] (`sh_field`), and [`FieldKind::of_file`] (`kind`) tells such a file from tensors.
 
 pub mod array;
 pub mod bep016;
@@ -17,6 +17,7 @@ pub mod fsl_eigen;
 mod guard;
 pub mod gzip;
 pub mod inputs;
+pub mod kind;
 pub mod mif;
 pub mod nifti;
 pub mod nrrd;
@@ -31,6 +32,7 @@ pub mod vtk;
 
 pub use frame::{ReadMeta, TensorFrame};
 pub use inputs::Inputs;
+pub use kind::FieldKind;
 pub use options::ReadOptions;
 pub use order::ComponentOrder;
 pub use scalar::ScalarVolume;
@@ -162,34 +164,6 @@ pub fn read_scalar_volume_from(inputs: &Inputs, path: &Path) -> Result<ScalarVol
 /// readers' bounds, and a panic inside the reader as an error naming the file.
 pub fn read_mif_volumes_from(inputs: &Inputs, path: &Path) -> Result<mif::Volumes, LoadError> {
     guard::guarded(path, || mif::read_volumes(inputs, path))
-}
-
-/// Whether `path` is read as SH coefficients rather than tensors (`field::sh_field` gives the
-/// rule): a NIfTI-1 or MRtrix image of an SH count of volumes other than 6, or any NIfTI or
-/// MRtrix image when `opts.sh_basis` is given. Only the header is read; a file whose header
-/// cannot be read is not SH, and the tensor reader then says what is wrong with it.
-pub fn holds_sh(path: &Path, opts: &ReadOptions) -> bool {
-    holds_sh_from(&Inputs::file_system(), path, opts)
-}
-
-/// [`holds_sh`] of the file `path` among `inputs`.
-pub fn holds_sh_from(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> bool {
-    let nifti = nifti::is_nifti_path(path);
-    if !(nifti || mif::is_mif_path(path)) || fsl_eigen::EigenSet::named_by(path, inputs).is_some() {
-        return false;
-    }
-    if opts.sh_basis.is_some() {
-        return true;
-    }
-    let probe = || -> Result<bool, crate::error::LoadErrorKind> {
-        Ok(if nifti {
-            sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?)
-        } else {
-            let (count, dwi) = mif::sh_probe(inputs, path)?;
-            !dwi && sh_field::is_sh_count(count)
-        })
-    };
-    guard::guarded(path, probe).unwrap_or(false)
 }
 
 /// Read a volume of SH coefficients (a fibre ODF per voxel) from a NIfTI-1 file (`.nii`,

@@ -24,9 +24,9 @@ use serde::Serialize;
 use web_time::Instant;
 
 use crate::backend::Backend;
-use crate::bids::{self, FindError, MapKind};
+use crate::bids::{self, FindError};
 use crate::error::{LoadError, escape_path};
-use crate::field::{Inputs, ReadOptions};
+use crate::field::{FieldKind, Inputs, ReadOptions};
 use crate::image_out::{encode_png, write_atomic};
 use crate::info::{Skipped, info_report, why_text};
 use crate::progress::Progress;
@@ -230,7 +230,7 @@ pub struct MapReport {
 /// output folder) and its maps (with their sessions).
 struct Unit {
     name: String,
-    maps: Vec<(PathBuf, Option<String>, MapKind)>,
+    maps: Vec<(PathBuf, Option<String>, FieldKind)>,
     /// A participant with no map: its label (the report fails, naming it).
     missing: Option<String>,
 }
@@ -282,11 +282,7 @@ fn units(job: &Job) -> Result<Vec<Unit>, ReportError> {
                 maps: vec![(
                     f.clone(),
                     None,
-                    if crate::field::holds_sh(f, &ReadOptions::default()) {
-                        MapKind::Odf
-                    } else {
-                        MapKind::Tensor
-                    },
+                    FieldKind::of_file(&Inputs::file_system(), f, &ReadOptions::default()),
                 )],
                 missing: None,
             })
@@ -445,10 +441,10 @@ fn report(
     for (path, session, kind) in &unit.maps {
         let session = session.clone();
         maps.push(match kind {
-            MapKind::Tensor => {
+            FieldKind::Tensors => {
                 Section::Tensor(map(path, session, options, backend, progress, &mut read)?)
             }
-            MapKind::Odf => Section::Odf(odf_map::map(
+            FieldKind::Series => Section::Odf(odf_map::map(
                 path, session, options, backend, progress, &mut read,
             )?),
         });

@@ -19,7 +19,7 @@ use web_time::Instant;
 use super::mosaic::ORIENTATIONS;
 use super::{FigureReport, Options, UnitError, figure, file_stem, odf};
 use crate::backend::Backend;
-use crate::field::{Inputs, ReadOptions, ShField};
+use crate::field::{FieldKind, Inputs, ReadOptions, ShField};
 use crate::progress::Progress;
 use crate::sh::{PeakFinder, PeakOptions};
 use crate::staging;
@@ -133,7 +133,7 @@ pub(super) fn map(
     let t = Instant::now();
     // Its count says whether it holds series, as for the report's files; --sh-basis only names
     // their basis.
-    let sh = crate::field::holds_sh_from(&inputs, path, &ReadOptions::default());
+    let sh = FieldKind::of_file(&inputs, path, &ReadOptions::default()) == FieldKind::Series;
     let field: ShField = crate::field::read_sh_field_from(&inputs, path, &opts)?;
     // The reader takes any SH count (6 is lmax 2); the probe, as `render`, reads 6 as tensors.
     if !sh {

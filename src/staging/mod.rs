@@ -14,7 +14,7 @@ use serde::Serialize;
 
 use crate::error::LoadError;
 use crate::field::scalar::ScalarVolume;
-use crate::field::{Inputs, ReadOptions};
+use crate::field::{FieldKind, Inputs, ReadOptions};
 use crate::field::{Positions, TensorField};
 use crate::glyph::style::{Spacing, local_spacing, units_in_name};
 use crate::glyph::{GlyphSet, GlyphStyle, ResolvedStyle, derive_glyphs};
@@ -24,9 +24,11 @@ use crate::scene::Scene;
 use crate::scene::underlay::{self, UnderlayError, UnderlaySource, Values};
 use crate::select::{Plane, Selection, SelectionError, Slicing};
 
+mod kind;
 mod sh;
 mod source;
 
+pub use kind::Offers;
 pub use sh::{build_sh, sh_face_on};
 pub use source::{Demo, InMemory, InMemoryFile, Source};
 
@@ -309,17 +311,18 @@ pub fn stage(
     progress: &dyn Progress,
 ) -> Result<Staged, StageError> {
     recipe.selection.check()?;
+    let kind = source.kind(&recipe.read);
     match source {
-        Source::File(path) if source.holds_sh(&recipe.read) => {
+        Source::File(path) if kind == FieldKind::Series => {
             return sh::stage_sh(&Inputs::file_system(), path, recipe, progress);
         }
-        Source::Bytes(b) if source.holds_sh(&recipe.read) => {
+        Source::Bytes(b) if kind == FieldKind::Series => {
             let (inputs, path) = b.inputs();
             return sh::stage_sh(&inputs, &path, recipe, progress);
         }
         _ => {}
     }
-    if recipe.odf_normalize.is_some() {
+    if recipe.odf_normalize.is_some() && !kind.offers().normalize {
         return Err(StageError::Selection(SelectionError(format!(
             "{}: --odf-normalize applies to files of SH series (fibre ODFs), not to tensors",
             crate::error::escape_path(Path::new(&source.name()))

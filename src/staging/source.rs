@@ -6,7 +6,7 @@ use std::str::FromStr;
 use std::sync::Arc;
 
 use crate::error::LoadError;
-use crate::field::{Inputs, ReadOptions, TensorField, read_field_from};
+use crate::field::{FieldKind, Inputs, ReadOptions, TensorField, read_field_from};
 
 /// A built-in analytic field: `grid40` (the canonical 64,000-glyph demo) or `grid:N`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -133,21 +133,21 @@ impl Source {
         }
     }
 
-    /// Whether the source is a file (on disk or in memory) of SH series ([`crate::field::holds_sh`]),
-    /// which `render` draws as ODF glyphs.
-    pub fn holds_sh(&self, opts: &ReadOptions) -> bool {
-        self.holds_sh_in(&Inputs::file_system(), opts)
+    /// What the source holds ([`FieldKind::of_file`] for a file on disk or in memory; a demo
+    /// and a field built in code hold tensors).
+    pub fn kind(&self, opts: &ReadOptions) -> FieldKind {
+        self.kind_in(&Inputs::file_system(), opts)
     }
 
-    /// [`Self::holds_sh`], a file looked for among `inputs` (the page's files).
-    pub fn holds_sh_in(&self, inputs: &Inputs, opts: &ReadOptions) -> bool {
+    /// [`Self::kind`], a file looked for among `inputs` (the page's files).
+    pub fn kind_in(&self, inputs: &Inputs, opts: &ReadOptions) -> FieldKind {
         match self {
-            Source::File(p) => crate::field::holds_sh_from(inputs, p, opts),
+            Source::File(p) => FieldKind::of_file(inputs, p, opts),
             Source::Bytes(b) => {
                 let (inputs, path) = b.inputs();
-                crate::field::holds_sh_from(&inputs, &path, opts)
+                FieldKind::of_file(&inputs, &path, opts)
             }
-            Source::Demo(_) | Source::Field(_) => false,
+            Source::Demo(_) | Source::Field(_) => FieldKind::Tensors,
         }
     }
 

@@ -16,8 +16,8 @@ use rayon::prelude::*;
 use web_time::Instant;
 
 use crate::field::scalar::ScalarVolume;
+use crate::field::{FieldKind, ShField, TensorField};
 use crate::field::{Inputs, ReadOptions};
-use crate::field::{ShField, TensorField};
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
 use crate::scene::UnderlaySource;
@@ -79,7 +79,7 @@ pub fn load_now_from(
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
     let started = Instant::now();
-    if let (true, Source::File(path)) = (source.holds_sh_in(inputs, opts), source) {
+    if let (FieldKind::Series, Source::File(path)) = (source.kind_in(inputs, opts), source) {
         return load_sh(inputs, path, source, opts, progress, started);
     }
     let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;

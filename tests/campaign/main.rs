@@ -199,7 +199,12 @@ fn judge(case: &Case, tally: &mut Tally) -> Result<(), String> {
         .map(Got::Volumes),
         Read::Sh(opts) => {
             // The decision reads the header; the tensor reader takes what is not SH.
-            if tensorglyph::field::holds_sh(&case.path, opts) {
+            if tensorglyph::field::FieldKind::of_file(
+                &tensorglyph::field::Inputs::file_system(),
+                &case.path,
+                opts,
+            ) == tensorglyph::field::FieldKind::Series
+            {
                 tensorglyph::field::read_sh_field(&case.path, opts).map(|f| Got::Sh(Box::new(f)))
             } else {
                 read_field(&case.path, opts).map(|f| Got::Field(Box::new(f)))

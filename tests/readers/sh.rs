@@ -8,7 +8,7 @@ use std::io::{Read as _, Write as _};
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
-use tensorglyph::field::{ReadOptions, ShField, TensorFrame, holds_sh, read_sh_field};
+use tensorglyph::field::{FieldKind, Inputs, ReadOptions, ShField, TensorFrame, read_sh_field};
 use tensorglyph::sh::{PeakFinder, PeakOptions, ShBasis, convert};
 
 use crate::cli::{json, stderr, tg};
@@ -126,6 +126,11 @@ fn amplitude_error(f: &ShField, at: &[usize], truth: &Value, dirs: &[[f64; 3]]) 
         }
     }
     worst
+}
+
+/// What the header probe says the file holds.
+fn kind(path: &std::path::Path, opts: &ReadOptions) -> FieldKind {
+    FieldKind::of_file(&Inputs::file_system(), path, opts)
 }
 
 #[test]
@@ -356,7 +361,7 @@ fn the_basis_and_the_directions_axes_follow_the_writer_unless_told() {
             TensorFrame::Voxel,
         ),
     ] {
-        assert!(holds_sh(&sh(name), &defaults), "{name}");
+        assert_eq!(kind(&sh(name), &defaults), FieldKind::Series, "{name}");
         let f = read_sh_field(&sh(name), &defaults).unwrap();
         assert_eq!(
             (f.layout.basis, f.frame.tensor_frame),
@@ -376,14 +381,14 @@ fn the_basis_and_the_directions_axes_follow_the_writer_unless_told() {
     let dwi = crate::data::path("mif").join("dwi_small101.mif.gz");
     let nifti_tensors = crate::data::path("mif").join("dwi2tensor_small101.nii.gz");
     for p in [&tensors, &dwi, &nifti_tensors] {
-        assert!(!holds_sh(p, &defaults), "{}", p.display());
+        assert_eq!(kind(p, &defaults), FieldKind::Tensors, "{}", p.display());
     }
     let asked = ReadOptions {
         sh_basis: Some(ShBasis::Descoteaux07),
         tensor_frame: Some(TensorFrame::Voxel),
         ..ReadOptions::default()
     };
-    assert!(holds_sh(&tensors, &asked));
+    assert_eq!(kind(&tensors, &asked), FieldKind::Series);
     let f = read_sh_field(&nifti_tensors, &asked).unwrap();
     assert_eq!(f.layout.lmax, 2);
     assert_eq!(f.layout.basis, ShBasis::Descoteaux07);

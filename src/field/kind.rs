@@ -1,0 +1,68 @@
+//! What a file holds: its field kind, as [`crate::shape::GlyphKind`] names the glyph kinds. The
+//! header decides ([`FieldKind::of_file`], the one probe), before anything is read; the readers
+//! then read that kind, and every front end asks the kind rather than probing the file itself.
+//! What each kind offers the front ends (the glyphs it is drawn as, its options) is
+//! [`crate::staging::Offers`], beside the staging that builds its scenes.
+//!
+//! Adding a kind: the docs/book's developer guide has the checklist (Layout → "Adding a field
+//! kind").
+
+use std::path::Path;
+
+use super::{Inputs, ReadOptions, fsl_eigen, guard, mif, nifti, sh_field};
+
+/// A kind of field a file can hold.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FieldKind {
+    /// Symmetric 3×3 tensors (DTI, stress), one per point.
+    Tensors,
+    /// Spherical-harmonic series (fibre ODFs), one per voxel.
+    Series,
+}
+
+crate::names::named_values!(FieldKind {
+    Tensors => "tensors",
+    Series => "series",
+});
+
+impl FieldKind {
+    /// How messages say what a file of this kind holds.
+    pub fn holds(self) -> &'static str {
+        match self {
+            FieldKind::Tensors => "tensors",
+            FieldKind::Series => "SH series",
+        }
+    }
+
+    /// The kind of the file `path` among `inputs`, from its header: SH series for a NIfTI-1 or
+    /// MRtrix image of an SH count of volumes other than 6 (`field::sh_field` gives the rule),
+    /// or of any count when `opts.sh_basis` is given; else tensors. A file whose header cannot
+    /// be read is taken as tensors, whose reader then says what is wrong with it.
+    pub fn of_file(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Self {
+        if holds_series(inputs, path, opts) {
+            FieldKind::Series
+        } else {
+            FieldKind::Tensors
+        }
+    }
+}
+
+fn holds_series(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> bool {
+    let nifti = nifti::is_nifti_path(path);
+    if !(nifti || mif::is_mif_path(path)) || fsl_eigen::EigenSet::named_by(path, inputs).is_some() {
+        return false;
+    }
+    if opts.sh_basis.is_some() {
+        return true;
+    }
+    let probe = || -> Result<bool, crate::error::LoadErrorKind> {
+        Ok(if nifti {
+            sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?)
+        } else {
+            let (count, dwi) = mif::sh_probe(inputs, path)?;
+            !dwi && sh_field::is_sh_count(count)
+        })
+    };
+    guard::guarded(path, probe).unwrap_or(false)
+}
