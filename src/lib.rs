@@ -74,6 +74,7 @@ pub mod image_out;
 pub mod info;
 pub mod legend;
 pub mod mem;
+pub mod peaks_info;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod report;
 pub mod sh_info;

@@ -114,7 +114,13 @@ pub fn human_summary(r: &ShInfoReport) -> String {
         s.lmax, s.count, s.recognised
     );
     let _ = writeln!(o, "basis: {} ({})", s.basis, s.reason);
-    let f = &r.frame;
+    frame_lines(&mut o, &r.frame);
+    sample_lines(&mut o, &r.samples);
+    o
+}
+
+/// The frame's lines of [`human_summary`] (a peaks file's too).
+pub(crate) fn frame_lines(o: &mut String, f: &FrameInfo) {
     let _ = writeln!(
         o,
         "frame: directions in {} axes, world {} from {}",
@@ -134,7 +140,11 @@ pub fn human_summary(r: &ShInfoReport) -> String {
             );
         }
     }
-    for smp in &r.samples {
+}
+
+/// The samples' lines of [`human_summary`] (a peaks file's too).
+pub(crate) fn sample_lines(o: &mut String, samples: &[ShSample]) {
+    for smp in samples {
         let p = smp.position;
         let _ = writeln!(
             o,
@@ -161,10 +171,9 @@ pub fn human_summary(r: &ShInfoReport) -> String {
             );
         }
     }
-    o
 }
 
-fn g(x: f64) -> String {
+pub(crate) fn g(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }

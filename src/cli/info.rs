@@ -1,4 +1,4 @@
-//! `tensorglyph info`: what is in a tensor file, or in a file of SH coefficients.
+//! `tensorglyph info`: what is in a tensor file, a file of SH coefficients or of peaks.
 
 use std::path::PathBuf;
 
@@ -32,18 +32,22 @@ pub struct InfoArgs {
 
 pub fn run(args: InfoArgs) -> Result<()> {
     let opts = args.scene.read_options();
-    if let Some(path) = &args.file
-        && FieldKind::of_file(&Inputs::file_system(), path, &opts) == FieldKind::Series
-    {
-        let field = crate::field::read_sh_field(path, &opts)?;
-        let report = crate::sh_info::report(&field, &args.samples)
-            .map_err(|e| anyhow::anyhow!("{}: {e}", crate::error::escape_path(path)))?;
-        super::stdout::print(&if args.json {
-            format!("{}\n", serde_json::to_string(&report)?)
-        } else {
-            crate::sh_info::human_summary(&report)
-        })?;
-        return Ok(());
+    if let Some(path) = &args.file {
+        let inputs = Inputs::file_system();
+        let at = |e: String| anyhow::anyhow!("{}: {e}", crate::error::escape_path(path));
+        match FieldKind::of_file(&inputs, path, &opts) {
+            FieldKind::Series => {
+                let field = crate::field::read_sh_field_from(&inputs, path, &opts)?;
+                let report = crate::sh_info::report(&field, &args.samples).map_err(at)?;
+                return print(&report, args.json, crate::sh_info::human_summary);
+            }
+            FieldKind::Peaks => {
+                let field = crate::field::read_peak_field_from(&inputs, path, &opts)?;
+                let report = crate::peaks_info::report(&field, &args.samples).map_err(at)?;
+                return print(&report, args.json, crate::peaks_info::human_summary);
+            }
+            FieldKind::Tensors => {}
+        }
     }
     let src = source(args.file, args.demo)?;
     let progress = Terminal::new(args.scene.quiet);
@@ -55,10 +59,15 @@ pub fn run(args: InfoArgs) -> Result<()> {
             crate::error::escape_path(std::path::Path::new(&src.name()))
         )
     })?;
-    if args.json {
-        super::stdout::print(&format!("{}\n", serde_json::to_string(&report)?))?;
+    print(&report, args.json, crate::info::human_summary)
+}
+
+/// A report on stdout: one JSON object, or its text.
+fn print<R: serde::Serialize>(report: &R, json: bool, text: fn(&R) -> String) -> Result<()> {
+    super::stdout::print(&if json {
+        format!("{}\n", serde_json::to_string(report)?)
     } else {
-        super::stdout::print(&crate::info::human_summary(&report))?;
-    }
+        text(report)
+    })?;
     Ok(())
 }

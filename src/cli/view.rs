@@ -84,7 +84,11 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let kind = source
         .as_ref()
         .map_or(FieldKind::Tensors, |s| s.kind(&args.scene.read_options()));
-    let glyph = cam.glyph_for(kind, &source.as_ref().map_or(String::new(), |s| s.name()))?;
+    let name = source.as_ref().map_or(String::new(), |s| s.name());
+    if let Some(refusal) = kind.viewer_refusal(&name) {
+        bail!(refusal);
+    }
+    let glyph = cam.glyph_for(kind, &name)?;
     if kind == FieldKind::Tensors && !glyph.colours(style.color) {
         bail!("--color {} applies to --glyph odf", style.color);
     }

@@ -19,11 +19,14 @@ pub enum FieldKind {
     Tensors,
     /// Spherical-harmonic series (fibre ODFs), one per voxel.
     Series,
+    /// Fibre directions, a few per voxel (`sh2peaks`' images).
+    Peaks,
 }
 
 crate::names::named_values!(FieldKind {
     Tensors => "tensors",
     Series => "series",
+    Peaks => "peaks",
 });
 
 impl FieldKind {
@@ -32,37 +35,45 @@ impl FieldKind {
         match self {
             FieldKind::Tensors => "tensors",
             FieldKind::Series => "SH series",
+            FieldKind::Peaks => "fibre peaks",
         }
     }
 
-    /// The kind of the file `path` among `inputs`, from its header: SH series for a NIfTI-1 or
-    /// MRtrix image of an SH count of volumes other than 6 (`field::sh_field` gives the rule),
-    /// or of any count when `opts.sh_basis` is given; else tensors. A file whose header cannot
-    /// be read is taken as tensors, whose reader then says what is wrong with it.
+    /// The kind of the file `path` among `inputs`, from its header: peaks for an MRtrix image
+    /// whose `command_history` says `sh2peaks` wrote it ([`super::peaks`]); SH series for a
+    /// NIfTI-1 or MRtrix image of an SH count of volumes other than 6 (`field::sh_field` gives
+    /// the rule), or of any count when `opts.sh_basis` is given; else tensors. A file whose
+    /// header cannot be read is taken as tensors, whose reader then says what is wrong with it.
     pub fn of_file(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Self {
-        if holds_series(inputs, path, opts) {
+        let nifti = nifti::is_nifti_path(path);
+        if !(nifti || mif::is_mif_path(path))
+            || fsl_eigen::EigenSet::named_by(path, inputs).is_some()
+        {
+            return FieldKind::Tensors;
+        }
+        let probe = || -> Result<FieldKind, crate::error::LoadErrorKind> {
+            let series = |yes: bool| {
+                if yes || opts.sh_basis.is_some() {
+                    FieldKind::Series
+                } else {
+                    FieldKind::Tensors
+                }
+            };
+            Ok(if nifti {
+                series(sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?))
+            } else {
+                let p = mif::kind_probe(inputs, path)?;
+                if p.peaks {
+                    FieldKind::Peaks
+                } else {
+                    series(!p.dwi && sh_field::is_sh_count(p.count))
+                }
+            })
+        };
+        guard::guarded(path, probe).unwrap_or(if opts.sh_basis.is_some() {
             FieldKind::Series
         } else {
             FieldKind::Tensors
-        }
-    }
-}
-
-fn holds_series(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> bool {
-    let nifti = nifti::is_nifti_path(path);
-    if !(nifti || mif::is_mif_path(path)) || fsl_eigen::EigenSet::named_by(path, inputs).is_some() {
-        return false;
-    }
-    if opts.sh_basis.is_some() {
-        return true;
-    }
-    let probe = || -> Result<bool, crate::error::LoadErrorKind> {
-        Ok(if nifti {
-            sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?)
-        } else {
-            let (count, dwi) = mif::sh_probe(inputs, path)?;
-            !dwi && sh_field::is_sh_count(count)
         })
-    };
-    guard::guarded(path, probe).unwrap_or(false)
+    }
 }

@@ -24,6 +24,7 @@ pub mod nrrd;
 pub(crate) mod number;
 mod options;
 pub mod order;
+pub mod peaks;
 pub mod scalar;
 pub mod sh_field;
 pub mod synthetic;
@@ -35,6 +36,7 @@ pub use inputs::Inputs;
 pub use kind::FieldKind;
 pub use options::ReadOptions;
 pub use order::ComponentOrder;
+pub use peaks::{PeakField, read_peak_field_from};
 pub use scalar::ScalarVolume;
 pub use sh_field::{Coefficients, ShField, ShLayout};
 pub use tensor_field::{

@@ -120,6 +120,9 @@ pub enum UnitError {
     NotSh { path: PathBuf, count: usize },
     #[error("{}: no ODF to draw: every voxel's SH series is all zero", escape_path(.0))]
     NoOdf(PathBuf),
+    /// A kind of field the report has no section for yet.
+    #[error("{}: holds {}; a report shows tensor and ODF maps", escape_path(.0), .1.holds())]
+    NoSection(PathBuf, FieldKind),
     #[error(transparent)]
     Load(#[from] LoadError),
     #[error(transparent)]
@@ -447,6 +450,7 @@ fn report(
             FieldKind::Series => Section::Odf(odf_map::map(
                 path, session, options, backend, progress, &mut read,
             )?),
+            FieldKind::Peaks => return Err(UnitError::NoSection(path.clone(), *kind)),
         });
     }
     let run = RunInfo {

@@ -12,6 +12,8 @@ pub struct Offers {
     pub glyphs: &'static [GlyphKind],
     /// `--odf-normalize` (its series scaled per voxel or by the largest value).
     pub normalize: bool,
+    /// The viewer (and the page, which shares its loader) opens it.
+    pub viewer: bool,
 }
 
 impl FieldKind {
@@ -21,12 +23,32 @@ impl FieldKind {
             FieldKind::Tensors => Offers {
                 glyphs: GlyphKind::VALUES,
                 normalize: false,
+                viewer: true,
             },
             FieldKind::Series => Offers {
                 glyphs: &[GlyphKind::Odf],
                 normalize: true,
+                viewer: true,
+            },
+            // Sticks: a cylinder or a capsule along each peak.
+            FieldKind::Peaks => Offers {
+                glyphs: &[GlyphKind::Cylinder, GlyphKind::Capsule],
+                normalize: false,
+                viewer: false,
             },
         }
+    }
+
+    /// `None` where the viewer opens a field of this kind named `name`, else the one line
+    /// that says it does not.
+    pub fn viewer_refusal(self, name: &str) -> Option<String> {
+        (!self.offers().viewer).then(|| {
+            format!(
+                "{}: holds {}, which the viewer does not open yet (render draws them)",
+                crate::error::escape_path(std::path::Path::new(name)),
+                self.holds()
+            )
+        })
     }
 
     /// The glyph a field of this kind named `name` is drawn as: `asked` where the kind offers it,

@@ -25,10 +25,13 @@ use crate::scene::underlay::{self, UnderlayError, UnderlaySource, Values};
 use crate::select::{Plane, Selection, SelectionError, Slicing};
 
 mod kind;
+mod lattice;
+mod peaks;
 mod sh;
 mod source;
 
 pub use kind::Offers;
+pub use peaks::{STICK_RADIUS, build_peaks};
 pub use sh::{build_sh, sh_face_on};
 pub use source::{Demo, InMemory, InMemoryFile, Source};
 
@@ -320,6 +323,13 @@ pub fn stage(
             let (inputs, path) = b.inputs();
             return sh::stage_sh(&inputs, &path, recipe, progress);
         }
+        Source::File(path) if kind == FieldKind::Peaks => {
+            return peaks::stage_peaks(&Inputs::file_system(), path, recipe, progress);
+        }
+        Source::Bytes(b) if kind == FieldKind::Peaks => {
+            let (inputs, path) = b.inputs();
+            return peaks::stage_peaks(&inputs, &path, recipe, progress);
+        }
         _ => {}
     }
     if recipe.odf_normalize.is_some() && !kind.offers().normalize {
@@ -366,19 +376,7 @@ pub fn stage(
     drop(set);
     timings.scene = ms(t);
     timings.peak_rss_after[2] = crate::mem::peak_rss_bytes();
-    Ok(Staged {
-        glyphs_selected: built.selected.len(),
-        glyphs_clamped: built.glyphs_clamped,
-        glyphs_valid: built.glyphs_valid,
-        face: built.face,
-        frame_centre: built.frame_centre,
-        frame_radius: built.frame_radius,
-        frame_half: built.frame_half,
-        style: built.style,
-        scene: built.scene,
-        timings,
-        read: inputs.paths_read(),
-    })
+    Ok(Staged::of(built, timings, &inputs))
 }
 
 /// A scene built from a field and glyphs that stay (the viewer's).

@@ -79,7 +79,11 @@ pub fn load_now_from(
     progress: &dyn Progress,
 ) -> Result<Loaded, String> {
     let started = Instant::now();
-    if let (FieldKind::Series, Source::File(path)) = (source.kind_in(inputs, opts), source) {
+    let kind = source.kind_in(inputs, opts);
+    if let Some(refusal) = kind.viewer_refusal(&source.name()) {
+        return Err(refusal);
+    }
+    if let (FieldKind::Series, Source::File(path)) = (kind, source) {
         return load_sh(inputs, path, source, opts, progress, started);
     }
     let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;

@@ -134,3 +134,52 @@ pub fn check_tight(name: &str, scene: &Scene, camera: &Camera, method: Method, g
         assert_tight(&format!("{name} ({method} {glyph})"), &a);
     }
 }
+
+/// Bounds on `render --reference-check`'s measures: coverage and ids (shares of pixels), depth
+/// p99 (of the glyph's radius), normal p99 (degrees), and the colours' PSNR at the pixels
+/// both cover.
+pub struct Bounds {
+    pub coverage: f64,
+    pub id: f64,
+    pub depth_p99: f64,
+    pub normal_p99_deg: f64,
+    pub psnr_db: f64,
+}
+
+/// Run `tensorglyph render` with `args` (a field and its options) and `--reference-check` at
+/// 320×240, print its measures under `name`, and return its JSON and whether they are within
+/// `b`.
+pub fn reference_check(name: &str, args: &[&str], b: &Bounds) -> (serde_json::Value, bool) {
+    use crate::cli::{json, stderr, tg};
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let mut all = vec!["render"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&[
+        "--size",
+        "320x240",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+        "--reference-check",
+        "-q",
+    ]);
+    let r = tg(&all);
+    assert!(r.status.success(), "{all:?}: {}", stderr(&r));
+    let j = json(&r);
+    let v = |k: &str| j[k].as_f64().unwrap_or(f64::NAN);
+    eprintln!(
+        "{name}: coverage {:.2e} id {:.2e} depth p99 {:.2e} normal p99 {:.5}° psnr {:.1} dB",
+        v("coverage_mismatch"),
+        v("id_mismatch"),
+        v("depth_err_rel_p99"),
+        v("normal_err_deg_p99"),
+        v("color_psnr_db"),
+    );
+    let ok = v("coverage_mismatch") <= b.coverage
+        && v("id_mismatch") <= b.id
+        && v("depth_err_rel_p99") <= b.depth_p99
+        && v("normal_err_deg_p99") <= b.normal_p99_deg
+        && v("color_psnr_db") >= b.psnr_db;
+    (j, ok)
+}

@@ -22,6 +22,7 @@ mod kinds;
 mod less_work;
 mod mesh;
 mod odf;
+mod peaks;
 mod prepass;
 mod published_bounds;
 mod ray_casters;

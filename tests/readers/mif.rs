@@ -610,23 +610,70 @@ fn float_data_is_read_as_stored_whatever_its_scaling() {
 
 /// An image MRtrix's `sh2peaks` wrote (`tests/data/sh/make_peaks.sh`: 9 volumes, three peaks
 /// of 3 values) was read silently as a field of full 3×3 tensors; its header says what it is
-/// (`command_history` ends with sh2peaks), so it is refused in one line naming that.
+/// (`command_history` ends with sh2peaks), so the tensor reader refuses it in one line naming
+/// that, its field kind is peaks, and the peaks reader reads what sh2peaks found: the
+/// directions and amplitudes `make_sh.py` read back through nibabel (expected.json, MRtrix's
+/// fit), voxel by voxel. `info` describes it (kind `peaks`, every voxel with three).
 #[test]
-fn an_sh2peaks_image_is_not_read_as_tensors() {
+fn an_sh2peaks_image_is_read_as_peaks_not_tensors() {
     let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sh/sh2peaks_lmax8.mif");
-    let e = read_field(&p, &ReadOptions::default())
-        .unwrap_err()
-        .to_string();
+    let opts = ReadOptions::default();
+    let e = read_field(&p, &opts).unwrap_err().to_string();
     assert!(
         e.contains("'command_history'") && e.contains("sh2peaks") && e.contains("not tensors"),
         "{e}"
     );
-    let o = tg(&["info", p.to_str().unwrap()]);
-    let err = stderr(&o);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
-    assert!(
-        err.contains("sh2peaks_lmax8.mif") && err.contains("sh2peaks:"),
-        "{err}"
+    let inputs = tensorglyph::field::Inputs::file_system();
+    assert_eq!(
+        tensorglyph::field::FieldKind::of_file(&inputs, &p, &opts),
+        tensorglyph::field::FieldKind::Peaks
+    );
+    let field = tensorglyph::field::read_peak_field_from(&inputs, &p, &opts).unwrap();
+    assert_eq!((field.dims, field.per_voxel), ([4, 4, 4], 3));
+    let text = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/sh/expected.json"),
+    )
+    .unwrap();
+    let all: Value = serde_json::from_str(&text).unwrap();
+    let want = &all["files"]["mrtrix_lmax8.mif"];
+    let peaks = want["peaks"].as_object().unwrap();
+    assert_eq!(peaks.len(), 64);
+    for (v, pk) in peaks {
+        let v: usize = v.parse().unwrap();
+        let got: Vec<[f32; 3]> = field.peaks_of(v).collect();
+        let dirs = pk["directions"].as_array().unwrap();
+        let values = floats(&pk["values"]);
+        assert_eq!(got.len(), dirs.len(), "voxel {v}");
+        let at = floats(&want["positions"][v]);
+        for (a, b) in field.position(v).iter().zip(&at) {
+            assert!(
+                (a - b).abs() < 1e-4,
+                "voxel {v}: {:?} {at:?}",
+                field.position(v)
+            );
+        }
+        for ((g, d), value) in got.iter().zip(dirs).zip(&values) {
+            let d = floats(d);
+            let len = g.iter().map(|x| f64::from(*x).powi(2)).sum::<f64>().sqrt();
+            assert!(
+                (len - value).abs() < 1e-5 * value,
+                "voxel {v}: {len} {value}"
+            );
+            for c in 0..3 {
+                assert!(
+                    (f64::from(g[c]) / len - d[c]).abs() < 1e-5,
+                    "voxel {v}: {g:?} {d:?}"
+                );
+            }
+        }
+    }
+    let o = tg(&["info", p.to_str().unwrap(), "--json", "--sample", "21"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let j = json(&o);
+    assert_eq!(j["kind"], "peaks");
+    assert_eq!(j["counts"], serde_json::json!([0, 0, 0, 64]));
+    assert_eq!(
+        j["samples"][0]["peaks"][0]["value"].as_f64().unwrap() as f32,
+        floats(&peaks["21"]["values"])[0] as f32
     );
 }

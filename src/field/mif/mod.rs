@@ -91,7 +91,7 @@ fn tensor_components(h: &Header) -> Res<usize> {
             "command_history",
             format!(
                 "written by MRtrix's sh2peaks: fibre directions ({n} values, 3 a peak), not \
-                 tensors; peak images are not read yet"
+                 tensors"
             ),
         ));
     }
@@ -194,12 +194,25 @@ pub(crate) fn data_file(inputs: &Inputs, path: &Path) -> Option<std::path::PathB
     }
 }
 
-/// What deciding between SH and tensors needs of an MRtrix image (its header only): values per
-/// voxel, and whether it is a DWI series (`dw_scheme`).
-pub(crate) fn sh_probe(inputs: &Inputs, path: &Path) -> Res<(usize, bool)> {
+/// What deciding an MRtrix image's field kind needs (its header only).
+pub(crate) struct KindProbe {
+    /// Values per voxel.
+    pub count: usize,
+    /// A DWI series (`dw_scheme`).
+    pub dwi: bool,
+    /// `sh2peaks` wrote it (its `command_history`).
+    pub peaks: bool,
+}
+
+/// [`KindProbe`] of the image `path` among `inputs`.
+pub(crate) fn kind_probe(inputs: &Inputs, path: &Path) -> Res<KindProbe> {
     let input = inputs.open(path)?;
     let h = read_header(&input)?;
-    Ok((h.per_voxel()?, h.dw_scheme))
+    Ok(KindProbe {
+        count: h.per_voxel()?,
+        dwi: h.dw_scheme,
+        peaks: h.peaks,
+    })
 }
 
 /// Read an MRtrix image of SH coefficients (`dwi2fod`'s output) from `path` among `inputs`:

@@ -1,0 +1,190 @@
+//! Staging a file of fibre peaks ([`crate::field::PeakField`]): read, then each peak on the
+//! planes the selection asks for as a stick through its voxel's centre, along the peak, as long
+//! as its amplitude, coloured by its direction (DEC) — drawn by a glyph kind the field kind
+//! offers (a cylinder or a capsule: [`crate::field::FieldKind::offers`]), so every method and
+//! the exact reference draw it as they draw those.
+//!
+//! **Length.** `--scale auto` makes the field's largest peak as long as the voxel step (its
+//! half-length half the step, as an ODF's largest radius is); `--scale F` gives a half-length
+//! of F × the peak's amplitude, in world units. **Width.** A stick's radius is
+//! [`STICK_RADIUS`] of the voxel step, whatever its length, as mrview's and FURY's lines are
+//! of one width.
+
+use std::path::Path;
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::{Built, Recipe, StageError, Staged, lattice};
+use crate::field::{Inputs, PeakField};
+use crate::glyph::{ColorScheme, Scale};
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::shape::{GlyphInstance, GlyphKind};
+
+/// A stick's radius, in voxel steps.
+pub const STICK_RADIUS: f64 = 0.06;
+
+/// [`super::stage`] for a file of peaks: read, then [`build_peaks`].
+pub(super) fn stage_peaks(
+    inputs: &Inputs,
+    path: &Path,
+    recipe: &Recipe,
+    progress: &dyn Progress,
+) -> Result<Staged, StageError> {
+    lattice::stage(
+        inputs,
+        progress,
+        "reading peaks",
+        || crate::field::read_peak_field_from(inputs, path, &recipe.read),
+        |f| build_peaks(f, &crate::error::escape_path(path), recipe),
+    )
+}
+
+/// The scene of sticks (one a peak: the module's doc) of `field` (called `name` in errors),
+/// drawn as `recipe.glyph` where the kind offers it (else its first), on the lattice planes
+/// the selection asks for (with none, the middle axial one where `middle_slice` says so), seen
+/// face-on when one plane is shown. Only `--slice` selects, as for SH series. The instances
+/// name their voxel (`glyph`).
+pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Built, StageError> {
+    let planes = lattice::planes(name, "peaks", field.dims, recipe)?;
+    let d = field.dims;
+    let mut style = recipe.style.clone();
+    let solid = match style.color {
+        ColorScheme::Auto | ColorScheme::Dec => {
+            style.color = ColorScheme::Dec;
+            None
+        }
+        ColorScheme::Solid => {
+            let [r, g, b] = style.solid_color;
+            Some(GlyphInstance::pack_color([r, g, b, 255]))
+        }
+        other => {
+            return Err(lattice::refuse(
+                name,
+                format!("--color {other}: a file of peaks is coloured by dec or solid"),
+            ));
+        }
+    };
+    let m = field.frame.voxel_to_world.unwrap_or_default();
+    let steps: [DVec3; 3] = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
+    let step = steps
+        .iter()
+        .map(|s| s.length())
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let step = if step.is_finite() { step } else { 1.0 };
+    let per_amplitude = match style.scale {
+        Scale::Auto => {
+            let largest = field.largest();
+            if largest > 0.0 {
+                0.5 * step / largest
+            } else {
+                0.0
+            }
+        }
+        Scale::Factor(f) => f,
+    };
+    let origin = DVec3::from(field.position(0));
+    let radius = (STICK_RADIUS * step) as f32;
+    let mut instances = Vec::new();
+    for v in (0..field.voxels()).filter(|&v| lattice::shown(planes.as_deref(), d, v)) {
+        let centre = DVec3::from(field.position(v)) - origin;
+        for x in field.peaks_of(v) {
+            let x = glam::Vec3::from(x).as_dvec3();
+            let axis = x.normalize();
+            let (u, w) = axis.any_orthonormal_pair();
+            let rotation = DQuat::from_mat3(&DMat3::from_cols(axis, u, w)).as_quat();
+            let colour = solid.unwrap_or_else(|| {
+                let c = (axis.abs() * 255.0).round();
+                GlyphInstance::pack_color([c.x as u8, c.y as u8, c.z as u8, 255])
+            });
+            instances.push(GlyphInstance {
+                centre: centre.as_vec3().into(),
+                color: colour,
+                rotation: rotation.into(),
+                radii: [(x.length() * per_amplitude) as f32, radius, radius],
+                glyph: v as u32,
+                shape: [0; 2],
+            });
+        }
+    }
+    // A recipe's glyph cannot be unasked: one the kind does not offer (a front end has refused
+    // it already, `FieldKind::glyph`) means the kind's own.
+    let offered = crate::field::FieldKind::Peaks.offers().glyphs;
+    let glyph = if offered.contains(&recipe.glyph) {
+        recipe.glyph
+    } else {
+        offered[0]
+    };
+    let scene = Scene::from_instances_as(origin, instances, GlyphKind::Cylinder);
+    let scene = if glyph == GlyphKind::Cylinder {
+        scene
+    } else {
+        scene.drawn_as(glyph)
+    };
+    lattice::built(
+        name,
+        scene,
+        planes.as_deref(),
+        field.frame.voxel_to_world,
+        style,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::field::frame::{FrameInfo, TensorFrame};
+    use crate::tensor::eigen::quat_to_frame;
+
+    /// Two voxels of a 2×1×1 lattice of step 2: one with two peaks, one with none (NaN, as
+    /// sh2peaks writes). Each stick lies along its peak through its voxel's centre, half as
+    /// long as the step for the largest peak under `--scale auto` and in proportion for the
+    /// other, or F × its amplitude under `--scale F`; coloured by its direction.
+    #[test]
+    fn a_stick_lies_along_its_peak_as_long_as_its_amplitude() {
+        let d = glam::DVec3::new(1.0, 2.0, 2.0) / 3.0;
+        let field = PeakField {
+            format: "mif".into(),
+            dims: [2, 1, 1],
+            per_voxel: 2,
+            vectors: vec![
+                (d * 4.0).as_vec3().into(),
+                [0.0, 0.0, 1.0],
+                [f32::NAN; 3],
+                [f32::NAN; 3],
+            ],
+            frame: FrameInfo {
+                tensor_frame: TensorFrame::World,
+                world: "RAS".into(),
+                voxel_to_world: Some([
+                    [2.0, 0.0, 0.0, 10.0],
+                    [0.0, 2.0, 0.0, 0.0],
+                    [0.0, 0.0, 2.0, 0.0],
+                    [0.0, 0.0, 0.0, 1.0],
+                ]),
+                source: "transform".into(),
+            },
+        };
+        let mut recipe = Recipe::default();
+        recipe.style.color = ColorScheme::Auto;
+        let built = build_peaks(&field, "p", &recipe).unwrap();
+        let s = &built.scene;
+        assert_eq!(s.kind, GlyphKind::Cylinder);
+        assert_eq!(s.instances.len(), 2);
+        assert_eq!(built.selected, [0, 0]);
+        let g = &s.instances[0];
+        let axis = glam::DVec3::from(quat_to_frame(g.rotation)[0]);
+        assert!(axis.cross(d).length() < 1e-5, "{axis}");
+        assert!((f64::from(g.radii[0]) - 1.0).abs() < 1e-6, "{:?}", g.radii);
+        assert!((f64::from(s.instances[1].radii[0]) - 0.25).abs() < 1e-6);
+        assert!((f64::from(g.radii[1]) - STICK_RADIUS * 2.0).abs() < 1e-5);
+        assert_eq!(g.color_rgba(), [85, 170, 170, 255]);
+        let centre = s.origin + glam::Vec3::from(g.centre).as_dvec3();
+        assert!((centre - glam::DVec3::new(10.0, 0.0, 0.0)).length() < 1e-9);
+        recipe.style.scale = Scale::Factor(0.1);
+        let built = build_peaks(&field, "p", &recipe).unwrap();
+        // Radii are stored to 2⁻¹⁷ (`pack_radius`).
+        assert!((f64::from(built.scene.instances[0].radii[0]) - 0.4).abs() < 1e-5);
+    }
+}

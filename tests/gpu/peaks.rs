@@ -1,0 +1,103 @@
+//! Fibre peaks (MRtrix's `sh2peaks` of the CSD fit in tests/data/sh, three a voxel) as a user
+//! renders them: sticks, drawn as cylinders (the default) or capsules, by Gumhold's quads and
+//! Sigg's boxes in the default face-on view of the middle slice, a close oblique view of every
+//! slice and an orthographic side view, against the exact f64 reference with
+//! `render --reference-check`: coverage, ids, depth, normals and colours. And what a peaks file
+//! refuses: a glyph its kind does not offer, a tensor's colouring, the viewer and a report.
+
+use crate::check::{Bounds, reference_check};
+use crate::cli::{stderr, tg};
+
+const PEAKS: &str = "tests/data/sh/sh2peaks_lmax8.mif";
+
+/// A tensor kind's bounds (tests/gpu/kinds.rs); measured 0 / 0 / ≤ 6e-7 / ≤ 1.3e-4° / 99 dB.
+const TENSOR_KIND: Bounds = Bounds {
+    coverage: 1e-4,
+    id: 1e-4,
+    depth_p99: 1e-5,
+    normal_p99_deg: 0.01,
+    psnr_db: 40.0,
+};
+
+#[test]
+fn sticks_match_the_reference() {
+    let views: [&[&str]; 3] = [
+        &[],
+        &[
+            "--slice",
+            "all",
+            "--azimuth",
+            "35",
+            "--elevation",
+            "25",
+            "--zoom",
+            "2.5",
+        ],
+        &["--ortho", "--view", "+x", "--slice", "x=2"],
+    ];
+    let mut failures = Vec::new();
+    for (glyph, view) in [
+        ("cylinder", views[0]),
+        ("cylinder", views[1]),
+        ("cylinder", views[2]),
+        ("capsule", views[1]),
+    ] {
+        for method in ["gumhold", "sigg"] {
+            let mut args = vec![PEAKS, "--glyph", glyph, "--method", method];
+            args.extend_from_slice(view);
+            let name = format!("{glyph} {method} {view:?}");
+            let (j, ok) = reference_check(&name, &args, &TENSOR_KIND);
+            // Three peaks in each of the 16 voxels of a slice, of the 64 of the lattice.
+            let slices = if view.contains(&"all") { 4 } else { 1 };
+            assert_eq!(j["glyphs_selected"], 48 * slices, "{name}: {j}");
+            assert!(j["covered_pixels"].as_u64().unwrap() > 2000, "{name}: {j}");
+            if !ok {
+                failures.push(format!("{name}: {j}"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn a_peaks_file_refuses_what_its_kind_does_not_offer() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    for (extra, says) in [
+        (
+            &["--glyph", "ellipsoid"][..],
+            "sh2peaks_lmax8.mif: holds fibre peaks, drawn as --glyph cylinder or --glyph capsule, not ellipsoid",
+        ),
+        (
+            &["--color", "fa"][..],
+            "sh2peaks_lmax8.mif: --color fa: a file of peaks is coloured by dec or solid",
+        ),
+        (&["--fa-min", "0.2"][..], "selected by --slice only"),
+    ] {
+        let mut args = vec!["render", PEAKS, "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let r = tg(&args);
+        let e = stderr(&r);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+        assert!(e.contains(says), "{args:?}: {e}");
+        assert!(!out.exists());
+    }
+    // Neither the viewer (before any window) nor a report has peaks yet: they say so.
+    let r = tg(&["view", PEAKS]);
+    let e = stderr(&r);
+    assert_eq!(r.status.code(), Some(2), "{e}");
+    assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+    assert!(
+        e.contains("holds fibre peaks, which the viewer does not open yet"),
+        "{e}"
+    );
+    let report = dir.path().join("report");
+    let r = tg(&["report", PEAKS, "-o", report.to_str().unwrap()]);
+    let e = stderr(&r);
+    assert_eq!(r.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("holds fibre peaks; a report shows tensor and ODF maps"),
+        "{e}"
+    );
+}
