@@ -26,6 +26,7 @@ use crate::effects::{Effects, KEY_SHARE, light, outline};
 use crate::error::RenderError;
 use crate::render::context::GpuContext;
 use crate::render::drawer::{Drawer, FrameRecording};
+use crate::render::pipeline::glyphs_and;
 use crate::render::scene_buffers::SceneBuffers;
 use crate::render::shaders::{COMMON, SCREEN_BOX};
 use crate::render::targets::{COLOR_FORMAT, DEPTH_FORMAT, TargetViews, Targets};
@@ -309,11 +310,7 @@ impl EffectsPipeline {
                     label: Some("composite.wgsl"),
                     source: wgpu::ShaderSource::Wgsl(composite_source(kind).into()),
                 });
-                let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some("composite"),
-                    bind_group_layouts: &[Some(&self.glyph_group), Some(&self.layout)],
-                    immediate_size: 0,
-                });
+                let layout = glyphs_and(device, "composite", &self.glyph_group, &self.layout);
                 ctx.pipelines.render(&wgpu::RenderPipelineDescriptor {
                     label: Some("composite"),
                     layout: Some(&layout),

@@ -112,6 +112,21 @@ pub fn glyph_bind_group_layout(ctx: &GpuContext) -> wgpu::BindGroupLayout {
         })
 }
 
+/// A pipeline layout of the glyph group (group 0: camera, chunk, its parameters) and the
+/// pass's own `group` (group 1): every pass that reads the glyphs beside its own buffers.
+pub fn glyphs_and(
+    device: &wgpu::Device,
+    label: &str,
+    glyphs: &wgpu::BindGroupLayout,
+    group: &wgpu::BindGroupLayout,
+) -> wgpu::PipelineLayout {
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(glyphs), Some(group)],
+        immediate_size: 0,
+    })
+}
+
 /// The layouts every glyph pipeline is built with.
 pub struct GlyphLayouts {
     /// Group 0: camera, one chunk of instances, the chunk's parameters, its exponents.

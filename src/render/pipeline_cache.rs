@@ -102,13 +102,27 @@ impl Pipelines {
             })
     }
 
-    /// A compute pipeline, through the cache.
-    pub fn compute(&self, desc: &wgpu::ComputePipelineDescriptor<'_>) -> wgpu::ComputePipeline {
+    /// Compute pipeline `entry` of `module` (labelled by its entry point), with `constants`
+    /// for its overrides, through the cache.
+    pub fn compute(
+        &self,
+        layout: &wgpu::PipelineLayout,
+        module: &wgpu::ShaderModule,
+        entry: &str,
+        constants: &[(&str, f64)],
+    ) -> wgpu::ComputePipeline {
         self.built.fetch_add(1, Ordering::Relaxed);
         self.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(layout),
+                module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions {
+                    constants,
+                    ..Default::default()
+                },
                 cache: self.cache.as_ref(),
-                ..desc.clone()
             })
     }
 

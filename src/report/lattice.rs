@@ -145,26 +145,9 @@ pub fn edge_labels(forward: DVec3, up: DVec3, anatomical: bool) -> [&'static str
     [-right, right, up, -up].map(|d| direction_label(d, anatomical))
 }
 
-/// A slice's name: its lattice index, and where it is in the world along the row's axis.
+/// A slice's name: its lattice index, and where it is in the world along the row's axis (the
+/// lattice's voxels' world positions given by `at`).
 pub(super) fn slice_place(
-    field: &TensorField,
-    dims: [usize; 3],
-    axis: usize,
-    index: usize,
-    orientation: Orientation,
-    anatomical: bool,
-) -> [String; 2] {
-    slice_place_of(
-        position_in(field, dims),
-        axis,
-        index,
-        orientation,
-        anatomical,
-    )
-}
-
-/// [`slice_place`] of a lattice whose voxels' world positions `at` gives.
-pub(super) fn slice_place_of(
     at: impl Fn([usize; 3]) -> DVec3,
     axis: usize,
     index: usize,

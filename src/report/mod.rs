@@ -16,6 +16,7 @@ pub mod mosaic;
 pub mod odf;
 mod odf_map;
 pub mod page;
+mod row;
 pub mod stats;
 
 use std::path::{Path, PathBuf};

@@ -3,9 +3,9 @@
 //! ([`crate::scene::odf`], framed by [`staging::sh_face_on`]) on black, with the anatomical
 //! directions at its edges, its slice named, and a legend panel beside the row.
 //!
-//! The tiles are the tensor rows' ([`super::mosaic`]): the same slice choice (up to
-//! [`mosaic::SLICES`] through the voxels that hold a series), the same framing (every tile of a
-//! row at one scale), labels, back end and zoomed inset ([`super::inset`]: a square of one slice
+//! The row is laid out as the tensor rows are ([`super::row`]; this module draws its tiles, inset
+//! and legend): the same slice choice (up to [`mosaic::SLICES`] through the voxels that hold a
+//! series), the same framing (every tile of a row at one scale), labels, back end and zoomed inset ([`super::inset`]: a square of one slice
 //! at ≥ 8 pixels per voxel, outlined on its slice). There is no FA underlay (an SH series has
 //! none). The inset's region is the one `--zoom-region` asks for or, by default, the square of
 //! the middle slice where the fibre density (each ODF's l = 0 coefficient, MRtrix's AFD, the
@@ -19,13 +19,13 @@ use web_time::Instant;
 use super::Options;
 use super::inset;
 use super::lattice;
-use super::mosaic::{self, FigureError, Mosaic, Orientation, Placed};
+use super::mosaic::{self, FigureError, Mosaic, Orientation};
+use super::row;
 use crate::backend::Backend;
 use crate::camera::{Camera, ViewPreset};
 use crate::field::ShField;
 use crate::legend::raster::{Canvas, Pen};
 use crate::progress::Progress;
-use crate::request::GlyphKind;
 use crate::scene::Scene;
 use crate::scene::odf::{OdfNormalize, OdfOptions, odf_scene};
 use crate::select::Plane;
@@ -48,17 +48,6 @@ pub fn held(field: &ShField) -> Vec<bool> {
             c.iter().any(|&x| x != 0.0)
         })
         .collect()
-}
-
-/// The length of one voxel step along each lattice axis, in world units.
-fn steps(field: &ShField) -> [f64; 3] {
-    let at = position(field);
-    let origin = at([0; 3]);
-    std::array::from_fn(|a| {
-        let mut c = [0; 3];
-        c[a] = 1;
-        (at(c) - origin).length()
-    })
 }
 
 /// The orientation's view direction and up for a field whose affine gives no face-on view.
@@ -97,7 +86,7 @@ fn scene_in(scene: &Scene, dims: [usize; 3], region: &inset::Region) -> Scene {
         .filter(|g| region.contains(crate::select::lattice_coords(g.glyph as usize, dims)))
         .copied()
         .collect();
-    let mut s = Scene::from_instances_as(scene.origin, kept, GlyphKind::Odf);
+    let mut s = Scene::from_instances_as(scene.origin, kept, scene.kind);
     s.payload = scene.payload.clone();
     s
 }
@@ -116,7 +105,6 @@ pub fn render(
     progress: &dyn Progress,
 ) -> Result<Mosaic, FigureError> {
     let t = Instant::now();
-    let (tile, zoom, normalize) = (options.tile, options.zoom, options.odf_normalize);
     let dims = field.dims;
     let at = position(field);
     let axis = lattice::lattice_axis_of(&at, dims, orientation.world_axis);
@@ -124,135 +112,122 @@ pub fn render(
     for (v, _) in held.iter().enumerate().filter(|(_, h)| **h) {
         count[crate::select::lattice_coords(v, dims)[axis]] += 1;
     }
-    let mut slices = lattice::slices_of(&count, mosaic::SLICES);
-    let region = match zoom {
+    let slices = lattice::slices_of(&count, mosaic::SLICES);
+    let region = match options.zoom {
         Some(z) => Some(inset::given(z, dims, axis)?),
         None => slices.get(slices.len() / 2).map(|&s| {
             let values = density(field, held, axis, s);
             inset::brightest_of(values, dims, axis, s, inset::DEFAULT_SIZE)
         }),
     };
-    mosaic::with_inset_slice(&mut slices, region.as_ref());
-    let inset_side = region.map_or(0, |r| inset::side(&at, dims, &r));
-    let lattice = lattice::lattice_box_of(&at, dims);
-    let tiles = slices.len() as u32;
-    let (width, height) = (
-        tiles * tile + inset_side + mosaic::LEGEND_WIDTH,
-        tile.max(inset_side),
-    );
-    let mut rgba = vec![0u8; (width * height * 4) as usize];
-    for px in rgba.chunks_exact_mut(4) {
-        px[3] = 255;
-    }
-    let pen = Pen::new(mosaic::LABEL_PX);
-    let step = steps(field);
-    let across: Vec<usize> = (0..3).filter(|&a| a != axis && dims[a] > 1).collect();
-    let mut drawn = 0;
-    let mut px_per_voxel = f64::NAN;
-    // The inset's glyphs (cut from its slice's scene), the way that slice is seen, and where
-    // its tile is.
-    let mut cut = None;
-    let mut outline = None;
-    for (n, &index) in slices.iter().enumerate() {
-        let plane = Plane { axis, index };
+    let mut row = OdfRow {
+        field,
+        at: &at,
+        lattice: lattice::lattice_box_of(&at, dims),
+        orientation,
+        anatomical,
+        normalize: options.odf_normalize,
+        coloring: options.odf_color,
+        cut: None,
+        backend,
+        progress,
+    };
+    let plan = row::Plan {
+        at: &at,
+        dims,
+        axis,
+        slices,
+        region,
+        orientation,
+        anatomical,
+        tile: options.tile,
+        chosen_by: options
+            .zoom
+            .is_none()
+            .then_some("the fibre density (l = 0)"),
+    };
+    row::compose(plan, &mut row, t)
+}
+
+/// An ODF row: each slice's ODF glyphs (no underlay); the inset's glyphs are cut from its
+/// slice's scene.
+struct OdfRow<'a> {
+    field: &'a ShField,
+    at: inset::At<'a>,
+    lattice: (DVec3, DVec3),
+    orientation: Orientation,
+    anatomical: bool,
+    normalize: OdfNormalize,
+    coloring: OdfColoring,
+    /// The inset's glyphs (cut from its slice's scene) and the way that slice is seen.
+    cut: Option<(Scene, (DVec3, DVec3))>,
+    backend: &'a Backend,
+    progress: &'a dyn Progress,
+}
+
+impl row::Row for OdfRow<'_> {
+    fn tile(
+        &mut self,
+        plane: Plane,
+        tile: u32,
+        inset: Option<&inset::Region>,
+    ) -> Result<Option<row::Drawn>, FigureError> {
         let opts = OdfOptions {
             planes: Some(vec![plane]),
-            normalize,
-            coloring: options.odf_color,
+            normalize: self.normalize,
+            coloring: self.coloring,
             ..OdfOptions::default()
         };
-        let mut scene = odf_scene(field, &opts);
+        let mut scene = odf_scene(self.field, &opts);
         if scene.instances.is_empty() {
-            continue;
+            return Ok(None);
         }
-        let toward = staging::sh_face_on(field, plane, &scene)
-            .map_or_else(|| preset_view(orientation), |f| f.toward);
-        let camera: Camera = mosaic::tile_camera(lattice, toward, scene.centre, tile);
-        let x0 = n as u32 * tile;
-        if let Some(r) = region.filter(|r| r.slice() == index) {
-            cut = Some((scene_in(&scene, dims, &r), toward));
-            outline = Some((x0, camera));
+        let toward = staging::sh_face_on(self.field, plane, &scene)
+            .map_or_else(|| preset_view(self.orientation), |f| f.toward);
+        let camera: Camera = mosaic::tile_camera(self.lattice, toward, scene.centre, tile);
+        if let Some(r) = inset {
+            self.cut = Some((scene_in(&scene, self.field.dims, r), toward));
         }
-        let (frame, glyphs) = mosaic::draw_scene(&mut scene, &camera, None, backend, progress)?;
-        drawn += glyphs;
-        px_per_voxel = across
-            .iter()
-            .map(|&a| step[a] * camera.pixels_per_unit())
-            .fold(f64::INFINITY, f64::min);
-        mosaic::blit(&mut rgba, width, &frame, x0);
-        if let Some(pen) = &pen {
-            let mut canvas = Canvas {
-                rgba: &mut rgba,
-                w: i64::from(width),
-                h: i64::from(height),
-            };
-            let [top, bottom] = lattice::slice_place_of(&at, axis, index, orientation, anatomical);
-            mosaic::label_tile(
-                &mut canvas,
-                pen,
-                (x0, tile),
-                (camera.forward(), camera.up),
-                anatomical,
-                [top.as_str(), bottom.as_str()],
-            );
-        }
+        let (frame, glyphs) =
+            mosaic::draw_scene(&mut scene, &camera, None, self.backend, self.progress)?;
+        Ok(Some((frame, camera, glyphs)))
     }
-    let mut canvas = Canvas {
-        rgba: &mut rgba,
-        w: i64::from(width),
-        h: i64::from(height),
-    };
-    let x_inset = tiles * tile;
-    let placed = Placed {
-        region,
-        outline,
-        x0: x_inset,
-        side: inset_side,
-    };
-    let chosen_by = zoom.is_none().then_some("the fibre density (l = 0)");
-    let inset_info = mosaic::place_inset(
-        &mut canvas,
-        pen.as_ref(),
-        &at,
-        dims,
-        placed,
-        anatomical,
-        |r| {
-            let Some((mut scene, toward)) = cut.filter(|(s, _)| !s.instances.is_empty()) else {
-                return Ok(None);
-            };
-            let camera = inset::camera(&at, dims, r, toward, inset_side);
-            let (frame, glyphs) = mosaic::draw_scene(&mut scene, &camera, None, backend, progress)?;
-            Ok(Some((frame, camera, glyphs)))
-        },
-    )?
-    .map(|i| mosaic::InsetInfo { chosen_by, ..i });
-    if let Some(pen) = &pen {
+
+    fn inset(
+        &mut self,
+        region: &inset::Region,
+        side: u32,
+    ) -> Result<Option<row::Drawn>, FigureError> {
+        let Some((mut scene, toward)) = self.cut.take().filter(|(s, _)| !s.instances.is_empty())
+        else {
+            return Ok(None);
+        };
+        let camera = inset::camera(self.at, self.field.dims, region, toward, side);
+        let (frame, glyphs) =
+            mosaic::draw_scene(&mut scene, &camera, None, self.backend, self.progress)?;
+        Ok(Some((frame, camera, glyphs)))
+    }
+
+    fn legend(
+        &self,
+        canvas: &mut Canvas<'_>,
+        pen: &Pen<'_>,
+        at: (u32, u32),
+        px_per_voxel: f64,
+        inset: bool,
+    ) {
         legend(
-            &mut canvas,
+            canvas,
             pen,
-            (x_inset + inset_side, height),
-            orientation,
-            field,
-            (normalize, options.odf_color),
-            anatomical,
+            at,
+            self.orientation,
+            self.field,
+            (self.normalize, self.coloring),
+            self.anatomical,
             px_per_voxel,
-            inset_info.is_some(),
+            inset,
         );
     }
-    Ok(Mosaic {
-        width,
-        height,
-        tile,
-        rgba,
-        lattice_axis: axis,
-        slices,
-        glyphs_drawn: drawn,
-        overview_px_per_voxel: px_per_voxel,
-        inset: inset_info,
-        ms: staging::ms(t),
-        underlay_missing: None,
-    })
 }
 
 /// The legend panel at `x0`, `height` tall: the row's name, what the glyphs are (lmax, basis,
@@ -270,7 +245,7 @@ fn legend(
     px_per_voxel: f64,
     inset: bool,
 ) {
-    let w = mosaic::LEGEND_WIDTH;
+    let w = row::LEGEND_WIDTH;
     let x = f64::from(x0) + 10.0;
     canvas.rect(i64::from(x0), 0, i64::from(w), i64::from(height), [0.12; 3]);
     let lh = pen.line_height();

@@ -5,7 +5,6 @@
 use glam::{DMat3, DVec3};
 
 use super::cylinder::cylinder_frame;
-use super::geometry::bounding_radius;
 use super::mesh::{Mesh, prism_sides};
 use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, stable_roots};
 use crate::glyph::{Glyph, ResolvedStyle};
@@ -37,16 +36,8 @@ impl Shape for Kind {
         (geo.frame.x_axis * h).abs() + r
     }
 
-    fn cull_radius(&self, radii: [f32; 3]) -> f64 {
-        bounding_radius(radii)
-    }
-
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact> {
         Box::new(StoredCapsule::of(geo))
-    }
-
-    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        StoredCapsule::of(geo).contains(p)
     }
 
     fn unit_mesh(&self, level: u8) -> Mesh {
@@ -99,93 +90,6 @@ impl Capsule {
     /// The point of the segment nearest to `p` (relative to the centre).
     fn foot(&self, p: DVec3) -> DVec3 {
         self.axis * p.dot(self.axis).clamp(-self.h, self.h)
-    }
-
-    pub fn contains(&self, p: DVec3) -> bool {
-        let q = p - self.c;
-        (q - self.foot(q)).length_squared() <= self.r * self.r
-    }
-
-    /// Half-extents of its axis-aligned bounding box.
-    pub fn half_extents(&self) -> DVec3 {
-        (self.axis * self.h).abs() + self.r
-    }
-
-    /// First forward crossing of the surface by `o + t d` (`d` unit): §4 of the note for the
-    /// entry and, reversed, for the exit, from the ray point nearest the centre (§5's
-    /// well-conditioned origin), so nothing cancels for distant glyphs.
-    pub fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
-        let n = self.axis;
-        let mut t0 = (self.c - o).dot(d);
-        // The origin relative to the centre; a, b relative to the origin.
-        let mut o_c = (o - self.c) + d * t0;
-        // Then the ray point nearest the axis (within the balls' reach along it): nearest the
-        // centre can be far from the glyph's surface for a long, thin capsule.
-        let across = d - n * d.dot(n);
-        if across.length_squared() > 0.0 {
-            let mut s = -(o_c - n * o_c.dot(n)).dot(across) / across.length_squared();
-            let x = (o_c + d * s).dot(n);
-            let reach = self.h + self.r;
-            if x.abs() > reach && d.dot(n) != 0.0 {
-                s += (x.clamp(-reach, reach) - x) / d.dot(n);
-            }
-            t0 += s;
-            o_c += d * s;
-        }
-        let a = -n * self.h - o_c;
-        let length = 2.0 * self.h;
-        let alpha = a.dot(n);
-        let beta = d.dot(n);
-        // §2's A, B, C from the parts across the axis (1 − β² cancels for rays along it).
-        let a_perp = a - n * alpha;
-        let d_perp = d - n * beta;
-        let qa = d_perp.length_squared();
-        let qb = -a_perp.dot(d_perp);
-        let qc = a_perp.length_squared() - self.r * self.r;
-        let (side_in, side_out) = if qa > 0.0 {
-            let disc = qb * qb - qa * qc;
-            if disc.is_nan() || disc < 0.0 {
-                return None;
-            }
-            stable_roots(qa, qb, qc, disc)
-        } else if qc > 0.0 {
-            return None;
-        } else {
-            (f64::NEG_INFINITY, f64::INFINITY)
-        };
-        // The crossing at side root `t` (entry or exit): on the side if its axial coordinate s
-        // is within [0, L], else on the ball at the end it lies beyond.
-        let crossing = |t: f64, entry: bool| -> Option<(f64, DVec3)> {
-            let s = t * beta - alpha;
-            if (0.0..=length).contains(&s) {
-                return Some((t, (d * t - a - n * s) / self.r));
-            }
-            let k = if s < 0.0 { a } else { a + n * length };
-            let delta = k.dot(d);
-            let ck = k.length_squared() - self.r * self.r;
-            let disc = delta * delta - ck;
-            if disc.is_nan() || disc < 0.0 {
-                return None;
-            }
-            let (near, far) = stable_roots(1.0, -delta, ck, disc);
-            let tk = if entry { near } else { far };
-            Some((tk, (d * tk - k) / self.r))
-        };
-        let (t_in, n_in) = crossing(side_in, true)?;
-        let (t, normal) = if t0 + t_in > 0.0 {
-            (t_in, n_in)
-        } else {
-            // From inside, the exit is the only forward crossing.
-            let (t_out, n_out) = crossing(side_out, false)?;
-            if t0 + t_out <= 0.0 {
-                return None;
-            }
-            (t_out, n_out)
-        };
-        Some(RayHit {
-            t: t0 + t,
-            normal: normal.normalize(),
-        })
     }
 }
 
@@ -261,16 +165,91 @@ impl Exact for Capsule {
         self.c
     }
 
+    /// Half-extents of its axis-aligned bounding box.
     fn half_extents(&self) -> DVec3 {
-        Capsule::half_extents(self)
+        (self.axis * self.h).abs() + self.r
     }
 
     fn contains(&self, p: DVec3) -> bool {
-        Capsule::contains(self, p)
+        let q = p - self.c;
+        (q - self.foot(q)).length_squared() <= self.r * self.r
     }
 
+    /// First forward crossing of the surface by `o + t d` (`d` unit): §4 of the note for the
+    /// entry and, reversed, for the exit, from the ray point nearest the centre (§5's
+    /// well-conditioned origin), so nothing cancels for distant glyphs.
     fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
-        Capsule::intersect(self, o, d)
+        let n = self.axis;
+        let mut t0 = (self.c - o).dot(d);
+        // The origin relative to the centre; a, b relative to the origin.
+        let mut o_c = (o - self.c) + d * t0;
+        // Then the ray point nearest the axis (within the balls' reach along it): nearest the
+        // centre can be far from the glyph's surface for a long, thin capsule.
+        let across = d - n * d.dot(n);
+        if across.length_squared() > 0.0 {
+            let mut s = -(o_c - n * o_c.dot(n)).dot(across) / across.length_squared();
+            let x = (o_c + d * s).dot(n);
+            let reach = self.h + self.r;
+            if x.abs() > reach && d.dot(n) != 0.0 {
+                s += (x.clamp(-reach, reach) - x) / d.dot(n);
+            }
+            t0 += s;
+            o_c += d * s;
+        }
+        let a = -n * self.h - o_c;
+        let length = 2.0 * self.h;
+        let alpha = a.dot(n);
+        let beta = d.dot(n);
+        // §2's A, B, C from the parts across the axis (1 − β² cancels for rays along it).
+        let a_perp = a - n * alpha;
+        let d_perp = d - n * beta;
+        let qa = d_perp.length_squared();
+        let qb = -a_perp.dot(d_perp);
+        let qc = a_perp.length_squared() - self.r * self.r;
+        let (side_in, side_out) = if qa > 0.0 {
+            let disc = qb * qb - qa * qc;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            stable_roots(qa, qb, qc, disc)
+        } else if qc > 0.0 {
+            return None;
+        } else {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        };
+        // The crossing at side root `t` (entry or exit): on the side if its axial coordinate s
+        // is within [0, L], else on the ball at the end it lies beyond.
+        let crossing = |t: f64, entry: bool| -> Option<(f64, DVec3)> {
+            let s = t * beta - alpha;
+            if (0.0..=length).contains(&s) {
+                return Some((t, (d * t - a - n * s) / self.r));
+            }
+            let k = if s < 0.0 { a } else { a + n * length };
+            let delta = k.dot(d);
+            let ck = k.length_squared() - self.r * self.r;
+            let disc = delta * delta - ck;
+            if disc.is_nan() || disc < 0.0 {
+                return None;
+            }
+            let (near, far) = stable_roots(1.0, -delta, ck, disc);
+            let tk = if entry { near } else { far };
+            Some((tk, (d * tk - k) / self.r))
+        };
+        let (t_in, n_in) = crossing(side_in, true)?;
+        let (t, normal) = if t0 + t_in > 0.0 {
+            (t_in, n_in)
+        } else {
+            // From inside, the exit is the only forward crossing.
+            let (t_out, n_out) = crossing(side_out, false)?;
+            if t0 + t_out <= 0.0 {
+                return None;
+            }
+            (t_out, n_out)
+        };
+        Some(RayHit {
+            t: t0 + t,
+            normal: normal.normalize(),
+        })
     }
 }
 

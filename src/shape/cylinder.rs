@@ -4,7 +4,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::geometry::{bounding_radius, permuted_frame};
+use super::geometry::permuted_frame;
 use super::mesh::{Mesh, prism_sides};
 use super::{
     Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape, unit_sphere_roots,
@@ -39,16 +39,8 @@ impl Shape for Kind {
         geo.glyph_half_extents()
     }
 
-    fn cull_radius(&self, radii: [f32; 3]) -> f64 {
-        bounding_radius(radii)
-    }
-
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact> {
         Box::new(Cylinder::of(geo))
-    }
-
-    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        Cylinder::of(geo).contains(p)
     }
 
     fn unit_mesh(&self, level: u8) -> Mesh {
@@ -108,22 +100,28 @@ impl Cylinder {
     fn param(&self, v: DVec3) -> DVec3 {
         (self.frame.transpose() * v) / self.radii
     }
+}
 
-    pub fn contains(&self, p: DVec3) -> bool {
-        let q = self.param(p - self.c);
-        q.x.abs() <= 1.0 && q.y * q.y + q.z * q.z <= 1.0
+impl Exact for Cylinder {
+    fn centre(&self) -> DVec3 {
+        self.c
     }
 
     /// Half-extents of its axis-aligned bounding box.
-    pub fn half_extents(&self) -> DVec3 {
+    fn half_extents(&self) -> DVec3 {
         let a = self.frame.x_axis * self.radii.x;
         let u = self.frame.y_axis * self.radii.y;
         let v = self.frame.z_axis * self.radii.z;
         a.abs() + DVec3::new(u.x.hypot(v.x), u.y.hypot(v.y), u.z.hypot(v.z))
     }
 
+    fn contains(&self, p: DVec3) -> bool {
+        let q = self.param(p - self.c);
+        q.x.abs() <= 1.0 && q.y * q.y + q.z * q.z <= 1.0
+    }
+
     /// First forward crossing of the surface by `o + t d` (slab method, sigg-quadric.md §7).
-    pub fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
+    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
         let t0 = (self.c - o).dot(d);
         let o_t = self.param((o - self.c) + d * t0);
         let v_t = self.param(d);
@@ -166,24 +164,6 @@ impl Cylinder {
         };
         let normal = (self.frame * (n_t / self.radii)).normalize();
         Some(RayHit { t: t0 + t, normal })
-    }
-}
-
-impl Exact for Cylinder {
-    fn centre(&self) -> DVec3 {
-        self.c
-    }
-
-    fn half_extents(&self) -> DVec3 {
-        Cylinder::half_extents(self)
-    }
-
-    fn contains(&self, p: DVec3) -> bool {
-        Cylinder::contains(self, p)
-    }
-
-    fn intersect(&self, o: DVec3, d: DVec3) -> Option<RayHit> {
-        Cylinder::intersect(self, o, d)
     }
 }
 

@@ -5,7 +5,6 @@
 
 use glam::{DMat3, DVec3};
 
-use super::geometry::bounding_radius;
 use super::mesh::Mesh;
 use super::rules::EYE_INSIDE_E2;
 use super::{
@@ -43,16 +42,8 @@ impl Shape for Kind {
         geo.glyph_half_extents()
     }
 
-    fn cull_radius(&self, radii: [f32; 3]) -> f64 {
-        bounding_radius(radii)
-    }
-
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact> {
         Box::new(Ellipsoid::of(geo))
-    }
-
-    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        Ellipsoid::of(geo).contains(p)
     }
 
     fn unit_mesh(&self, level: u8) -> Mesh {

@@ -213,8 +213,11 @@ pub trait Shape: Send + Sync {
     fn bounds(&self, geo: &GlyphGeometry) -> DVec3;
 
     /// The radius of the sphere the vertex stages cull with (`shape_radius` of the kind's
-    /// WGSL).
-    fn cull_radius(&self, radii: [f32; 3]) -> f64;
+    /// WGSL); most kinds: the sphere about the glyph as ellipsoid or capped cylinder,
+    /// [`geometry::bounding_radius`].
+    fn cull_radius(&self, radii: [f32; 3]) -> f64 {
+        geometry::bounding_radius(radii)
+    }
 
     /// The glyph as the exact reference casts it.
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact>;
@@ -227,11 +230,6 @@ pub trait Shape: Send + Sync {
         _payload: Option<&std::sync::Arc<Payload>>,
     ) -> Box<dyn Exact> {
         self.exact(geo)
-    }
-
-    /// Whether `p` (relative to the scene origin) is inside or on the glyph ([`Exact::contains`]).
-    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        self.exact(geo).contains(p)
     }
 
     /// The unit mesh `mesh:level` instances for this kind.

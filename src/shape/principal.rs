@@ -17,7 +17,6 @@
 use glam::{DMat3, DVec3};
 
 use super::cylinder::Cylinder;
-use super::geometry::bounding_radius;
 use super::mesh::{Mesh, prism_sides};
 use super::{
     Capabilities, Exact, GlyphGeometry, GlyphInstance, GlyphKind, Part, RayHit, Shape, stable_roots,
@@ -146,23 +145,11 @@ impl Shape for Kind {
         geo.glyph_half_extents()
     }
 
-    fn cull_radius(&self, radii: [f32; 3]) -> f64 {
-        bounding_radius(radii)
-    }
-
     fn exact(&self, geo: &GlyphGeometry) -> Box<dyn Exact> {
         if geo.params[0] == HEAD {
             Box::new(Cone::of(geo))
         } else {
             Box::new(Cylinder::of(geo))
-        }
-    }
-
-    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        if geo.params[0] == HEAD {
-            Cone::of(geo).contains(p)
-        } else {
-            Cylinder::of(geo).contains(p)
         }
     }
 

@@ -14,6 +14,9 @@ pub struct Offers {
     pub normalize: bool,
     /// The viewer (and the page, which shares its loader) opens it.
     pub viewer: bool,
+    /// The tensors' selection and underlay apply (`--fa-*`, `--stride`, `--roi`, `--mask`,
+    /// `--underlay`); otherwise it is selected by `--slice` alone.
+    pub tensor_selection: bool,
 }
 
 impl FieldKind {
@@ -24,17 +27,20 @@ impl FieldKind {
                 glyphs: GlyphKind::VALUES,
                 normalize: false,
                 viewer: true,
+                tensor_selection: true,
             },
             FieldKind::Series => Offers {
                 glyphs: &[GlyphKind::Odf],
                 normalize: true,
                 viewer: true,
+                tensor_selection: false,
             },
             // Sticks: a cylinder or a capsule along each peak.
             FieldKind::Peaks => Offers {
                 glyphs: &[GlyphKind::Cylinder, GlyphKind::Capsule],
                 normalize: false,
                 viewer: false,
+                tensor_selection: false,
             },
         }
     }

@@ -5,7 +5,7 @@
 use glam::{DMat4, DVec3};
 
 use super::ShapeTwin;
-use super::screen_box::{Proxy, quadric_box};
+use super::screen_box::{Proxy, ellipsoid_proxy};
 use crate::scene::GlyphGeometry;
 use crate::shape::rules::EYE_INSIDE_E2;
 
@@ -19,21 +19,7 @@ impl ShapeTwin for Twin {
         if !ortho && !outside {
             return Proxy::Culled;
         }
-        let b = quadric_box(
-            view_proj,
-            geo.frame.x_axis * geo.radii.x,
-            geo.frame.y_axis * geo.radii.y,
-            geo.frame.z_axis * geo.radii.z,
-            geo.centre,
-        );
-        if b.outside_frustum() {
-            return Proxy::Culled;
-        }
-        match b.bbox {
-            Some(bbox) => Proxy::Box(bbox),
-            None if b.r4dr4 < 0.0 => Proxy::Culled,
-            None => Proxy::Viewport,
-        }
+        ellipsoid_proxy(view_proj, geo, geo.radii)
     }
 
     /// The glyph's own ellipsoid.

@@ -10,7 +10,7 @@
 use glam::{DMat4, DVec3};
 
 use super::ShapeTwin;
-use super::screen_box::{Proxy, quadric_box};
+use super::screen_box::{Proxy, ellipsoid_proxy};
 use crate::scene::GlyphGeometry;
 use crate::shape::Exact;
 use crate::shape::odf::Odf;
@@ -23,21 +23,7 @@ impl ShapeTwin for Twin {
             return Proxy::Culled;
         }
         let r = bound(geo);
-        let b = quadric_box(
-            view_proj,
-            geo.frame.x_axis * r.x,
-            geo.frame.y_axis * r.y,
-            geo.frame.z_axis * r.z,
-            geo.centre,
-        );
-        if b.outside_frustum() {
-            return Proxy::Culled;
-        }
-        match b.bbox {
-            Some(bbox) => Proxy::Box(bbox),
-            None if b.r4dr4 < 0.0 => Proxy::Culled,
-            None => Proxy::Viewport,
-        }
+        ellipsoid_proxy(view_proj, geo, r)
     }
 
     /// The bounding ellipsoid: `shape_of`'s scale R times its bound.

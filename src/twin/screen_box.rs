@@ -6,6 +6,8 @@
 
 use glam::{DMat4, DVec2, DVec3, DVec4};
 
+use crate::scene::GlyphGeometry;
+
 /// An axis-aligned box in NDC.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NdcBox {
@@ -171,6 +173,28 @@ pub fn quadric_box(view_proj: &DMat4, u: DVec3, v: DVec3, w: DVec3, c: DVec3) ->
         depth: mc.z / mc.w,
         bbox,
         reach,
+    }
+}
+
+/// What the vertex stage draws for the ellipsoid of radii `r` in `geo`'s frame about its
+/// centre (a glyph's own, or a bound of it): its box, the viewport when the camera plane cuts
+/// it, nothing when it lies behind the camera or outside the frustum.
+pub fn ellipsoid_proxy(view_proj: &DMat4, geo: &GlyphGeometry, r: DVec3) -> Proxy {
+    let f = geo.frame;
+    let b = quadric_box(
+        view_proj,
+        f.x_axis * r.x,
+        f.y_axis * r.y,
+        f.z_axis * r.z,
+        geo.centre,
+    );
+    if b.outside_frustum() {
+        return Proxy::Culled;
+    }
+    match b.bbox {
+        Some(bbox) => Proxy::Box(bbox),
+        None if b.r4dr4 < 0.0 => Proxy::Culled,
+        None => Proxy::Viewport,
     }
 }
 

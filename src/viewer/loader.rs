@@ -55,6 +55,15 @@ pub struct LoadTimings {
 }
 
 impl Loaded {
+    /// What the file holds (the viewer opens tensors and SH series).
+    pub fn kind(&self) -> FieldKind {
+        if self.odf.is_some() {
+            FieldKind::Series
+        } else {
+            FieldKind::Tensors
+        }
+    }
+
     pub fn name(&self) -> String {
         self.source.name()
     }

@@ -20,7 +20,7 @@ use std::sync::OnceLock;
 
 use crate::render::bricks::Bricks;
 use crate::render::context::GpuContext;
-use crate::render::pipeline::buffer_entry;
+use crate::render::pipeline::{buffer_entry, glyphs_and};
 use crate::render::shaders::COMMON;
 
 /// Pixels per side of a depth tile (`HIZ_TILE` in shaders/method/occlusion.wgsl); the second
@@ -217,11 +217,7 @@ impl OcclusionPass {
                 buffer_entry(6, compute, rw),
             ],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("occlusion culling"),
-            bind_group_layouts: &[Some(glyphs), Some(&layout)],
-            immediate_size: 0,
-        });
+        let pipeline_layout = glyphs_and(device, "occlusion culling", glyphs, &layout);
         Self {
             device: device.clone(),
             layout,
@@ -241,14 +237,8 @@ impl OcclusionPass {
                     source: wgpu::ShaderSource::Wgsl(occlusion_source().into()),
                 });
             let make = |entry| {
-                self.builder.compute(&wgpu::ComputePipelineDescriptor {
-                    label: Some(entry),
-                    layout: Some(&self.pipeline_layout),
-                    module: &module,
-                    entry_point: Some(entry),
-                    compilation_options: Default::default(),
-                    cache: None,
-                })
+                self.builder
+                    .compute(&self.pipeline_layout, &module, entry, &[])
             };
             [make("cs_hiz"), make("cs_hiz_coarse"), make("cs_bricks")]
         })

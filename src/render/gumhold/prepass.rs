@@ -26,7 +26,7 @@ use crate::camera::Camera;
 use crate::render::bricks::BRICK;
 use crate::render::context::GpuContext;
 use crate::render::gumhold::occlusion::{self, SceneCulling, SliceDraw};
-use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeline};
+use crate::render::pipeline::{PipelineInput, Variant, buffer_entry, glyph_pipeline, glyphs_and};
 use crate::render::scene_buffers::{BrickBuffers, Needs};
 use crate::render::strip::StripRenderer;
 use crate::request::{AuxTarget, Proxy};
@@ -93,16 +93,9 @@ impl PrepassLayouts {
                 buffer_entry(11, wgpu::ShaderStages::FRAGMENT, ro),
             ],
         });
-        let layout = |label, group: &wgpu::BindGroupLayout| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(glyphs), Some(group)],
-                immediate_size: 0,
-            })
-        };
         Self {
-            compute: layout("prepass compute", &compute_group),
-            resolve: layout("splat resolve", &resolve_group),
+            compute: glyphs_and(device, "prepass compute", glyphs, &compute_group),
+            resolve: glyphs_and(device, "splat resolve", glyphs, &resolve_group),
             compute_group,
             resolve_group,
         }
@@ -154,17 +147,10 @@ impl PrepassCache {
             .or_insert_with(|| {
                 let constants = strips.constants(key, needs);
                 let make = |entry| {
-                    strips.builder.compute(&wgpu::ComputePipelineDescriptor {
-                        label: Some(entry),
-                        layout: Some(&layouts.compute),
-                        module: strips.module(false),
-                        entry_point: Some(entry),
-                        compilation_options: wgpu::PipelineCompilationOptions {
-                            constants: &constants,
-                            ..Default::default()
-                        },
-                        cache: None,
-                    })
+                    let module = strips.module(false);
+                    strips
+                        .builder
+                        .compute(&layouts.compute, module, entry, &constants)
                 };
                 // With 64-bit atomics cs_frames keeps the ids too.
                 let ids = (!self.int64_atomics).then(|| make("cs_splat_ids"));

@@ -78,10 +78,6 @@ impl Shape for Kind {
         Box::new(Superquadric::of(geo))
     }
 
-    fn contains(&self, geo: &GlyphGeometry, p: DVec3) -> bool {
-        Superquadric::of(geo).contains(p)
-    }
-
     fn unit_mesh(&self, level: u8) -> Mesh {
         mesh::superquadric_grid(level)
     }

@@ -14,7 +14,8 @@ use std::path::PathBuf;
 use egui::{Color32, RichText, Ui};
 
 use crate::camera::ViewPreset;
-use crate::request::{GlyphKind, Method, Preset, ProxyShape};
+use crate::field::FieldKind;
+use crate::request::{Method, Preset, ProxyShape};
 use crate::viewer::loader::Loaded;
 use crate::viewer::navigation::Navigation;
 use crate::viewer::state::Settings;
@@ -91,6 +92,13 @@ pub struct PanelInfo<'a> {
     pub legend: Option<(crate::glyph::ColorScheme, crate::legend::Legend)>,
 }
 
+impl PanelInfo<'_> {
+    /// What the open file holds (tensors before one is open); its offers decide the controls.
+    fn kind(&self) -> FieldKind {
+        self.data.map_or(FieldKind::Tensors, Loaded::kind)
+    }
+}
+
 pub fn show(
     ui: &mut Ui,
     settings: &mut Settings,
@@ -102,7 +110,7 @@ pub fn show(
     egui::ScrollArea::vertical().show(ui, |ui| {
         file_section(ui, state, info, &mut actions);
         ui.separator();
-        rendering_section(ui, settings, info.data.is_some_and(|d| d.odf.is_some()));
+        rendering_section(ui, settings, info.kind());
         ui.separator();
         style_section(ui, settings, state, info);
         ui.separator();
@@ -239,7 +247,7 @@ fn file_section(
     ui.small("…or drag and drop a file onto the window.");
 }
 
-fn rendering_section(ui: &mut Ui, settings: &mut Settings, series: bool) {
+fn rendering_section(ui: &mut Ui, settings: &mut Settings, field: FieldKind) {
     ui.heading("Rendering");
     egui::ComboBox::from_label("method")
         .selected_text(settings.method.to_string())
@@ -248,18 +256,25 @@ fn rendering_section(ui: &mut Ui, settings: &mut Settings, series: bool) {
                 ui.selectable_value(&mut settings.method, m, m.to_string());
             }
         });
-    // SH series have one glyph: their ODF.
-    let kind = if series {
-        ui.label("glyph: odf (a file of SH series)");
-        GlyphKind::Odf
-    } else {
-        ui.horizontal(|ui| {
-            ui.label("glyph");
-            for &kind in GlyphKind::VALUES {
-                ui.selectable_value(&mut settings.glyph, kind, kind.name());
-            }
-        });
-        settings.glyph
+    // The glyph kinds the file's kind is drawn as (SH series: their ODF alone).
+    let kind = match field.offers().glyphs {
+        [only] => {
+            ui.label(format!(
+                "glyph: {} (a file of {})",
+                only.name(),
+                field.holds()
+            ));
+            *only
+        }
+        glyphs => {
+            ui.horizontal(|ui| {
+                ui.label("glyph");
+                for &kind in glyphs {
+                    ui.selectable_value(&mut settings.glyph, kind, kind.name());
+                }
+            });
+            settings.glyph
+        }
     };
     let caps = kind.caps();
     if caps.sharpness {

@@ -11,8 +11,7 @@ pub(super) fn selection_section(ui: &mut Ui, settings: &mut Settings, info: &Pan
     ui.heading("Selection");
     let sel = &mut settings.selection;
     // SH series are selected by their planes only (the FA, stride and ROI are the tensors').
-    let series = info.data.is_some_and(|d| d.odf.is_some());
-    if !series {
+    if info.kind().offers().tensor_selection {
         tensor_controls(ui, sel, info);
     }
     slicing_controls(ui, sel, info);

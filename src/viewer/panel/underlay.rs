@@ -15,9 +15,13 @@ pub(super) fn underlay_section(ui: &mut Ui, settings: &mut Settings, info: &Pane
     let Some(data) = info.data else {
         return;
     };
-    if data.odf.is_some() {
-        // As `render` draws them: ODF glyphs have no tensors to measure an underlay from.
-        ui.label("for tensor fields (ODF glyphs are drawn without one)");
+    let kind = data.kind();
+    if !kind.offers().tensor_selection {
+        // As `render` draws them: SH series have no tensors to measure an underlay from.
+        ui.label(format!(
+            "for tensor fields (a file of {} is drawn without one)",
+            kind.holds()
+        ));
         return;
     }
     let Some(dims) = data.field.lattice_dims() else {
