@@ -24,7 +24,7 @@ pub struct PeaksInfoReport {
     pub counts: Vec<usize>,
     /// The longest peak's length (its amplitude).
     pub largest: f64,
-    /// The lattice's placement; `tensor_frame` is the axes the directions are in.
+    /// The lattice's placement; `tensor_frame` is the axes the file stored the directions in.
     pub frame: FrameInfo,
     /// Requested voxels: their peaks as unit directions and amplitudes (`coefficients` empty,
     /// `range` null).
@@ -95,6 +95,13 @@ pub fn human_summary(r: &PeaksInfoReport) -> String {
         .collect();
     let _ = writeln!(o, "voxels: {}", counts.join(", "));
     crate::sh_info::frame_lines(&mut o, &r.frame);
+    if r.frame.tensor_frame != crate::field::TensorFrame::World {
+        // The reader turns them into world axes: the samples are shown so.
+        let _ = writeln!(
+            o,
+            "  turned into world axes when read; the peaks below are in world"
+        );
+    }
     crate::sh_info::sample_lines(&mut o, &r.samples);
     o
 }

@@ -13,7 +13,7 @@ use crate::camera::{Framing, ViewPreset};
 use crate::defaults::Defaults;
 use crate::effects::ao::AmbientOcclusion;
 use crate::effects::{Effects, Outlines, Shading, Shadows, light};
-use crate::field::{ComponentOrder, ReadOptions, TensorFrame};
+use crate::field::{ComponentOrder, FieldKind, ReadOptions, TensorFrame};
 pub use crate::frame::parse_size;
 use crate::glyph::superquadric::{MAX_GAMMA, Sharpness};
 use crate::glyph::{ColorScheme, GlyphStyle, Normalize, Scale, SizeBy};
@@ -54,6 +54,11 @@ pub struct SceneArgs {
     /// file of 6 volumes as SH (lmax 2) rather than tensors.
     #[arg(long, value_parser = one_of::<ShBasis>(ShBasis::NAMES))]
     pub sh_basis: Option<ShBasis>,
+    /// What the file holds, where its header does not say: tensors, series (SH coefficients)
+    /// or peaks (3 values a peak, as MRtrix's sh2peaks writes them). A NIfTI file of 9 volumes
+    /// is full 3×3 tensors or three peaks, and is read only when this says which.
+    #[arg(long, value_parser = one_of::<FieldKind>(FieldKind::NAMES))]
+    pub holds: Option<FieldKind>,
     /// Colour scheme: shape classes, dec (direction), a scalar through a colour bar (fa, md;
     /// the stress measures von-mises, tresca, sigma1, sigma2, sigma3, mean, triaxiality), sign
     /// (tension red, compression blue), solid, or amplitude (ODF glyphs: the ODF's value in
@@ -120,6 +125,7 @@ impl SceneArgs {
             order: self.order,
             tensor_frame: self.tensor_frame,
             sh_basis: self.sh_basis,
+            holds: self.holds,
         }
     }
 

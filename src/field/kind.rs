@@ -39,12 +39,16 @@ impl FieldKind {
         }
     }
 
-    /// The kind of the file `path` among `inputs`, from its header: peaks for an MRtrix image
-    /// whose `command_history` says `sh2peaks` wrote it ([`super::peaks`]); SH series for a
+    /// The kind of the file `path` among `inputs`: the one `opts.holds` names, else from its
+    /// header: peaks for an MRtrix image whose `command_history` says `sh2peaks` wrote it and for
+    /// a NIfTI file laid out as DIPY's `X×Y×Z×N×3` ([`super::peaks`]); SH series for a
     /// NIfTI-1 or MRtrix image of an SH count of volumes other than 6 (`field::sh_field` gives
     /// the rule), or of any count when `opts.sh_basis` is given; else tensors. A file whose
     /// header cannot be read is taken as tensors, whose reader then says what is wrong with it.
     pub fn of_file(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Self {
+        if let Some(kind) = opts.holds {
+            return kind;
+        }
         let nifti = nifti::is_nifti_path(path);
         if !(nifti || mif::is_mif_path(path))
             || fsl_eigen::EigenSet::named_by(path, inputs).is_some()
@@ -60,7 +64,10 @@ impl FieldKind {
                 }
             };
             Ok(if nifti {
-                series(sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?))
+                match nifti::peaks::kind_probe(&inputs.open(path)?) {
+                    Ok((_, true)) => FieldKind::Peaks,
+                    _ => series(sh_field::is_sh_count(nifti::sh_probe(&inputs.open(path)?)?)),
+                }
             } else {
                 let p = mif::kind_probe(inputs, path)?;
                 if p.peaks {

@@ -1,6 +1,7 @@
 //! What a caller may tell the tensor readers (VTK, NIfTI, NRRD, FSL's eigen sets) and the SH
 //! readers (NIfTI, MRtrix) that the file does not say.
 
+use super::FieldKind;
 use super::frame::TensorFrame;
 use super::order::ComponentOrder;
 use crate::sh::ShBasis;
@@ -20,4 +21,8 @@ pub struct ReadOptions {
     /// The basis of SH coefficients (`--sh-basis`); given, it also makes a file of any SH count
     /// (6 included) SH rather than tensors. `None`: the writer's (`field::sh_field`).
     pub sh_basis: Option<ShBasis>,
+    /// What the file holds where its header does not say (`--holds`): a NIfTI file of 9
+    /// volumes is full 3×3 tensors or three fibre peaks. Given, it is taken over the header's
+    /// guess ([`FieldKind::of_file`]).
+    pub holds: Option<FieldKind>,
 }

@@ -1,16 +1,15 @@
 //! Fibre directions per voxel (peaks): [`PeakField`], read from the images MRtrix's `sh2peaks`
 //! writes (3 values a peak along the fourth axis: the direction scaled by the ODF's amplitude,
-//! NaN where a voxel has fewer peaks). Its header says what it is (`command_history` ends with
-//! `sh2peaks`, [`super::FieldKind::of_file`]); the directions are in scanner axes (world, RAS),
-//! as MRtrix's are.
-//!
-//! DIPY's peaks saved as NIfTI (`peak_dirs` 5-D, `peak_values` beside) and NIfTI copies of
-//! `sh2peaks` output, whose headers do not say what they hold, are not read yet.
+//! NaN where a voxel has fewer peaks), whose header says what it is (`command_history` ends
+//! with `sh2peaks`, [`super::FieldKind::of_file`]; the directions in scanner axes, world RAS),
+//! and from NIfTI files of peaks: `sh2peaks` output converted, and DIPY's `peaks_dirs` (unit
+//! directions in the voxel axes) with the amplitudes of the `peaks_values` file beside it
+//! ([`super::nifti::peaks`]; `--holds peaks` says what such a file holds).
 
 use std::path::Path;
 
 use super::frame::{FrameInfo, TensorFrame};
-use super::{Inputs, ReadOptions, guard, mif};
+use super::{Inputs, ReadOptions, guard, mif, nifti};
 use crate::error::{LoadError, LoadErrorKind};
 
 /// Up to `per_voxel` fibre directions in each voxel of a lattice.
@@ -23,9 +22,10 @@ pub struct PeakField {
     /// Peaks a voxel can hold (volumes / 3).
     pub per_voxel: usize,
     /// Peak `p` of voxel `v` (x fastest) at `v * per_voxel + p`: the direction scaled by its
-    /// amplitude, in `frame.tensor_frame`'s axes; NaN or zero where there is none.
+    /// amplitude, in world axes (turned there when read from the file's, `frame.tensor_frame`);
+    /// NaN or zero where there is none.
     pub vectors: Vec<[f32; 3]>,
-    /// The voxel-to-world matrix and the axes the directions are in.
+    /// The voxel-to-world matrix and the axes the file stored the directions in.
     pub frame: FrameInfo,
 }
 
@@ -72,17 +72,29 @@ impl PeakField {
     }
 }
 
-/// Read the peaks image `path` among `inputs` (an MRtrix image whose header says `sh2peaks`
-/// wrote it).
+/// Read the peaks file `path` among `inputs`: an MRtrix image whose header says `sh2peaks` wrote
+/// it, or a NIfTI file of peaks (DIPY's `…dirs…` file takes its amplitudes from the `…values…`
+/// file of the same name beside it, where there is one).
 pub fn read_peak_field_from(
     inputs: &Inputs,
     path: &Path,
     opts: &ReadOptions,
 ) -> Result<PeakField, LoadError> {
+    if nifti::is_nifti_path(path) {
+        let mut field =
+            guard::guarded(path, || nifti::peaks::read_peaks(&inputs.open(path)?, opts))?;
+        if let Some(values) = values_beside(inputs, path) {
+            guard::guarded(&values, || {
+                nifti::peaks::scale_by(&mut field, &inputs.open(&values)?)
+            })?;
+        }
+        return Ok(field);
+    }
     guard::guarded(path, || {
         if !mif::is_mif_path(path) {
             return Err(LoadErrorKind::Other(
-                "peaks are read from MRtrix images that sh2peaks wrote (.mif, .mif.gz, .mih)"
+                "peaks are read from MRtrix images that sh2peaks wrote (.mif, .mif.gz, .mih) \
+                 and from NIfTI files (.nii, .nii.gz)"
                     .into(),
             ));
         }
@@ -119,4 +131,14 @@ pub fn read_peak_field_from(
             },
         })
     })
+}
+
+/// DIPY's amplitudes beside its directions: the file named as `path` with its last `dirs` made
+/// `values` (`peaks_dirs.nii.gz` → `peaks_values.nii.gz`, as its workflows name them), where
+/// there is one.
+fn values_beside(inputs: &Inputs, path: &Path) -> Option<std::path::PathBuf> {
+    let name = path.file_name()?.to_str()?;
+    let at = name.rfind("dirs")?;
+    let values = path.with_file_name(format!("{}values{}", &name[..at], &name[at + 4..]));
+    inputs.exists(&values).then_some(values)
 }

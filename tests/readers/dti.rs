@@ -5,7 +5,9 @@
 use std::path::PathBuf;
 
 use serde_json::Value;
-use tensorglyph::field::{ComponentOrder, ReadOptions, TensorField, TensorFrame, read_field};
+use tensorglyph::field::{
+    ComponentOrder, FieldKind, ReadOptions, TensorField, TensorFrame, read_field,
+};
 use tensorglyph::tensor::eigen::{symmetric_eigen, symmetrise};
 
 use crate::cli::{json, stderr, tg};
@@ -28,13 +30,14 @@ fn args_of(entry: &Value) -> Vec<String> {
         .collect()
 }
 
-/// The read options the command line makes of `args` (only the two flags the script uses).
+/// The read options the command line makes of `args` (only the flags the script uses).
 fn options(args: &[String]) -> ReadOptions {
     let mut o = ReadOptions::default();
     for w in args.chunks(2) {
         match w[0].as_str() {
             "--order" => o.order = Some(w[1].parse::<ComponentOrder>().unwrap()),
             "--tensor-frame" => o.tensor_frame = Some(w[1].parse::<TensorFrame>().unwrap()),
+            "--holds" => o.holds = Some(w[1].parse::<FieldKind>().unwrap()),
             f => panic!("unexpected flag {f}"),
         }
     }
@@ -110,7 +113,11 @@ fn nifti_layouts_read_numpy_eigenvalues_with_e1_on_the_world_axis() {
 
 #[test]
 fn nifti_layouts_of_the_same_stored_tensors_give_identical_glyphs() {
-    let read = |n: &str| read_field(&dti(n), &ReadOptions::default()).unwrap();
+    let tensors = ReadOptions {
+        holds: Some(FieldKind::Tensors),
+        ..ReadOptions::default()
+    };
+    let read = |n: &str| read_field(&dti(n), &tensors).unwrap();
     let fsl = read("fsl4d_oblique.nii.gz");
     for other in ["dipy5d_oblique.nii.gz", "full9_oblique.nii.gz"] {
         let f = read(other);
@@ -119,6 +126,34 @@ fn nifti_layouts_of_the_same_stored_tensors_give_identical_glyphs() {
             assert_eq!(world_eigen(&f, i), world_eigen(&fsl, i), "{other} #{i}");
         }
     }
+}
+
+/// Nine volumes are a full tensor or three fibre peaks (a NIfTI copy of `sh2peaks` output, as
+/// pipelines keep them): a file whose header does not say which is refused in one line that
+/// names the option, and read as tensors when it says so.
+#[test]
+fn nine_volumes_that_nothing_names_are_refused_naming_holds() {
+    let path = dti("full9_oblique.nii.gz");
+    let e = read_field(&path, &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("full9_oblique.nii.gz")
+            && e.contains("field 'dim': 9 volumes per voxel")
+            && e.ends_with("give --holds tensors or --holds peaks"),
+        "{e}"
+    );
+    let o = tg(&[
+        "render",
+        path.to_str().unwrap(),
+        "-o",
+        "never.png",
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("--holds tensors or --holds peaks"), "{err}");
 }
 
 #[test]
@@ -142,7 +177,7 @@ fn layout_and_frame_are_reported_by_info() {
         ),
         (
             "full9_oblique.nii.gz",
-            &[][..],
+            &["--holds", "tensors"][..],
             "full",
             "file",
             "voxel",

@@ -14,6 +14,7 @@ mod defects;
 mod dipy;
 mod dti;
 mod mif;
+mod peaks;
 mod regressions;
 mod scalars;
 mod sh;

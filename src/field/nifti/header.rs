@@ -47,6 +47,9 @@ pub(super) enum Values {
     /// Series of spherical-harmonic coefficients: laid out as tensors are, of any integer or
     /// float datatype (MRtrix reads an integer image of them, `scl_slope` applied).
     Series,
+    /// Fibre peaks: 3 values a peak along the 4th dimension (`sh2peaks`' layout), or DIPY's
+    /// `X×Y×Z×N×3` (the peaks along the 4th, their 3 values along the 5th); any datatype.
+    Peaks,
 }
 
 /// A NIfTI-1 file's header and the lattice it gives, read before any voxel data is inflated.
@@ -151,6 +154,9 @@ pub(super) struct Shape {
     pub(super) components: usize,
     /// 5-D (`X×Y×Z×1×C`), the NIfTI way of storing vectors and matrices.
     pub(super) five_d: bool,
+    /// Peaks laid out as DIPY's `X×Y×Z×N×3` (N > 1): value `k` of peak `p` is volume
+    /// `p + N k`, not `3 p + k`.
+    pub(super) peak_axis: bool,
     pub(super) width: usize,
     pub(super) ty: Scalar,
 }
@@ -161,11 +167,24 @@ impl Shape {
         let nd = d.len();
         let at = |i: usize| d.get(i).copied().unwrap_or(1);
         let dims = [at(0), at(1), at(2)];
+        let peak_axis = values == Values::Peaks && nd == 5 && at(3) > 1 && at(4) == 3;
         let (components, five_d) = match values {
-            Values::Tensor | Values::Series => match nd {
+            Values::Peaks if peak_axis => (at(3) * 3, true),
+            Values::Tensor | Values::Series | Values::Peaks => match nd {
                 1..=3 => (1, false),
                 4 => (at(3), false),
                 5 if at(3) == 1 => (at(4), true),
+                5 if values == Values::Peaks => {
+                    return Err(field(
+                        "dim",
+                        format!(
+                            "5-D with {} × {} values per voxel: peaks are X×Y×Z×N×3 (DIPY's) \
+                             or 3 values a peak along the fourth axis",
+                            at(3),
+                            at(4)
+                        ),
+                    ));
+                }
                 5 => {
                     return Err(field(
                         "dim",
@@ -214,7 +233,7 @@ impl Shape {
                     type_name(t),
                     match values {
                         Values::Tensor => "tensors are read as float32 (16) or float64 (64)",
-                        Values::Scalar | Values::Series => {
+                        Values::Scalar | Values::Series | Values::Peaks => {
                             "read are the integer types, float32 and float64"
                         }
                     }
@@ -232,6 +251,7 @@ impl Shape {
             voxels,
             components,
             five_d,
+            peak_axis,
             width,
             ty,
         })

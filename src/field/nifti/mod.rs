@@ -16,7 +16,9 @@
 //!   handled as vectors there come out in its upper-triangle order; DIPY sets the intent
 //!   whenever it writes the lower triangle (and writes FSL's 4-D order otherwise).
 //! - 4-D `X×Y×Z×6`: `--order`, default `fsl` (`xx xy xz yy yz zz`); MRtrix needs `--order mrtrix`;
-//! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major.
+//! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major, where the
+//!   intent (GENMATRIX or SYMMATRIX) or `--holds tensors` says so; three fibre peaks
+//!   (`sh2peaks`' layout) otherwise as likely, so nothing else is read ([`peaks`]).
 //!
 //! Tensors are taken to be in the voxel axes unless `--tensor-frame` says otherwise: FSL, DIPY
 //! and ANTs (whose tensors ITK's direction matrix, the rotation of the qform, takes to world)
@@ -33,6 +35,7 @@
 //! `voxels` (the voxel data); this module makes tensor fields and scalar volumes of them.
 
 mod header;
+pub(crate) mod peaks;
 mod voxels;
 
 use std::path::Path;
@@ -40,6 +43,7 @@ use std::path::Path;
 use nalgebra::{Matrix3, Matrix4};
 use nifti::NiftiHeader;
 
+use crate::field::FieldKind;
 use crate::field::frame::{
     FrameInfo, Layout, ReadMeta, TensorFrame, Why, rows3, rows4, smallest_spacing, tensor_rotation,
 };
@@ -54,6 +58,7 @@ use crate::field::tensor_field::{
 pub(crate) use header::{Header, read_header};
 use header::{Res, Shape, Values, field, read_head};
 
+const INTENT_GENMATRIX: i16 = 1004;
 const INTENT_SYMMATRIX: i16 = 1005;
 
 /// Read a NIfTI-1 tensor volume (gzip-compressed or not) from `input`.
@@ -167,6 +172,7 @@ type Expand = fn(&[f64]) -> [f64; 9];
 /// The component order and the function expanding one voxel's numbers to a row-major matrix.
 fn layout(h: &NiftiHeader, s: &Shape, opts: &ReadOptions) -> Res<(Layout, Expand)> {
     if s.components == 9 {
+        nine_volumes(h, opts)?;
         return Ok((Layout::full(), |c| std::array::from_fn(|i| c[i])));
     }
     let (order, why) = if s.five_d && h.intent_code == INTENT_SYMMATRIX {
@@ -188,6 +194,21 @@ fn layout(h: &NiftiHeader, s: &Shape, opts: &ReadOptions) -> Res<(Layout, Expand
     Ok((Layout::six(order, why), expand))
 }
 
+/// A 4-D file of 9 volumes is full 3×3 tensors or three fibre peaks (`sh2peaks`' layout,
+/// which pipelines keep as NIfTI): read as tensors only where something says so, the header's
+/// intent (a matrix) or `--holds tensors`; else refused in one line that names the option.
+fn nine_volumes(h: &NiftiHeader, opts: &ReadOptions) -> Res<()> {
+    let matrix = h.intent_code == INTENT_GENMATRIX || h.intent_code == INTENT_SYMMATRIX;
+    if matrix || opts.holds == Some(FieldKind::Tensors) {
+        return Ok(());
+    }
+    Err(field(
+        "dim",
+        "9 volumes per voxel: full 3×3 tensors or three fibre peaks (as sh2peaks writes \
+         them), and the header does not say which: give --holds tensors or --holds peaks",
+    ))
+}
+
 /// Whether `path` names a NIfTI file by its extension.
 pub fn is_nifti_path(path: &Path) -> bool {
     let name = path
@@ -199,7 +220,7 @@ pub fn is_nifti_path(path: &Path) -> bool {
 
 /// Who wrote a NIfTI file, as far as SH needs to know: MRtrix writes `MRtrix version: …` into
 /// `descrip` (`mrconvert`, `dwi2fod`), which nothing else does.
-fn sh_writer(h: &NiftiHeader) -> Writer {
+pub(super) fn sh_writer(h: &NiftiHeader) -> Writer {
     if h.descrip.starts_with(b"MRtrix version") {
         Writer::MrtrixNifti
     } else {
