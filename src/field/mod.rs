@@ -36,7 +36,7 @@ pub use inputs::Inputs;
 pub use kind::FieldKind;
 pub use options::ReadOptions;
 pub use order::ComponentOrder;
-pub use peaks::{PeakField, read_peak_field_from};
+pub use peaks::PeakField;
 pub use scalar::ScalarVolume;
 pub use sh_field::{Coefficients, ShField, ShLayout};
 pub use tensor_field::{
@@ -193,5 +193,35 @@ pub fn read_sh_field_from(
                 "SH coefficients are read from NIfTI-1 (.nii, .nii.gz) and MRtrix images (.mif, .mif.gz, .mih)".into(),
             ))
         }
+    })
+}
+
+/// Read the peaks file `path` among `inputs`: an MRtrix image whose header says `sh2peaks` wrote
+/// it, or a NIfTI file of peaks (DIPY's `…dirs…` file takes its amplitudes from the `…values…`
+/// file of the same name beside it, where there is one: [`nifti::peaks::values_beside`]).
+pub fn read_peak_field_from(
+    inputs: &Inputs,
+    path: &Path,
+    opts: &ReadOptions,
+) -> Result<PeakField, LoadError> {
+    if nifti::is_nifti_path(path) {
+        let mut field =
+            guard::guarded(path, || nifti::peaks::read_peaks(&inputs.open(path)?, opts))?;
+        if let Some(values) = nifti::peaks::values_beside(inputs, path) {
+            guard::guarded(&values, || {
+                nifti::peaks::scale_by(&mut field, &inputs.open(&values)?)
+            })?;
+        }
+        return Ok(field);
+    }
+    guard::guarded(path, || {
+        if !mif::is_mif_path(path) {
+            return Err(crate::error::LoadErrorKind::Other(
+                "peaks are read from MRtrix images that sh2peaks wrote (.mif, .mif.gz, .mih) \
+                 and from NIfTI files (.nii, .nii.gz)"
+                    .into(),
+            ));
+        }
+        mif::read_peaks(inputs, path, opts)
     })
 }

@@ -4,13 +4,10 @@
 //! with `sh2peaks`, [`super::FieldKind::of_file`]; the directions in scanner axes, world RAS),
 //! and from NIfTI files of peaks: `sh2peaks` output converted, and DIPY's `peaks_dirs` (unit
 //! directions in the voxel axes) with the amplitudes of the `peaks_values` file beside it
-//! ([`super::nifti::peaks`]; `--holds peaks` says what such a file holds).
+//! ([`super::nifti::peaks`]; `--holds peaks` says what such a file holds). The readers are the
+//! formats' ([`super::mif`], [`super::nifti::peaks`]); [`super::read_peak_field_from`] picks one.
 
-use std::path::Path;
-
-use super::frame::{FrameInfo, TensorFrame};
-use super::{Inputs, ReadOptions, guard, mif, nifti};
-use crate::error::{LoadError, LoadErrorKind};
+use super::frame::FrameInfo;
 
 /// Up to `per_voxel` fibre directions in each voxel of a lattice.
 #[derive(Debug, Clone, PartialEq)]
@@ -70,75 +67,4 @@ impl PeakField {
         let m = self.frame.voxel_to_world.unwrap_or_default();
         std::array::from_fn(|r| m[r][0] * ijk[0] + m[r][1] * ijk[1] + m[r][2] * ijk[2] + m[r][3])
     }
-}
-
-/// Read the peaks file `path` among `inputs`: an MRtrix image whose header says `sh2peaks` wrote
-/// it, or a NIfTI file of peaks (DIPY's `…dirs…` file takes its amplitudes from the `…values…`
-/// file of the same name beside it, where there is one).
-pub fn read_peak_field_from(
-    inputs: &Inputs,
-    path: &Path,
-    opts: &ReadOptions,
-) -> Result<PeakField, LoadError> {
-    if nifti::is_nifti_path(path) {
-        let mut field =
-            guard::guarded(path, || nifti::peaks::read_peaks(&inputs.open(path)?, opts))?;
-        if let Some(values) = values_beside(inputs, path) {
-            guard::guarded(&values, || {
-                nifti::peaks::scale_by(&mut field, &inputs.open(&values)?)
-            })?;
-        }
-        return Ok(field);
-    }
-    guard::guarded(path, || {
-        if !mif::is_mif_path(path) {
-            return Err(LoadErrorKind::Other(
-                "peaks are read from MRtrix images that sh2peaks wrote (.mif, .mif.gz, .mih) \
-                 and from NIfTI files (.nii, .nii.gz)"
-                    .into(),
-            ));
-        }
-        if let Some(f) = opts.tensor_frame.filter(|f| *f != TensorFrame::World) {
-            return Err(LoadErrorKind::Other(format!(
-                "--tensor-frame {f}: sh2peaks writes its directions in scanner axes (world)"
-            )));
-        }
-        let v = mif::read_volumes(inputs, path)?;
-        if v.volumes % 3 != 0 || v.volumes == 0 {
-            return Err(LoadErrorKind::Field {
-                field: "dim".into(),
-                message: format!(
-                    "{} values per voxel: peaks take 3 each (sh2peaks writes 3 per peak)",
-                    v.volumes
-                ),
-            });
-        }
-        let vectors = v
-            .values
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
-        Ok(PeakField {
-            format: "mif".into(),
-            dims: v.dims,
-            per_voxel: v.volumes / 3,
-            vectors,
-            frame: FrameInfo {
-                tensor_frame: TensorFrame::World,
-                world: "RAS".into(),
-                voxel_to_world: Some(v.voxel_to_world),
-                source: v.source.into(),
-            },
-        })
-    })
-}
-
-/// DIPY's amplitudes beside its directions: the file named as `path` with its last `dirs` made
-/// `values` (`peaks_dirs.nii.gz` → `peaks_values.nii.gz`, as its workflows name them), where
-/// there is one.
-fn values_beside(inputs: &Inputs, path: &Path) -> Option<std::path::PathBuf> {
-    let name = path.file_name()?.to_str()?;
-    let at = name.rfind("dirs")?;
-    let values = path.with_file_name(format!("{}values{}", &name[..at], &name[at + 4..]));
-    inputs.exists(&values).then_some(values)
 }

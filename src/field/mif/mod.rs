@@ -38,6 +38,7 @@ use crate::field::nifti::lattice_field;
 use crate::field::number::try_vec;
 use crate::field::options::ReadOptions;
 use crate::field::order::ComponentOrder;
+use crate::field::peaks::PeakField;
 use crate::field::scalar::{self, ScalarVolume};
 use crate::field::sh_field::{self, Coefficients, ShField, Writer};
 use crate::field::tensor_field::{Location, TensorArrayInfo, TensorField, Tensors};
@@ -251,6 +252,44 @@ pub(crate) fn read_sh(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<S
             world: "RAS".into(),
             voxel_to_world: Some(rows4(&a)),
             source: source.into(),
+        },
+    })
+}
+
+/// Read an image `sh2peaks` wrote (its header's `command_history` says so,
+/// [`crate::field::FieldKind::of_file`]): 3 values a peak along the fourth axis, in scanner
+/// axes.
+pub(crate) fn read_peaks(inputs: &Inputs, path: &Path, opts: &ReadOptions) -> Res<PeakField> {
+    if let Some(f) = opts.tensor_frame.filter(|f| *f != TensorFrame::World) {
+        return Err(crate::error::LoadErrorKind::Other(format!(
+            "--tensor-frame {f}: sh2peaks writes its directions in scanner axes (world)"
+        )));
+    }
+    let v = read_volumes(inputs, path)?;
+    if v.volumes % 3 != 0 || v.volumes == 0 {
+        return Err(field(
+            "dim",
+            format!(
+                "{} values per voxel: peaks take 3 each (sh2peaks writes 3 per peak)",
+                v.volumes
+            ),
+        ));
+    }
+    let vectors = v
+        .values
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    Ok(PeakField {
+        format: "mif".into(),
+        dims: v.dims,
+        per_voxel: v.volumes / 3,
+        vectors,
+        frame: FrameInfo {
+            tensor_frame: TensorFrame::World,
+            world: "RAS".into(),
+            voxel_to_world: Some(v.voxel_to_world),
+            source: v.source.into(),
         },
     })
 }

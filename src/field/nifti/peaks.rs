@@ -10,9 +10,11 @@
 //! file needs no word: nothing else is laid out so), and the tensor reader refuses a 4-D file of
 //! 9 volumes that nothing names ([`super::nine_volumes`]).
 
+use std::path::{Path, PathBuf};
+
 use super::header::{Res, Values, field, read_head};
 use crate::field::frame::{FrameInfo, TensorFrame, rows4, tensor_rotation};
-use crate::field::inputs::Input;
+use crate::field::inputs::{Input, Inputs};
 use crate::field::options::ReadOptions;
 use crate::field::peaks::PeakField;
 use crate::field::sh_field;
@@ -122,4 +124,14 @@ pub(crate) fn scale_by(peaks: &mut PeakField, values: &Input) -> Res<()> {
         *d = d.map(|c| c * a);
     }
     Ok(())
+}
+
+/// DIPY's amplitudes beside its directions: the file named as `path` with its last `dirs` made
+/// `values` (`peaks_dirs.nii.gz` → `peaks_values.nii.gz`, as its workflows name them), where
+/// there is one.
+pub(crate) fn values_beside(inputs: &Inputs, path: &Path) -> Option<PathBuf> {
+    let name = path.file_name()?.to_str()?;
+    let at = name.rfind("dirs")?;
+    let values = path.with_file_name(format!("{}values{}", &name[..at], &name[at + 4..]));
+    inputs.exists(&values).then_some(values)
 }
