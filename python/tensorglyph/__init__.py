@@ -271,6 +271,8 @@ def read(
     args: list = []
     inner = _field(data, affine, layout, frame, positions, args)
     if isinstance(inner, _tensorglyph.NamedBytes):
+        if "--holds" in args:
+            raise Error("peaks hold no tensors: render() draws them as sticks")
         raise Error("a fit in spherical harmonics holds no tensors: render() draws it as ODF glyphs")
     if isinstance(inner, str):
         return Field(_tensorglyph.Field.read(inner, args + _cli_args(options)))
@@ -290,6 +292,29 @@ def _field(data: Any, affine: Any, layout: Any, frame: Any, positions: Any, args
             raise Error("affine and positions apply to arrays; a file places its tensors itself")
         args += _order_args(layout, frame)
         return os.fspath(data)
+    if hasattr(data, "peak_dirs") and hasattr(data, "peak_values") and not isinstance(data, np.ndarray):
+        # DIPY's peaks (PeaksAndMetrics, from peaks_from_model or load_pam; its shm_coeff, if
+        # any, is the ODFs they were found on): unit directions in
+        # the voxel axes scaled by their values, 3 values a peak as sh2peaks lays them out (the
+        # NIfTI file DIPY's workflows save, with its values applied): render draws the sticks.
+        if positions is not None or layout:
+            raise Error("peaks sit on their lattice: give affine, not layout or positions")
+        import nibabel as nib
+
+        # In float32, as the files are and as their reader scales them.
+        dirs = np.asarray(data.peak_dirs, dtype=np.float32)
+        values = np.asarray(data.peak_values, dtype=np.float32)
+        if dirs.ndim != 5 or dirs.shape[-1] != 3 or values.shape != dirs.shape[:-1]:
+            raise Error(
+                f"peak_dirs of shape {dirs.shape} and peak_values of shape {values.shape}: "
+                "peaks are (X, Y, Z, N, 3) and (X, Y, Z, N)"
+            )
+        if affine is None:
+            affine = getattr(data, "affine", None)
+        vectors = (dirs * values[..., None]).reshape(dirs.shape[:3] + (-1,))
+        args += _order_args(None, frame) + ["--holds", "peaks"]
+        img = nib.Nifti1Image(vectors, np.asarray(_affine(affine), dtype=np.float64))
+        return _tensorglyph.NamedBytes(_nifti_bytes(img), "peak_dirs.nii")
     if hasattr(data, "shm_coeff") and not isinstance(data, np.ndarray):
         # A DIPY fit in spherical harmonics (CsdFit, or any fit with shm_coeff): its series in
         # the voxel axes and DIPY's default basis (descoteaux07, legacy; sh_basis= says
@@ -462,7 +487,9 @@ def render(
     ``data``: a file's path (any format the command line reads), a ``Field``, a numpy array of
     tensors (``(..., 6)`` with ``layout`` or ``(..., 3, 3)``), a DIPY ``TensorFit`` or a nibabel
     image; or ``demo="grid40"``. A DIPY fit in spherical harmonics (``CsdFit``, any fit with
-    ``shm_coeff``), with its image's ``affine``, and files of SH series are drawn as ODF glyphs. A lattice ``(X, Y, Z, ...)`` takes ``affine`` (4×4 voxel to
+    ``shm_coeff``), with its image's ``affine``, and files of SH series are drawn as ODF glyphs;
+    DIPY's peaks (``PeaksAndMetrics``: ``peak_dirs`` scaled by ``peak_values``, its ``affine`` or
+    ``affine=``) and files of peaks as sticks. A lattice ``(X, Y, Z, ...)`` takes ``affine`` (4×4 voxel to
     world; identity when absent), an ``(N, ...)`` array ``positions`` ``(N, 3)``. ``frame``:
     the axes the tensors are in (``voxel``, the default for arrays, fits and NIfTI; ``fsl``;
     ``world``), as ``--tensor-frame``.

@@ -1,6 +1,7 @@
 """ODF glyphs from Python: a DIPY CSD fit renders as the command line renders the NIfTI file of
 its ``shm_coeff`` saved by nibabel, pixel for pixel, and a file of SH series (MRtrix's
-``dwi2fod`` output) as the command line renders it."""
+``dwi2fod`` output) as the command line renders it; DIPY's peaks (``PeaksAndMetrics``) as the
+command line renders the peak files DIPY saved of them."""
 
 import numpy as np
 import pytest
@@ -50,3 +51,22 @@ def test_odf_normalize_is_the_command_lines(tmp_path):
         same_pixels(image, cli_render(path, tmp_path, "--size", "160x120", "--odf-normalize", how))
     with pytest.raises(ValueError, match="odf_normalize= applies to files of SH series"):
         tg.render(REPO / "tests" / "data" / "extremes" / "needles.vtk", odf_normalize="max")
+
+
+def test_dipy_peaks_render_as_the_files_dipy_saved_of_them(tmp_path):
+    require("dipy")
+    nib = require("nibabel")
+    from dipy.io.peaks import niftis_to_pam
+
+    sh = REPO / "tests" / "data" / "sh"
+    dirs = nib.load(sh / "dipy5d_peak_dirs.nii.gz")
+    values = np.asarray(nib.load(sh / "dipy5d_peak_values.nii.gz").dataobj)
+    indices = np.zeros(values.shape, dtype=np.int32)
+    # DIPY's own loader of the files makes the PeaksAndMetrics (its affine the files').
+    pam = niftis_to_pam(dirs.affine, np.asarray(dirs.dataobj), values, indices)
+    image = tg.render(pam, size=(160, 120))
+    assert image.info["glyph"] == "cylinder", image.info
+    assert image.info["glyphs_drawn"] > 0, image.info
+    same_pixels(image, cli_render(sh / "dipy5d_peak_dirs.nii.gz", tmp_path, "--size", "160x120"))
+    with pytest.raises(tg.Error, match="peaks hold no tensors"):
+        tg.read(pam)
