@@ -70,3 +70,10 @@ def test_dipy_peaks_render_as_the_files_dipy_saved_of_them(tmp_path):
     same_pixels(image, cli_render(sh / "dipy5d_peak_dirs.nii.gz", tmp_path, "--size", "160x120"))
     with pytest.raises(tg.Error, match="peaks hold no tensors"):
         tg.read(pam)
+
+
+def test_the_peaks_of_a_file_of_sh_series_are_the_command_lines(tmp_path):
+    path = REPO / "tests" / "data" / "sh" / "mrtrix_lmax8.mif"
+    image = tg.render(path, size=(160, 120), glyph="peaks")
+    assert image.info["glyph"] == "cylinder", image.info
+    same_pixels(image, cli_render(path, tmp_path, "--size", "160x120", "--glyph", "peaks"))

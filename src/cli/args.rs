@@ -213,6 +213,7 @@ impl SceneArgs {
             middle_slice: false,
             underlay_side: None,
             odf_normalize: self.odf_normalize,
+            series_peaks: false,
         })
     }
 }
@@ -372,9 +373,12 @@ pub struct CameraArgs {
     /// the triangle-mesh baselines mesh:N (icosphere / prism subdivided N = 0..=6 times) and box.
     #[arg(long, default_value = "gumhold")]
     pub method: Method,
-    /// The glyph: ellipsoid unless given (odf for a file of SH series, which refuses another).
-    #[arg(long, value_parser = one_of::<GlyphKind>(GlyphKind::NAMES))]
-    pub glyph: Option<GlyphKind>,
+    /// The glyph: ellipsoid unless given (odf for a file of SH series, which refuses another;
+    /// cylinder for a file of peaks, or capsule), or peaks: a file of SH series drawn as the
+    /// sticks of its peaks (the maxima of each voxel's ODF, DIPY's peaks_from_model settings:
+    /// at least half the voxel's largest, 25° apart, at most 5).
+    #[arg(long, value_parser = one_of::<GlyphChoice>(GlyphChoice::NAMES))]
+    pub glyph: Option<GlyphChoice>,
     /// Write the proxy's depth instead of the ray-cast depth.
     #[arg(long)]
     pub no_depth_correction: bool,
@@ -402,10 +406,56 @@ pub struct CameraArgs {
     pub ortho: bool,
 }
 
+/// What `--glyph` asks for: a glyph kind, or the field's peaks as sticks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GlyphChoice {
+    Kind(GlyphKind),
+    Peaks,
+}
+
+impl GlyphChoice {
+    /// The glyph kinds' names, then `peaks`.
+    pub const NAMES: &'static [&'static str] = &[
+        "ellipsoid",
+        "cylinder",
+        "capsule",
+        "superquadric",
+        "principal",
+        "odf",
+        "peaks",
+    ];
+}
+
+impl FromStr for GlyphChoice {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s {
+            "peaks" => Ok(GlyphChoice::Peaks),
+            _ => s.parse::<GlyphKind>().map(GlyphChoice::Kind),
+        }
+    }
+}
+
 impl CameraArgs {
-    /// The glyph `--glyph` asks for, where a field of `kind` named `name` offers it.
-    pub fn glyph_for(&self, kind: crate::field::FieldKind, name: &str) -> Result<GlyphKind> {
-        kind.glyph(self.glyph, name).map_err(anyhow::Error::msg)
+    /// The glyph `--glyph` asks for, where a field of `kind` named `name` offers it, and
+    /// whether a file of SH series is drawn as its peaks (`--glyph peaks`).
+    pub fn glyph_for(&self, kind: FieldKind, name: &str) -> Result<(GlyphKind, bool)> {
+        let asked = match self.glyph {
+            Some(GlyphChoice::Peaks) => {
+                return match kind {
+                    FieldKind::Series => Ok((FieldKind::Peaks.offers().glyphs[0], true)),
+                    FieldKind::Peaks => Ok((kind.offers().glyphs[0], false)),
+                    FieldKind::Tensors => bail!(
+                        "{}: holds tensors; --glyph peaks draws the peaks of SH series and of \
+                         peak files (a tensor's principal direction is not drawn as a stick yet)",
+                        crate::error::escape_path(std::path::Path::new(name))
+                    ),
+                };
+            }
+            Some(GlyphChoice::Kind(g)) => Some(g),
+            None => None,
+        };
+        Ok((kind.glyph(asked, name).map_err(anyhow::Error::msg)?, false))
     }
 
     pub fn framing(&self) -> Result<Framing> {

@@ -336,12 +336,13 @@ where
     let (w, h) = image.size;
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
-    let glyph = cam.glyph_for(src.kind(&scene_args.read_options()), &src.name())?;
+    let (glyph, series_peaks) = cam.glyph_for(src.kind(&scene_args.read_options()), &src.name())?;
     let options = draw.options(cam.method, glyph, depth_correction)?;
     let recipe = Recipe {
         underlay: select.underlay.clone(),
         middle_slice: defaults.middle_slice && select.no_slice(),
         underlay_side: Some((w.max(h) * ssaa) as usize),
+        series_peaks,
         ..scene_args.recipe(select.selection()?, glyph, &defaults)?
     };
     let staged = stage(src, &recipe, progress)?;

@@ -88,7 +88,12 @@ pub fn run(args: ViewArgs) -> Result<()> {
     if let Some(refusal) = kind.viewer_refusal(&name) {
         bail!(refusal);
     }
-    let glyph = cam.glyph_for(kind, &name)?;
+    let (glyph, series_peaks) = cam.glyph_for(kind, &name)?;
+    if series_peaks {
+        bail!(
+            "--glyph peaks: the viewer draws a file of SH series as its ODFs (render draws its peaks)"
+        );
+    }
     if kind == FieldKind::Tensors && !glyph.colours(style.color) {
         bail!("--color {} applies to --glyph odf", style.color);
     }

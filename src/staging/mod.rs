@@ -31,7 +31,7 @@ mod sh;
 mod source;
 
 pub use kind::Offers;
-pub use peaks::{STICK_RADIUS, build_peaks};
+pub use peaks::{STICK_RADIUS, build_peaks, series_peaks};
 pub use sh::{build_sh, sh_face_on};
 pub use source::{Demo, InMemory, InMemoryFile, Source};
 
@@ -89,6 +89,9 @@ pub struct Recipe {
     /// How a file of SH series scales each voxel's ODF (`None`: the default,
     /// [`crate::scene::odf::OdfNormalize::Max`]); given for tensors, staging refuses it.
     pub odf_normalize: Option<crate::scene::odf::OdfNormalize>,
+    /// A file of SH series drawn as its peaks (`--glyph peaks`): the sticks of a peaks file,
+    /// found in each shown voxel ([`peaks::series_peaks`]).
+    pub series_peaks: bool,
 }
 
 impl Recipe {
@@ -316,6 +319,13 @@ pub fn stage(
     recipe.selection.check()?;
     let kind = source.kind(&recipe.read);
     match source {
+        Source::File(path) if kind == FieldKind::Series && recipe.series_peaks => {
+            return peaks::stage_series_peaks(&Inputs::file_system(), path, recipe, progress);
+        }
+        Source::Bytes(b) if kind == FieldKind::Series && recipe.series_peaks => {
+            let (inputs, path) = b.inputs();
+            return peaks::stage_series_peaks(&inputs, &path, recipe, progress);
+        }
         Source::File(path) if kind == FieldKind::Series => {
             return sh::stage_sh(&Inputs::file_system(), path, recipe, progress);
         }

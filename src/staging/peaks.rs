@@ -14,11 +14,15 @@ use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
+use rayon::prelude::*;
+
 use super::{Built, Recipe, StageError, Staged, lattice};
-use crate::field::{Inputs, PeakField};
+use crate::field::{Inputs, PeakField, ShField};
 use crate::glyph::{ColorScheme, Scale};
 use crate::progress::Progress;
 use crate::scene::Scene;
+use crate::scene::odf::{OdfNormalize, series_frame};
+use crate::sh::{PeakFinder, PeakOptions};
 use crate::shape::{GlyphInstance, GlyphKind};
 
 /// A stick's radius, in voxel steps.
@@ -38,6 +42,91 @@ pub(super) fn stage_peaks(
         || crate::field::read_peak_field_from(inputs, path, &recipe.read),
         |f| build_peaks(f, &crate::error::escape_path(path), recipe),
     )
+}
+
+/// [`super::stage`] for a file of SH series drawn as its peaks (`--glyph peaks`): read, find
+/// the peaks of the voxels shown ([`series_peaks`]), then [`build_peaks`].
+pub(super) fn stage_series_peaks(
+    inputs: &Inputs,
+    path: &Path,
+    recipe: &Recipe,
+    progress: &dyn Progress,
+) -> Result<Staged, StageError> {
+    let name = crate::error::escape_path(path);
+    lattice::stage(
+        inputs,
+        progress,
+        "reading SH series",
+        || crate::field::read_sh_field_from(inputs, path, &recipe.read),
+        |sh| build_peaks(&series_peaks(sh, &name, recipe)?, &name, recipe),
+    )
+}
+
+/// The peaks of `sh`'s series (a file called `name`) in the voxels `recipe` shows (its planes;
+/// with none, every voxel or the middle axial slice as for its ODFs): each voxel's maxima by
+/// [`PeakFinder`] with DIPY's `peaks_from_model` settings ([`PeakOptions::default`]: at least
+/// half the voxel's largest, 25° apart, at most 5), in world axes (the series' frame,
+/// [`series_frame`]), as long as the ODF there normalised as its glyph would be: `max` (the
+/// default) each voxel's largest peak 1, `none` the ODF's value. `minmax` is refused: a peak
+/// has no minimum to subtract.
+pub fn series_peaks(sh: &ShField, name: &str, recipe: &Recipe) -> Result<PeakField, StageError> {
+    let per_voxel_max = match recipe.odf_normalize.unwrap_or_default() {
+        OdfNormalize::Max => true,
+        OdfNormalize::None => false,
+        OdfNormalize::MinMax => {
+            return Err(lattice::refuse(
+                name,
+                "--odf-normalize minmax: peaks are normalised by max (each voxel's largest) or \
+                 none"
+                    .into(),
+            ));
+        }
+    };
+    let planes = lattice::planes(name, "SH series", sh.dims, recipe)?;
+    let opts = PeakOptions::default();
+    let finder = PeakFinder::new(sh.layout.lmax, sh.layout.basis)
+        .map_err(|e| lattice::refuse(name, e.to_string()))?;
+    let frame = series_frame(sh);
+    let per_voxel = opts.max_peaks;
+    let count = sh.layout.count;
+    let found: Vec<Vec<[f32; 3]>> = (0..sh.voxels())
+        .into_par_iter()
+        .map_init(
+            || (finder.clone(), vec![0.0; count]),
+            |(finder, c), v| {
+                if !lattice::shown(planes.as_deref(), sh.dims, v) {
+                    return Vec::new();
+                }
+                sh.coefficients_of(v, c);
+                let peaks = finder.peaks(c, &opts);
+                let top = peaks.first().map_or(1.0, |p| p.value);
+                peaks
+                    .iter()
+                    .map(|p| {
+                        let a = if per_voxel_max {
+                            p.value / top
+                        } else {
+                            p.value
+                        };
+                        (frame * DVec3::from(p.direction) * a).as_vec3().to_array()
+                    })
+                    .collect()
+            },
+        )
+        .collect();
+    let mut vectors = vec![[f32::NAN; 3]; sh.voxels() * per_voxel];
+    for (v, peaks) in found.iter().enumerate() {
+        for (p, x) in peaks.iter().take(per_voxel).enumerate() {
+            vectors[v * per_voxel + p] = *x;
+        }
+    }
+    Ok(PeakField {
+        format: sh.format.clone(),
+        dims: sh.dims,
+        per_voxel,
+        vectors,
+        frame: sh.frame.clone(),
+    })
 }
 
 /// The scene of sticks (one a peak: the module's doc) of `field` (called `name` in errors),

@@ -59,6 +59,36 @@ fn sticks_match_the_reference() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// The peaks of SH series (`--glyph peaks`: found by the project's peak finder) are the same
+/// sticks: exact against the reference, MRtrix's and DIPY's fits, both methods, a slice and
+/// every slice at an angle.
+#[test]
+fn sticks_of_series_peaks_match_the_reference() {
+    let mut failures = Vec::new();
+    for file in [
+        "tests/data/sh/mrtrix_lmax8.mif",
+        "tests/data/sh/dipy_lmax8_descoteaux07_legacy.nii.gz",
+    ] {
+        for view in [
+            &[][..],
+            &["--slice", "all", "--azimuth", "35", "--elevation", "25"][..],
+        ] {
+            for method in ["gumhold", "sigg"] {
+                let mut args = vec![file, "--glyph", "peaks", "--method", method];
+                args.extend_from_slice(view);
+                let name = format!("{file} {method} {view:?}");
+                let (j, ok) = reference_check(&name, &args, &TENSOR_KIND);
+                assert_eq!(j["glyph"], "cylinder", "{name}: {j}");
+                assert!(j["covered_pixels"].as_u64().unwrap() > 2000, "{name}: {j}");
+                if !ok {
+                    failures.push(format!("{name}: {j}"));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
 #[test]
 fn a_peaks_file_refuses_what_its_kind_does_not_offer() {
     let dir = tempfile::tempdir().unwrap();

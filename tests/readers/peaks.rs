@@ -212,3 +212,114 @@ fn peaks_files_from_the_command_line() {
         "{err}"
     );
 }
+
+/// `--glyph peaks` on a file of SH series: each voxel's peaks found by the project's finder
+/// (DIPY's settings: half the voxel's largest, 25° apart) as sticks, each within 1° of a peak
+/// MRtrix's `sh2peaks` found in the same voxel (expected.json; scanner axes, as the file's
+/// series) where `sh2peaks` lists it (its three largest, with no separation rule: a stick
+/// smaller than its third is not in the truth), the voxel's largest one voxel step long under
+/// `--odf-normalize max`.
+#[test]
+fn series_peaks_are_sh2peaks_peaks_within_1_degree() {
+    use tensorglyph::staging::{Recipe, Source, stage};
+    let p = sh("mrtrix_lmax8.mif");
+    let recipe = Recipe {
+        series_peaks: true,
+        style: tensorglyph::glyph::GlyphStyle {
+            color: tensorglyph::glyph::ColorScheme::Dec,
+            ..Default::default()
+        },
+        ..Recipe::default()
+    };
+    let staged = stage(&Source::File(p), &recipe, &tensorglyph::progress::Silent).unwrap();
+    let all = load("expected.json");
+    let truth = &all["files"]["mrtrix_lmax8.mif"]["peaks"];
+    let mut by_voxel = std::collections::BTreeMap::<u32, Vec<f64>>::new();
+    let mut checked = 0;
+    for g in &staged.scene.instances {
+        let axis = tensorglyph::tensor::eigen::quat_to_frame(g.rotation)[0];
+        let t = &truth[g.glyph.to_string()];
+        let want = t["directions"].as_array().unwrap();
+        // This stick's ODF value: its length over the voxel's longest, times sh2peaks' largest.
+        let values = floats(&t["values"]);
+        let longest = staged
+            .scene
+            .instances
+            .iter()
+            .filter(|h| h.glyph == g.glyph)
+            .map(|h| f64::from(h.radii[0]))
+            .fold(0.0, f64::max);
+        let value = f64::from(g.radii[0]) / longest * values[0];
+        by_voxel
+            .entry(g.glyph)
+            .or_default()
+            .push(f64::from(g.radii[0]));
+        if value < values[values.len() - 1] * (1.0 - 1e-3) {
+            continue;
+        }
+        checked += 1;
+        let best = want
+            .iter()
+            .map(|d| {
+                let d = floats(d);
+                let c = (axis[0] * d[0] + axis[1] * d[1] + axis[2] * d[2]).abs();
+                c.min(1.0).acos().to_degrees()
+            })
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            best < 1.0,
+            "voxel {}: {best}° from sh2peaks' nearest",
+            g.glyph
+        );
+    }
+    assert_eq!(by_voxel.len(), 64);
+    assert!(checked >= 100, "{checked} sticks checked");
+    // The voxel step is 2 mm: each voxel's largest half-length is half of it.
+    for (v, lengths) in &by_voxel {
+        let top = lengths.iter().copied().fold(0.0, f64::max);
+        assert!((top - 1.0).abs() < 1e-5, "voxel {v}: {lengths:?}");
+    }
+}
+
+/// What `--glyph peaks` refuses, each in one line naming the file: tensors (no sticks of their
+/// principal direction yet), `--odf-normalize minmax` (a peak has no minimum), and the viewer
+/// (it draws a file of SH series as its ODFs).
+#[test]
+fn glyph_peaks_refusals() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let dti = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dti/fsl4d_oblique.nii.gz");
+    let series = sh("mrtrix_lmax8.mif");
+    for (args, says) in [
+        (
+            vec!["render", dti.to_str().unwrap(), "--glyph", "peaks"],
+            "fsl4d_oblique.nii.gz: holds tensors; --glyph peaks draws the peaks of SH series",
+        ),
+        (
+            vec![
+                "render",
+                series.to_str().unwrap(),
+                "--glyph",
+                "peaks",
+                "--odf-normalize",
+                "minmax",
+            ],
+            "mrtrix_lmax8.mif: --odf-normalize minmax: peaks are normalised by max",
+        ),
+        (
+            vec!["view", series.to_str().unwrap(), "--glyph", "peaks"],
+            "--glyph peaks: the viewer draws a file of SH series as its ODFs",
+        ),
+    ] {
+        let mut all = args.clone();
+        if all[0] == "render" {
+            all.extend_from_slice(&["-o", out.to_str().unwrap()]);
+        }
+        let r = tg(&all);
+        let e = stderr(&r);
+        assert_eq!(r.status.code(), Some(2), "{all:?}: {e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{all:?}: {e}");
+        assert!(e.contains(says), "{all:?}: {e}");
+        assert!(!out.exists());
+    }
+}
