@@ -213,7 +213,7 @@ impl SceneArgs {
             middle_slice: false,
             underlay_side: None,
             odf_normalize: self.odf_normalize,
-            series_peaks: false,
+            peaks: false,
         })
     }
 }
@@ -374,9 +374,10 @@ pub struct CameraArgs {
     #[arg(long, default_value = "gumhold")]
     pub method: Method,
     /// The glyph: ellipsoid unless given (odf for a file of SH series, which refuses another;
-    /// cylinder for a file of peaks, or capsule), or peaks: a file of SH series drawn as the
-    /// sticks of its peaks (the maxima of each voxel's ODF, DIPY's peaks_from_model settings:
-    /// at least half the voxel's largest, 25° apart, at most 5).
+    /// cylinder for a file of peaks, or capsule), or peaks: the field as the sticks of its
+    /// peaks, a file of SH series its maxima (DIPY's peaks_from_model settings: at least half
+    /// the voxel's largest, 25° apart, at most 5), tensors their principal directions (FSL's
+    /// V1 lines, half a voxel step × FA long each side).
     #[arg(long, value_parser = one_of::<GlyphChoice>(GlyphChoice::NAMES))]
     pub glyph: Option<GlyphChoice>,
     /// Write the proxy's depth instead of the ray-cast depth.
@@ -438,19 +439,13 @@ impl FromStr for GlyphChoice {
 
 impl CameraArgs {
     /// The glyph `--glyph` asks for, where a field of `kind` named `name` offers it, and
-    /// whether a file of SH series is drawn as its peaks (`--glyph peaks`).
+    /// whether the field is drawn as the sticks of its peaks (`--glyph peaks`).
     pub fn glyph_for(&self, kind: FieldKind, name: &str) -> Result<(GlyphKind, bool)> {
         let asked = match self.glyph {
             Some(GlyphChoice::Peaks) => {
-                return match kind {
-                    FieldKind::Series => Ok((FieldKind::Peaks.offers().glyphs[0], true)),
-                    FieldKind::Peaks => Ok((kind.offers().glyphs[0], false)),
-                    FieldKind::Tensors => bail!(
-                        "{}: holds tensors; --glyph peaks draws the peaks of SH series and of \
-                         peak files (a tensor's principal direction is not drawn as a stick yet)",
-                        crate::error::escape_path(std::path::Path::new(name))
-                    ),
-                };
+                // The sticks of a peaks file; SH series and tensors are drawn as theirs.
+                let sticks = FieldKind::Peaks.offers().glyphs[0];
+                return Ok((sticks, kind != FieldKind::Peaks));
             }
             Some(GlyphChoice::Kind(g)) => Some(g),
             None => None,

@@ -336,14 +336,23 @@ where
     let (w, h) = image.size;
     let effects = effects.effects((w, h), ssaa)?;
     let depth_correction = !cam.no_depth_correction;
-    let (glyph, series_peaks) = cam.glyph_for(src.kind(&scene_args.read_options()), &src.name())?;
+    let (glyph, peaks) = cam.glyph_for(src.kind(&scene_args.read_options()), &src.name())?;
     let options = draw.options(cam.method, glyph, depth_correction)?;
     let recipe = Recipe {
         underlay: select.underlay.clone(),
         middle_slice: defaults.middle_slice && select.no_slice(),
         underlay_side: Some((w.max(h) * ssaa) as usize),
-        series_peaks,
+        peaks,
         ..scene_args.recipe(select.selection()?, glyph, &defaults)?
+    };
+    let recipe = if peaks && scene_args.color.is_none() {
+        // Sticks are coloured by direction unless asked otherwise (solid): not by the
+        // field's default scalar colouring (a stress field's).
+        let mut recipe = recipe;
+        recipe.style.color = crate::glyph::ColorScheme::Dec;
+        recipe
+    } else {
+        recipe
     };
     let staged = stage(src, &recipe, progress)?;
     let mut read = staged.read.clone();

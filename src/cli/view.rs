@@ -88,11 +88,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
     if let Some(refusal) = kind.viewer_refusal(&name) {
         bail!(refusal);
     }
-    let (glyph, series_peaks) = cam.glyph_for(kind, &name)?;
-    if series_peaks {
-        bail!(
-            "--glyph peaks: the viewer draws a file of SH series as its ODFs (render draws its peaks)"
-        );
+    let (glyph, peaks) = cam.glyph_for(kind, &name)?;
+    if peaks {
+        bail!("--glyph peaks: the viewer does not draw sticks yet (render draws them)");
     }
     if kind == FieldKind::Tensors && !glyph.colours(style.color) {
         bail!("--color {} applies to --glyph odf", style.color);

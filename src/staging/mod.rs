@@ -89,9 +89,10 @@ pub struct Recipe {
     /// How a file of SH series scales each voxel's ODF (`None`: the default,
     /// [`crate::scene::odf::OdfNormalize::Max`]); given for tensors, staging refuses it.
     pub odf_normalize: Option<crate::scene::odf::OdfNormalize>,
-    /// A file of SH series drawn as its peaks (`--glyph peaks`): the sticks of a peaks file,
-    /// found in each shown voxel ([`peaks::series_peaks`]).
-    pub series_peaks: bool,
+    /// The field drawn as the sticks of its peaks (`--glyph peaks`), as a peaks file is: a file
+    /// of SH series its maxima, found in each shown voxel ([`peaks::series_peaks`]); a tensor
+    /// field its glyphs' principal directions ([`peaks::tensor_sticks`]).
+    pub peaks: bool,
 }
 
 impl Recipe {
@@ -319,10 +320,10 @@ pub fn stage(
     recipe.selection.check()?;
     let kind = source.kind(&recipe.read);
     match source {
-        Source::File(path) if kind == FieldKind::Series && recipe.series_peaks => {
+        Source::File(path) if kind == FieldKind::Series && recipe.peaks => {
             return peaks::stage_series_peaks(&Inputs::file_system(), path, recipe, progress);
         }
-        Source::Bytes(b) if kind == FieldKind::Series && recipe.series_peaks => {
+        Source::Bytes(b) if kind == FieldKind::Series && recipe.peaks => {
             let (inputs, path) = b.inputs();
             return peaks::stage_series_peaks(&inputs, &path, recipe, progress);
         }
@@ -458,17 +459,36 @@ pub fn build(
         resolved.units = units_in_name(&field.array.name);
     }
     let selection = recipe.selection_for(field);
-    let mut built = match select(field, set, &selection)? {
-        None => Built::whole(
-            build_scene(set, &resolved, recipe.glyph, progress),
-            set.glyphs.len(),
-            resolved,
-        ),
-        Some(indices) => {
-            let bounds = whole_field_bounds(set, &resolved, recipe.glyph, progress);
-            let subset = Selection::subset(set, &indices);
-            let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
-            Built::selected(scene, bounds, set.glyphs.len(), indices, resolved)
+    let indices = select(field, set, &selection)?;
+    let mut built = if recipe.peaks {
+        let step = field
+            .spacing
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .ok_or_else(|| {
+                StageError::Selection(SelectionError(
+                "--glyph peaks: the sticks of tensors need a lattice (they are a fraction of its \
+                 step long)"
+                    .into(),
+            ))
+            })?;
+        let scene =
+            peaks::tensor_sticks(set, indices.as_deref(), step, &recipe.style, recipe.glyph)?;
+        let bounds = whole_field_bounds(set, &resolved, recipe.glyph, progress);
+        let selected = indices.unwrap_or_else(|| (0..set.glyphs.len()).collect());
+        Built::selected((scene, 0), bounds, set.glyphs.len(), selected, resolved)
+    } else {
+        match indices {
+            None => Built::whole(
+                build_scene(set, &resolved, recipe.glyph, progress),
+                set.glyphs.len(),
+                resolved,
+            ),
+            Some(indices) => {
+                let bounds = whole_field_bounds(set, &resolved, recipe.glyph, progress);
+                let subset = Selection::subset(set, &indices);
+                let scene = build_scene(&subset, &resolved, recipe.glyph, progress);
+                Built::selected(scene, bounds, set.glyphs.len(), indices, resolved)
+            }
         }
     };
     add_underlay(&mut built, field, set, recipe, &selection, volume)?;

@@ -18,12 +18,13 @@ use rayon::prelude::*;
 
 use super::{Built, Recipe, StageError, Staged, lattice};
 use crate::field::{Inputs, PeakField, ShField};
-use crate::glyph::{ColorScheme, Scale};
+use crate::glyph::{ColorScheme, GlyphSet, GlyphStyle, Scale};
 use crate::progress::Progress;
 use crate::scene::Scene;
 use crate::scene::odf::{OdfNormalize, series_frame};
 use crate::sh::{PeakFinder, PeakOptions};
 use crate::shape::{GlyphInstance, GlyphKind};
+use crate::tensor::eigen::quat_to_frame;
 
 /// A stick's radius, in voxel steps.
 pub const STICK_RADIUS: f64 = 0.06;
@@ -138,22 +139,7 @@ pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Bui
     let planes = lattice::planes(name, "peaks", field.dims, recipe)?;
     let d = field.dims;
     let mut style = recipe.style.clone();
-    let solid = match style.color {
-        ColorScheme::Auto | ColorScheme::Dec => {
-            style.color = ColorScheme::Dec;
-            None
-        }
-        ColorScheme::Solid => {
-            let [r, g, b] = style.solid_color;
-            Some(GlyphInstance::pack_color([r, g, b, 255]))
-        }
-        other => {
-            return Err(lattice::refuse(
-                name,
-                format!("--color {other}: a file of peaks is coloured by dec or solid"),
-            ));
-        }
-    };
+    let solid = stick_colour(&mut style).map_err(|m| lattice::refuse(name, m))?;
     let m = field.frame.voxel_to_world.unwrap_or_default();
     let steps: [DVec3; 3] = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
     let step = steps
@@ -180,37 +166,11 @@ pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Bui
         let centre = DVec3::from(field.position(v)) - origin;
         for x in field.peaks_of(v) {
             let x = glam::Vec3::from(x).as_dvec3();
-            let axis = x.normalize();
-            let (u, w) = axis.any_orthonormal_pair();
-            let rotation = DQuat::from_mat3(&DMat3::from_cols(axis, u, w)).as_quat();
-            let colour = solid.unwrap_or_else(|| {
-                let c = (axis.abs() * 255.0).round();
-                GlyphInstance::pack_color([c.x as u8, c.y as u8, c.z as u8, 255])
-            });
-            instances.push(GlyphInstance {
-                centre: centre.as_vec3().into(),
-                color: colour,
-                rotation: rotation.into(),
-                radii: [(x.length() * per_amplitude) as f32, radius, radius],
-                glyph: v as u32,
-                shape: [0; 2],
-            });
+            let half = x.length() * per_amplitude;
+            instances.push(stick(centre, x, half, radius, solid, v as u32));
         }
     }
-    // A recipe's glyph cannot be unasked: one the kind does not offer (a front end has refused
-    // it already, `FieldKind::glyph`) means the kind's own.
-    let offered = crate::field::FieldKind::Peaks.offers().glyphs;
-    let glyph = if offered.contains(&recipe.glyph) {
-        recipe.glyph
-    } else {
-        offered[0]
-    };
-    let scene = Scene::from_instances_as(origin, instances, GlyphKind::Cylinder);
-    let scene = if glyph == GlyphKind::Cylinder {
-        scene
-    } else {
-        scene.drawn_as(glyph)
-    };
+    let scene = sticks_scene(origin, instances, recipe.glyph);
     lattice::built(
         name,
         scene,
@@ -218,6 +178,121 @@ pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Bui
         field.frame.voxel_to_world,
         style,
     )
+}
+
+/// How sticks are coloured by `style` (made `dec` where it asks for none): `None`, by their
+/// direction; or the solid colour. A tensor's colouring is the message refusing it.
+fn stick_colour(style: &mut GlyphStyle) -> Result<Option<u32>, String> {
+    match style.color {
+        ColorScheme::Auto | ColorScheme::Dec => {
+            style.color = ColorScheme::Dec;
+            Ok(None)
+        }
+        ColorScheme::Solid => {
+            let [r, g, b] = style.solid_color;
+            Ok(Some(GlyphInstance::pack_color([r, g, b, 255])))
+        }
+        other => Err(format!(
+            "--color {other}: sticks (peaks) are coloured by dec or solid"
+        )),
+    }
+}
+
+/// The stick along `x` (of any length) through `centre`, of half-length `half`: a cylinder
+/// instance of radius `radius`, coloured `solid` or by its direction (|x|, |y|, |z|), naming
+/// `glyph`.
+fn stick(
+    centre: DVec3,
+    x: DVec3,
+    half: f64,
+    radius: f32,
+    solid: Option<u32>,
+    glyph: u32,
+) -> GlyphInstance {
+    let axis = x.normalize();
+    let (u, w) = axis.any_orthonormal_pair();
+    let rotation = DQuat::from_mat3(&DMat3::from_cols(axis, u, w)).as_quat();
+    let colour = solid.unwrap_or_else(|| {
+        let c = (axis.abs() * 255.0).round();
+        GlyphInstance::pack_color([c.x as u8, c.y as u8, c.z as u8, 255])
+    });
+    GlyphInstance {
+        centre: centre.as_vec3().into(),
+        color: colour,
+        rotation: rotation.into(),
+        radii: [half as f32, radius, radius],
+        glyph,
+        shape: [0; 2],
+    }
+}
+
+/// The scene of `instances` (sticks about `origin`) drawn as `glyph` where peaks offer it (a
+/// front end has refused another, `FieldKind::glyph`; one that cannot be unasked means theirs).
+fn sticks_scene(origin: DVec3, instances: Vec<GlyphInstance>, glyph: GlyphKind) -> Scene {
+    let offered = crate::field::FieldKind::Peaks.offers().glyphs;
+    let glyph = if offered.contains(&glyph) {
+        glyph
+    } else {
+        offered[0]
+    };
+    let scene = Scene::from_instances_as(origin, instances, GlyphKind::Cylinder);
+    if glyph == GlyphKind::Cylinder {
+        scene
+    } else {
+        scene.drawn_as(glyph)
+    }
+}
+
+/// The sticks of a tensor field's principal directions (FSL's V1 lines): one a glyph of `set`
+/// (those `indices` names, every one without), along its e1 through its centre, half-length
+/// FA × half the lattice step `step` under `--scale auto` (F × FA under `--scale F`), coloured
+/// as peaks are; a stick's `glyph` is its glyph's place in `indices`, as a tensor scene's.
+pub(super) fn tensor_sticks(
+    set: &GlyphSet,
+    indices: Option<&[usize]>,
+    step: f64,
+    style: &GlyphStyle,
+    glyph: GlyphKind,
+) -> Result<Scene, StageError> {
+    let mut style = style.clone();
+    let solid = stick_colour(&mut style)
+        .map_err(|m| StageError::Selection(crate::select::SelectionError(m)))?;
+    let per_fa = match style.scale {
+        Scale::Auto => 0.5 * step,
+        Scale::Factor(f) => f,
+    };
+    let all: Vec<usize>;
+    let chosen = match indices {
+        Some(i) => i,
+        None => {
+            all = (0..set.glyphs.len()).collect();
+            &all
+        }
+    };
+    let origin = chosen
+        .first()
+        .map_or(DVec3::ZERO, |&k| DVec3::from(set.glyphs[k].centre));
+    let radius = (STICK_RADIUS * step) as f32;
+    let instances = chosen
+        .iter()
+        .enumerate()
+        .filter_map(|(j, &k)| {
+            let g = &set.glyphs[k];
+            let fa = crate::tensor::shape::fa(g.eigenvalues.map(f64::from));
+            let e1 = DVec3::from(quat_to_frame(g.rotation)[0]);
+            (fa > 0.0).then(|| {
+                stick(
+                    DVec3::from(g.centre) - origin,
+                    e1,
+                    fa * per_fa,
+                    radius,
+                    solid,
+                    j as u32,
+                )
+            })
+        })
+        .collect();
+    Ok(sticks_scene(origin, instances, glyph))
 }
 
 #[cfg(test)]

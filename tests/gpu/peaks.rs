@@ -59,15 +59,16 @@ fn sticks_match_the_reference() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// The peaks of SH series (`--glyph peaks`: found by the project's peak finder) are the same
-/// sticks: exact against the reference, MRtrix's and DIPY's fits, both methods, a slice and
-/// every slice at an angle.
+/// The peaks of SH series (`--glyph peaks`: found by the project's peak finder) and a tensor
+/// field's principal directions (DIPY's fit of real DWI, over its FA) are the same sticks:
+/// exact against the reference, both methods, a slice and every slice at an angle.
 #[test]
-fn sticks_of_series_peaks_match_the_reference() {
+fn sticks_of_series_and_tensor_peaks_match_the_reference() {
     let mut failures = Vec::new();
     for file in [
         "tests/data/sh/mrtrix_lmax8.mif",
         "tests/data/sh/dipy_lmax8_descoteaux07_legacy.nii.gz",
+        "tests/data/dti/dipy_small101/tensors.nii.gz",
     ] {
         for view in [
             &[][..],
@@ -79,7 +80,7 @@ fn sticks_of_series_peaks_match_the_reference() {
                 let name = format!("{file} {method} {view:?}");
                 let (j, ok) = reference_check(&name, &args, &TENSOR_KIND);
                 assert_eq!(j["glyph"], "cylinder", "{name}: {j}");
-                assert!(j["covered_pixels"].as_u64().unwrap() > 2000, "{name}: {j}");
+                assert!(j["covered_pixels"].as_u64().unwrap() > 500, "{name}: {j}");
                 if !ok {
                     failures.push(format!("{name}: {j}"));
                 }

@@ -224,7 +224,7 @@ fn series_peaks_are_sh2peaks_peaks_within_1_degree() {
     use tensorglyph::staging::{Recipe, Source, stage};
     let p = sh("mrtrix_lmax8.mif");
     let recipe = Recipe {
-        series_peaks: true,
+        peaks: true,
         style: tensorglyph::glyph::GlyphStyle {
             color: tensorglyph::glyph::ColorScheme::Dec,
             ..Default::default()
@@ -281,19 +281,31 @@ fn series_peaks_are_sh2peaks_peaks_within_1_degree() {
     }
 }
 
-/// What `--glyph peaks` refuses, each in one line naming the file: tensors (no sticks of their
-/// principal direction yet), `--odf-normalize minmax` (a peak has no minimum), and the viewer
-/// (it draws a file of SH series as its ODFs).
+/// What `--glyph peaks` refuses, each in one line: tensors off a lattice (a stick is a fraction
+/// of its step), `--odf-normalize minmax` (a peak has no minimum), a tensor's colouring, and
+/// the viewer (no sticks there yet).
 #[test]
 fn glyph_peaks_refusals() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");
+    let beam = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/stress/beam.vtu");
     let dti = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dti/fsl4d_oblique.nii.gz");
     let series = sh("mrtrix_lmax8.mif");
     for (args, says) in [
         (
-            vec!["render", dti.to_str().unwrap(), "--glyph", "peaks"],
-            "fsl4d_oblique.nii.gz: holds tensors; --glyph peaks draws the peaks of SH series",
+            vec!["render", beam.to_str().unwrap(), "--glyph", "peaks"],
+            "--glyph peaks: the sticks of tensors need a lattice",
+        ),
+        (
+            vec![
+                "render",
+                dti.to_str().unwrap(),
+                "--glyph",
+                "peaks",
+                "--color",
+                "fa",
+            ],
+            "--color fa: sticks (peaks) are coloured by dec or solid",
         ),
         (
             vec![
@@ -308,7 +320,7 @@ fn glyph_peaks_refusals() {
         ),
         (
             vec!["view", series.to_str().unwrap(), "--glyph", "peaks"],
-            "--glyph peaks: the viewer draws a file of SH series as its ODFs",
+            "--glyph peaks: the viewer does not draw sticks yet",
         ),
     ] {
         let mut all = args.clone();
@@ -322,4 +334,51 @@ fn glyph_peaks_refusals() {
         assert!(e.contains(says), "{all:?}: {e}");
         assert!(!out.exists());
     }
+}
+
+/// `--glyph peaks` on tensors: FSL's V1 lines. One stick a valid tensor of DIPY's fit of real
+/// DWI (tests/data/dti/dipy_small101), along its glyph's e1 (the eigenvector the ellipsoid's
+/// long axis follows), half a voxel step × FA long each side, FA as DIPY computed it
+/// (expected.json), coloured by direction.
+#[test]
+fn tensor_sticks_are_e1_scaled_by_dipys_fa() {
+    use tensorglyph::staging::{Recipe, build, decompose, field_spacing};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/dti/dipy_small101");
+    let field = read_field(&dir.join("tensors.nii.gz"), &ReadOptions::default()).unwrap();
+    let silent = tensorglyph::progress::Silent;
+    let set = decompose(&field, &silent);
+    let recipe = Recipe {
+        peaks: true,
+        glyph: tensorglyph::shape::GlyphKind::Cylinder,
+        style: tensorglyph::glyph::GlyphStyle {
+            color: tensorglyph::glyph::ColorScheme::Dec,
+            ..Default::default()
+        },
+        ..Recipe::default()
+    };
+    let built = build(&field, &set, field_spacing(&field), &recipe, None, &silent).unwrap();
+    let truth: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("expected.json")).unwrap()).unwrap();
+    let fa = floats(&truth["fa"]);
+    let step = field.spacing.unwrap();
+    let mut n = 0;
+    for g in &built.scene.instances {
+        let t = &set.glyphs[built.selected[g.glyph as usize]];
+        let want_fa = fa[t.index as usize];
+        assert!(
+            (f64::from(g.radii[0]) - 0.5 * step * want_fa).abs() < 1e-5 * step,
+            "tensor {}: half-length {} for FA {want_fa}",
+            t.index,
+            g.radii[0]
+        );
+        let axis = tensorglyph::tensor::eigen::quat_to_frame(g.rotation)[0];
+        let e1 = tensorglyph::tensor::eigen::quat_to_frame(t.rotation)[0];
+        let cos = (0..3).map(|c| axis[c] * e1[c]).sum::<f64>().abs();
+        assert!(cos > 1.0 - 1e-6, "tensor {}: {axis:?} {e1:?}", t.index);
+        let [r, gr, b, _] = g.color.to_le_bytes();
+        let dec = e1.map(|c| (c.abs() * 255.0).round() as u8);
+        assert_eq!([r, gr, b], dec, "tensor {}", t.index);
+        n += 1;
+    }
+    assert_eq!(n, set.glyphs.len());
 }

@@ -32,7 +32,7 @@ impl ViewerApp {
             middle_slice: false,
             underlay_side: None,
             odf_normalize: None,
-            series_peaks: false,
+            peaks: false,
         };
         let volume = data.underlay.as_deref();
         let built = match &data.odf {
