@@ -271,7 +271,7 @@ def read(
     args: list = []
     inner = _field(data, affine, layout, frame, positions, args)
     if isinstance(inner, _tensorglyph.NamedBytes):
-        if "--holds" in args:
+        if "peaks" in args:
             raise Error("peaks hold no tensors: render() draws them as sticks")
         raise Error("a fit in spherical harmonics holds no tensors: render() draws it as ODF glyphs")
     if isinstance(inner, str):
@@ -326,7 +326,8 @@ def _field(data: Any, affine: Any, layout: Any, frame: Any, positions: Any, args
         coef = np.asarray(data.shm_coeff, dtype=np.float64)
         if coef.ndim != 4:
             raise Error(f"shm_coeff of shape {coef.shape}: a fit's series are (X, Y, Z, coefficients)")
-        args += _order_args(None, frame)
+        # The series of a fit, whatever its count (15 is also five peaks' in a file).
+        args += _order_args(None, frame) + ["--holds", "series"]
         img = nib.Nifti1Image(coef, np.asarray(_affine(affine), dtype=np.float64))
         return _tensorglyph.NamedBytes(_nifti_bytes(img), "shm_coeff.nii")
     if hasattr(data, "quadratic_form") and not isinstance(data, np.ndarray):

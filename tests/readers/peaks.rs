@@ -201,6 +201,27 @@ fn peaks_files_from_the_command_line() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(png.exists());
+    // Fifteen volumes are five peaks or an lmax-4 series: nothing said, refused naming both.
+    let dirs = sh("dipy_peaks_dirs.nii.gz");
+    let o = tg(&["info", dirs.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("dipy_peaks_dirs.nii.gz")
+            && err.contains("15 volumes per voxel")
+            && err.contains("give --holds series (or --sh-basis) or --holds peaks"),
+        "{err}"
+    );
+    let o = tg(&[
+        "info",
+        dirs.to_str().unwrap(),
+        "--holds",
+        "series",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(json(&o)["kind"], "sh");
     let series = sh("dipy_lmax12_descoteaux07_legacy_f32.nii.gz");
     let o = tg(&["info", series.to_str().unwrap(), "--holds", "peaks"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));

@@ -209,6 +209,21 @@ fn nine_volumes(h: &NiftiHeader, opts: &ReadOptions) -> Res<()> {
     ))
 }
 
+/// A file of 15 volumes is an lmax-4 SH series or five fibre peaks (DIPY's `peaks_dirs`, as its
+/// workflows save it): read as SH only where something says so (`--holds series`, or the
+/// basis named with `--sh-basis`); else refused in one line that names the options.
+fn fifteen_volumes(count: usize, opts: &ReadOptions) -> Res<()> {
+    if count != 15 || opts.sh_basis.is_some() || opts.holds == Some(FieldKind::Series) {
+        return Ok(());
+    }
+    Err(field(
+        "dim",
+        "15 volumes per voxel: an lmax-4 SH series or five fibre peaks (as DIPY saves \
+         peaks_dirs), and the header does not say which: give --holds series (or --sh-basis) \
+         or --holds peaks",
+    ))
+}
+
 /// Whether `path` names a NIfTI file by its extension.
 pub fn is_nifti_path(path: &Path) -> bool {
     let name = path
@@ -244,6 +259,7 @@ pub(crate) fn sh_probe(input: &Input) -> Res<usize> {
 /// integers: [`fits_f32`](crate::field::number::Scalar::fits_f32)).
 pub(crate) fn read_sh(input: &Input, opts: &ReadOptions) -> Res<ShField> {
     let head = read_head(input, Values::Series, |_| Ok(()))?;
+    fifteen_volumes(head.shape.components, opts)?;
     let writer = sh_writer(&head.h);
     let layout = sh_field::layout(head.shape.components, writer, opts.sh_basis)?;
     let (a, source) = head.affine()?;
