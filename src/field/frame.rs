@@ -85,6 +85,35 @@ pub struct FrameInfo {
     pub source: String,
 }
 
+impl FrameInfo {
+    /// The voxel-to-world matrix, the identity where there is none.
+    fn matrix(&self) -> [[f64; 4]; 4] {
+        self.voxel_to_world.unwrap_or([
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ])
+    }
+
+    /// The world position of voxel `v` (x fastest) of a `dims` lattice placed by this frame.
+    pub fn voxel_position(&self, dims: [usize; 3], v: usize) -> [f64; 3] {
+        let d = dims;
+        let ijk = [v % d[0], v / d[0] % d[1], v / d[0] / d[1]].map(|x| x as f64);
+        let m = self.voxel_to_world.unwrap_or_default();
+        std::array::from_fn(|r| m[r][0] * ijk[0] + m[r][1] * ijk[1] + m[r][2] * ijk[2] + m[r][3])
+    }
+
+    /// The smallest voxel step in world units (1 without a usable voxel-to-world matrix).
+    pub fn smallest_step(&self) -> f64 {
+        let m = self.matrix();
+        let s = (0..3)
+            .map(|c| (0..3).map(|r| m[r][c] * m[r][c]).sum::<f64>().sqrt())
+            .fold(f64::INFINITY, f64::min);
+        if s.is_finite() && s > 0.0 { s } else { 1.0 }
+    }
+}
+
 /// What a BEP016 map's JSON sidecar said (read by [`super::bep016`]), as `info` reports it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Sidecar {

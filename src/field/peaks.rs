@@ -8,6 +8,7 @@
 //! formats' ([`super::mif`], [`super::nifti::peaks`]); [`super::read_peak_field_from`] picks one.
 
 use super::frame::FrameInfo;
+use super::tensor_field::{Location, TensorArrayInfo, TensorField};
 
 /// Up to `per_voxel` fibre directions in each voxel of a lattice.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,9 +63,22 @@ impl PeakField {
 
     /// The world position of voxel `v`'s centre.
     pub fn position(&self, v: usize) -> [f64; 3] {
-        let d = self.dims;
-        let ijk = [v % d[0], v / d[0] % d[1], v / d[0] / d[1]].map(|x| x as f64);
-        let m = self.frame.voxel_to_world.unwrap_or_default();
-        std::array::from_fn(|r| m[r][0] * ijk[0] + m[r][1] * ijk[1] + m[r][2] * ijk[2] + m[r][3])
+        self.frame.voxel_position(self.dims, v)
+    }
+
+    /// The smallest voxel step in world units (1 without a usable voxel-to-world matrix).
+    pub fn spacing(&self) -> f64 {
+        self.frame.smallest_step()
+    }
+
+    /// The lattice as a field holding no tensors: what the viewer slices and frames, the
+    /// peaks staying here.
+    pub fn geometry(&self) -> TensorField {
+        let array = TensorArrayInfo {
+            name: format!("fibre peaks (up to {} a voxel)", self.per_voxel),
+            components: 3 * self.per_voxel,
+            location: Location::Point,
+        };
+        TensorField::lattice_only(&self.format, self.dims, &self.frame, array)
     }
 }

@@ -23,10 +23,8 @@
 
 use serde::Serialize;
 
-use super::frame::{FrameInfo, ReadMeta, TensorFrame, Why};
-use super::tensor_field::{
-    DatasetKind, Location, Positions, TensorArrayInfo, TensorField, Tensors,
-};
+use super::frame::{FrameInfo, TensorFrame, Why};
+use super::tensor_field::{Location, TensorArrayInfo, TensorField};
 use crate::error::LoadErrorKind;
 use crate::sh::{ShBasis, ShError, ShEval, lmax_of_count};
 
@@ -122,55 +120,23 @@ impl ShField {
 
     /// The world position of voxel `v`'s centre.
     pub fn position(&self, v: usize) -> [f64; 3] {
-        let d = self.dims;
-        let ijk = [v % d[0], v / d[0] % d[1], v / d[0] / d[1]].map(|x| x as f64);
-        let m = self.frame.voxel_to_world.unwrap_or_default();
-        std::array::from_fn(|r| m[r][0] * ijk[0] + m[r][1] * ijk[1] + m[r][2] * ijk[2] + m[r][3])
+        self.frame.voxel_position(self.dims, v)
     }
 
     /// The smallest voxel step in world units (1 without a usable voxel-to-world matrix).
     pub fn spacing(&self) -> f64 {
-        let m = self.frame.voxel_to_world.unwrap_or([
-            [1.0, 0.0, 0.0, 0.0],
-            [0.0, 1.0, 0.0, 0.0],
-            [0.0, 0.0, 1.0, 0.0],
-            [0.0, 0.0, 0.0, 1.0],
-        ]);
-        let s = (0..3)
-            .map(|c| (0..3).map(|r| m[r][c] * m[r][c]).sum::<f64>().sqrt())
-            .fold(f64::INFINITY, f64::min);
-        if s.is_finite() && s > 0.0 { s } else { 1.0 }
+        self.frame.smallest_step()
     }
 
     /// The lattice as a field holding no tensors: what the viewer slices and frames (voxel
     /// centres, dims, spacing and frame), the series staying here.
     pub fn geometry(&self) -> TensorField {
-        TensorField {
-            format: self.format.clone(),
-            dataset: DatasetKind::ImageData,
-            dims: Some(self.dims),
-            points: self.voxels(),
-            cells: 0,
-            array: TensorArrayInfo {
-                name: format!("SH series (lmax {})", self.layout.lmax),
-                components: self.layout.count,
-                location: Location::Point,
-            },
-            positions: Positions::Lattice {
-                dims: self.dims,
-                to_world: {
-                    let m = self.frame.voxel_to_world.unwrap_or_default();
-                    [m[0], m[1], m[2]]
-                },
-            },
-            tensors: Tensors::default(),
-            direction: None,
-            spacing: Some(self.spacing()),
-            meta: ReadMeta {
-                frame: Some(self.frame.clone()),
-                ..ReadMeta::default()
-            },
-        }
+        let array = TensorArrayInfo {
+            name: format!("SH series (lmax {})", self.layout.lmax),
+            components: self.layout.count,
+            location: Location::Point,
+        };
+        TensorField::lattice_only(&self.format, self.dims, &self.frame, array)
     }
 
     /// An evaluator of this field's series.

@@ -3,7 +3,7 @@
 
 use serde::Serialize;
 
-use super::frame::ReadMeta;
+use super::frame::{FrameInfo, ReadMeta};
 
 /// Where a tensor array lives on the dataset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -270,6 +270,39 @@ pub struct TensorField {
 }
 
 impl TensorField {
+    /// A lattice holding no tensors (a field of another kind's geometry: what the viewer
+    /// slices and frames): `dims` voxels placed by `frame`, the kind's values described by
+    /// `array`.
+    pub fn lattice_only(
+        format: &str,
+        dims: [usize; 3],
+        frame: &FrameInfo,
+        array: TensorArrayInfo,
+    ) -> Self {
+        TensorField {
+            format: format.into(),
+            dataset: DatasetKind::ImageData,
+            dims: Some(dims),
+            points: dims.iter().product(),
+            cells: 0,
+            array,
+            positions: Positions::Lattice {
+                dims,
+                to_world: {
+                    let m = frame.voxel_to_world.unwrap_or_default();
+                    [m[0], m[1], m[2]]
+                },
+            },
+            tensors: Tensors::default(),
+            direction: None,
+            spacing: Some(frame.smallest_step()),
+            meta: ReadMeta {
+                frame: Some(frame.clone()),
+                ..ReadMeta::default()
+            },
+        }
+    }
+
     /// Samples: tensors, one position each (every reader checks that).
     pub fn len(&self) -> usize {
         self.positions.len()

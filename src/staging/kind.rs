@@ -39,7 +39,7 @@ impl FieldKind {
             FieldKind::Peaks => Offers {
                 glyphs: &[GlyphKind::Cylinder, GlyphKind::Capsule],
                 normalize: false,
-                viewer: false,
+                viewer: true,
                 tensor_selection: false,
             },
         }

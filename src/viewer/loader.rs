@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use web_time::Instant;
 
 use crate::field::scalar::ScalarVolume;
-use crate::field::{FieldKind, ShField, TensorField};
+use crate::field::{FieldKind, PeakField, ShField, TensorField};
 use crate::field::{Inputs, ReadOptions};
 use crate::glyph::GlyphSet;
 use crate::progress::Progress;
@@ -35,6 +35,9 @@ pub struct Loaded {
     /// The series of a file of SH series (fibre ODFs), drawn as ODF glyphs; `field` is then
     /// its lattice without tensors ([`ShField::geometry`]) and `set` is empty.
     pub odf: Option<Arc<ShField>>,
+    /// The peaks of a file of fibre peaks, drawn as sticks; `field` is then its lattice without
+    /// tensors ([`PeakField::geometry`]) and `set` is empty.
+    pub peaks: Option<Arc<PeakField>>,
     /// The underlay file's volume, when one was given.
     pub underlay: Option<Arc<ScalarVolume>>,
     pub timings: LoadTimings,
@@ -55,10 +58,12 @@ pub struct LoadTimings {
 }
 
 impl Loaded {
-    /// What the file holds (the viewer opens tensors and SH series).
+    /// What the file holds.
     pub fn kind(&self) -> FieldKind {
         if self.odf.is_some() {
             FieldKind::Series
+        } else if self.peaks.is_some() {
+            FieldKind::Peaks
         } else {
             FieldKind::Tensors
         }
@@ -95,6 +100,9 @@ pub fn load_now_from(
     if let (FieldKind::Series, Source::File(path)) = (kind, source) {
         return load_sh(inputs, path, source, opts, progress, started);
     }
+    if let (FieldKind::Peaks, Source::File(path)) = (kind, source) {
+        return load_peaks(inputs, path, source, opts, progress, started);
+    }
     let field = read_from(inputs, source, opts, progress).map_err(|e| e.to_string())?;
     let underlay = read_underlay(underlay).map_err(|e| e.to_string())?;
     if field.is_empty() {
@@ -121,6 +129,7 @@ pub fn load_now_from(
         spacing,
         bounds,
         odf: None,
+        peaks: None,
         underlay: underlay.map(Arc::new),
         timings: LoadTimings {
             started,
@@ -145,9 +154,42 @@ fn load_sh(
         crate::field::read_sh_field_from(inputs, path, opts)
     })
     .map_err(|e| e.to_string())?;
-    let read_ms = crate::staging::ms(started);
-    let field = sh.geometry();
-    Ok(Loaded {
+    let (field, total) = (sh.geometry(), sh.series());
+    let read = (started, crate::staging::ms(started));
+    Ok(of_lattice(source, field, total, (Some(sh), None), read))
+}
+
+/// [`load_now_from`] of a file of fibre peaks: the peaks and their lattice (no underlay, as
+/// `render` draws them).
+fn load_peaks(
+    inputs: &Inputs,
+    path: &std::path::Path,
+    source: &Source,
+    opts: &ReadOptions,
+    progress: &dyn Progress,
+    started: Instant,
+) -> Result<Loaded, String> {
+    let peaks = crate::progress::stage(progress, "reading peaks", None, || {
+        crate::field::read_peak_field_from(inputs, path, opts)
+    })
+    .map_err(|e| e.to_string())?;
+    let field = peaks.geometry();
+    let total = peaks.counts().iter().enumerate().map(|(k, n)| k * n).sum();
+    let read = (started, crate::staging::ms(started));
+    Ok(of_lattice(source, field, total, (None, Some(peaks)), read))
+}
+
+/// What a file of another kind than tensors opens as: its lattice `field` (no tensors, no
+/// glyph set, no underlay), `total` glyphs it holds, its series or peaks, and when reading
+/// began and how long it took.
+fn of_lattice(
+    source: &Source,
+    field: TensorField,
+    total: usize,
+    (odf, peaks): (Option<ShField>, Option<PeakField>),
+    (started, read_ms): (Instant, f64),
+) -> Loaded {
+    Loaded {
         source: source.clone(),
         spacing: field_spacing(&field),
         bounds: crate::select::point_bounds(
@@ -155,8 +197,9 @@ fn load_sh(
         ),
         field: Arc::new(field),
         set: Arc::new(GlyphSet::default()),
-        total: sh.series(),
-        odf: Some(Arc::new(sh)),
+        total,
+        odf: odf.map(Arc::new),
+        peaks: peaks.map(Arc::new),
         underlay: None,
         timings: LoadTimings {
             started,
@@ -164,7 +207,7 @@ fn load_sh(
             eigen_ms: 0.0,
             first_frame_ms: None,
         },
-    })
+    }
 }
 
 /// Of files opened together (the page's file input or a drop), the one to read: the one that
@@ -382,24 +425,72 @@ mod tests {
         assert!(err.contains("bad.vtk"), "{err}");
     }
 
-    /// A file of SH series (MRtrix's, and the same bytes handed over as the page hands them)
-    /// opens as its lattice and series, and the viewer's scene of a slice is `render`'s.
-    #[test]
-    fn sh_series_open_and_build_the_scene_render_draws() {
-        let path =
-            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sh/mrtrix_lmax8.mif");
+    /// The file `name` of tests/data/sh opened from disk and as the page hands it over (its
+    /// bytes under `page_name`): its path and both.
+    fn open_both(name: &str, page_name: &str) -> (std::path::PathBuf, [Loaded; 2]) {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/sh")
+            .join(name);
         let opts = ReadOptions::default();
         let silent = &crate::progress::Silent;
         let from_disk = load_now(&Source::File(path.clone()), &opts, &None, silent).unwrap();
         let bytes = std::fs::read(&path).unwrap();
         let from_page = load_now_from(
-            &Inputs::named([("lmax8.mif".to_string(), bytes)]),
-            &Source::File("lmax8.mif".into()),
+            &Inputs::named([(page_name.to_string(), bytes)]),
+            &Source::File(page_name.into()),
             &opts,
             &None,
             silent,
         )
         .unwrap();
+        (path, [from_disk, from_page])
+    }
+
+    /// A file of peaks (MRtrix's sh2peaks image, from disk and as the page hands it over)
+    /// opens as its lattice and peaks, and the viewer's scene of a slice is `render`'s sticks.
+    #[test]
+    fn peaks_open_and_build_the_sticks_render_draws() {
+        let (path, [from_disk, from_page]) = open_both("sh2peaks_lmax8.mif", "peaks.mif");
+        let silent = &crate::progress::Silent;
+        for l in [&from_disk, &from_page] {
+            assert_eq!(l.kind(), FieldKind::Peaks);
+            let p = l.peaks.as_ref().expect("read as peaks");
+            assert_eq!((p.dims, p.per_voxel), ([4, 4, 4], 3));
+            assert_eq!(l.field.lattice_dims(), Some([4, 4, 4]));
+            assert_eq!(l.field.positions.len(), 64);
+            assert!(l.set.glyphs.is_empty() && l.field.tensors.is_empty());
+            // The status line's total: the peaks (three in each of the 64 voxels).
+            assert_eq!(l.total, 192);
+        }
+        let slice = crate::select::Plane { axis: 2, index: 1 };
+        let recipe = crate::staging::Recipe {
+            selection: crate::select::Selection {
+                slicing: crate::select::Slicing::Planes(vec![slice]),
+                ..Default::default()
+            },
+            glyph: crate::shape::GlyphKind::Capsule,
+            style: crate::glyph::GlyphStyle {
+                color: crate::glyph::ColorScheme::Dec,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let viewer =
+            crate::staging::build_peaks(from_page.peaks.as_ref().unwrap(), "peaks.mif", &recipe)
+                .unwrap();
+        let render = crate::staging::stage(&Source::File(path), &recipe, silent).unwrap();
+        assert_eq!(viewer.scene.instances.len(), 48);
+        assert_eq!(viewer.scene.kind, crate::shape::GlyphKind::Capsule);
+        assert_eq!(viewer.scene.instances, render.scene.instances);
+        assert_eq!(viewer.face.map(|f| f.toward), render.face.map(|f| f.toward));
+    }
+
+    /// A file of SH series (MRtrix's, and the same bytes handed over as the page hands them)
+    /// opens as its lattice and series, and the viewer's scene of a slice is `render`'s.
+    #[test]
+    fn sh_series_open_and_build_the_scene_render_draws() {
+        let (path, [from_disk, from_page]) = open_both("mrtrix_lmax8.mif", "lmax8.mif");
+        let silent = &crate::progress::Silent;
         for l in [&from_disk, &from_page] {
             let sh = l.odf.as_ref().expect("read as SH series");
             assert_eq!((sh.dims, sh.layout.lmax), ([4, 4, 4], 8));

@@ -132,6 +132,23 @@ fn sh_series_open_as_odf_glyphs() {
     );
 }
 
+/// A file of peaks (MRtrix's sh2peaks image) opens in the viewer as `render` draws it: sticks
+/// of the middle axial slice on black, coloured by direction.
+#[test]
+fn peaks_open_as_sticks() {
+    let file = crate::data::path("sh/sh2peaks_lmax8.mif");
+    let Some(img) = screenshot(230, &[file.to_str().unwrap()]) else {
+        return;
+    };
+    assert_panel(&img);
+    let (black, coloured, m) = view_area(&img, |p| p[0] < 10 && p[1] < 10 && p[2] < 10);
+    assert!(black * 2 > m, "background visible: {black} of {m}");
+    assert!(
+        coloured * 100 > m,
+        "sticks visible: {coloured} coloured of {m} samples"
+    );
+}
+
 /// Samples of the 3D area (the window's right half): those `background` accepts, those with
 /// colour (channels apart by more than 60), and all.
 fn view_area(

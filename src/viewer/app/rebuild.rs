@@ -35,16 +35,35 @@ impl ViewerApp {
             peaks: false,
         };
         let volume = data.underlay.as_deref();
-        let built = match &data.odf {
-            // Series are selected by their planes only, and drawn as ODF glyphs.
-            Some(sh) => staging::build_sh(
+        // Series and peaks are selected by their planes only.
+        let planes_only = Selection {
+            slicing: key.selection.slicing.clone(),
+            ..Selection::default()
+        };
+        let built = match (&data.odf, &data.peaks) {
+            // Peaks as sticks, coloured by direction unless solid, as `render` draws them.
+            (None, Some(peaks)) => staging::build_peaks(
+                peaks,
+                &data.name(),
+                &Recipe {
+                    selection: planes_only,
+                    underlay: None,
+                    style: GlyphStyle {
+                        color: match key.style.color {
+                            ColorScheme::Solid => ColorScheme::Solid,
+                            _ => ColorScheme::Dec,
+                        },
+                        ..key.style.clone()
+                    },
+                    ..recipe.clone()
+                },
+            ),
+            // Series drawn as ODF glyphs.
+            (Some(sh), _) => staging::build_sh(
                 sh,
                 &data.name(),
                 &Recipe {
-                    selection: Selection {
-                        slicing: key.selection.slicing.clone(),
-                        ..Selection::default()
-                    },
+                    selection: planes_only,
                     underlay: None,
                     odf_normalize: Some(key.odf_normalize),
                     // A tensor colouring kept from an earlier file has nothing to read in a
@@ -60,7 +79,7 @@ impl ViewerApp {
                 },
                 &Silent,
             ),
-            None => staging::build(
+            (None, None) => staging::build(
                 &data.field,
                 &data.set,
                 data.spacing.clone(),

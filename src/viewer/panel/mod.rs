@@ -163,6 +163,33 @@ fn file_section(
                 .on_hover_text(&sh.layout.reason);
             ui.end_row();
         });
+    } else if let Some(d) = info.data
+        && let Some(p) = &d.peaks
+    {
+        let name = d.name();
+        ui.add(egui::Label::new(RichText::new(&name).strong()).truncate())
+            .on_hover_text(name);
+        let [x, y, z] = p.dims;
+        let counts = p.counts();
+        egui::Grid::new("summary").num_columns(2).show(ui, |ui| {
+            ui.label("dataset");
+            ui.label(format!("fibre peaks ({})", p.format));
+            ui.end_row();
+            ui.label("dims");
+            ui.label(format!("{x} × {y} × {z}"));
+            ui.end_row();
+            ui.label("peaks");
+            ui.label(format!(
+                "up to {} a voxel; voxels with 0, 1, …: {}",
+                p.per_voxel,
+                counts
+                    .iter()
+                    .map(ToString::to_string)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+            ui.end_row();
+        });
     } else if let Some(d) = info.data {
         let f = &d.field;
         let s = &d.set.stats;

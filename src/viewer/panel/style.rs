@@ -21,6 +21,10 @@ pub(super) fn style_section(
         odf_section(ui, settings, sh);
         return;
     }
+    if info.data.is_some_and(|d| d.peaks.is_some()) {
+        peaks_section(ui, settings);
+        return;
+    }
     ui.heading("Glyphs");
     let style = &mut settings.style;
     egui::ComboBox::from_label("colour")
@@ -278,6 +282,23 @@ fn odf_section(ui: &mut Ui, settings: &mut Settings, sh: &crate::field::ShField)
     if settings.style.color == ColorScheme::Amplitude {
         draw_legend(ui, legend(ColorScheme::Amplitude, [0.0, 1.0], None));
     }
+}
+
+/// The sticks of a file of peaks: coloured by direction or solid, as `render` colours them.
+fn peaks_section(ui: &mut Ui, settings: &mut Settings) {
+    ui.heading("Peaks");
+    if settings.style.color != ColorScheme::Solid {
+        settings.style.color = ColorScheme::Dec;
+    }
+    egui::ComboBox::from_label("colour")
+        .selected_text(settings.style.color.name())
+        .show_ui(ui, |ui| {
+            for c in [ColorScheme::Dec, ColorScheme::Solid] {
+                ui.selectable_value(&mut settings.style.color, c, c.name());
+            }
+        })
+        .response
+        .on_hover_text("dec: the peak's direction (red x, green y, blue z); solid: one colour");
 }
 
 /// The colourings of ODF glyphs of SH series (`render --color` for such a file).
