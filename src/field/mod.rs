@@ -198,7 +198,7 @@ pub fn read_sh_field_from(
 
 /// Read the peaks file `path` among `inputs`: an MRtrix image whose header says `sh2peaks` wrote
 /// it, or a NIfTI file of peaks (DIPY's `…dirs…` file takes its amplitudes from the `…values…`
-/// file of the same name beside it, where there is one: [`nifti::peaks::values_beside`]).
+/// file of the same name beside it, where there is one: `nifti::peaks::values_beside`).
 pub fn read_peak_field_from(
     inputs: &Inputs,
     path: &Path,

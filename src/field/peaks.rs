@@ -4,8 +4,8 @@
 //! with `sh2peaks`, [`super::FieldKind::of_file`]; the directions in scanner axes, world RAS),
 //! and from NIfTI files of peaks: `sh2peaks` output converted, and DIPY's `peaks_dirs` (unit
 //! directions in the voxel axes) with the amplitudes of the `peaks_values` file beside it
-//! ([`super::nifti::peaks`]; `--holds peaks` says what such a file holds). The readers are the
-//! formats' ([`super::mif`], [`super::nifti::peaks`]); [`super::read_peak_field_from`] picks one.
+//! (`nifti::peaks`; `--holds peaks` says what such a file holds). The readers are the
+//! formats' ([`super::mif`], `nifti::peaks`); [`super::read_peak_field_from`] picks one.
 
 use super::frame::FrameInfo;
 use super::tensor_field::{Location, TensorArrayInfo, TensorField};

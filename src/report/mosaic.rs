@@ -1,4 +1,4 @@
-//! A tensor figure of a report (laid out as every row is, [`super::row`]): a row of slices of
+//! A tensor figure of a report (laid out as every row is, `row`): a row of slices of
 //! one orientation (axial, coronal or sagittal), each glyphs over the FA underlay in DEC colours with the anatomical directions at its edges
 //! and its slice named, then a zoomed inset of one region of one of them (outlined in cyan on
 //! its slice; [`super::inset`]), and a legend panel (the DEC key, the underlay's grey scale,

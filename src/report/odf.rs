@@ -3,7 +3,7 @@
 //! ([`crate::scene::odf`], framed by [`staging::sh_face_on`]) on black, with the anatomical
 //! directions at its edges, its slice named, and a legend panel beside the row.
 //!
-//! The row is laid out as the tensor rows are ([`super::row`]; this module draws its tiles, inset
+//! The row is laid out as the tensor rows are (`row`; this module draws its tiles, inset
 //! and legend): the same slice choice (up to [`mosaic::SLICES`] through the voxels that hold a
 //! series), the same framing (every tile of a row at one scale), labels, back end and zoomed inset ([`super::inset`]: a square of one slice
 //! at ≥ 8 pixels per voxel, outlined on its slice). There is no FA underlay (an SH series has

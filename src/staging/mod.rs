@@ -91,7 +91,7 @@ pub struct Recipe {
     pub odf_normalize: Option<crate::scene::odf::OdfNormalize>,
     /// The field drawn as the sticks of its peaks (`--glyph peaks`), as a peaks file is: a file
     /// of SH series its maxima, found in each shown voxel ([`peaks::series_peaks`]); a tensor
-    /// field its glyphs' principal directions ([`peaks::tensor_sticks`]).
+    /// field its glyphs' principal directions (`peaks::tensor_sticks`).
     pub peaks: bool,
 }
 

@@ -101,7 +101,7 @@ fn a_peaks_file_refuses_what_its_kind_does_not_offer() {
         ),
         (
             &["--color", "fa"][..],
-            "sh2peaks_lmax8.mif: --color fa: a file of peaks is coloured by dec or solid",
+            "sh2peaks_lmax8.mif: --color fa: sticks (peaks) are coloured by dec or solid",
         ),
         (&["--fa-min", "0.2"][..], "selected by --slice only"),
     ] {

@@ -18,6 +18,8 @@
 //   - SH series: MRtrix's CSD fit (.mif) opens as ODF glyphs whose figure is `tensorglyph
 //     render`'s (the same bound), the status counts its 64 series, and a hovered glyph's
 //     largest peak is sh2peaks' (within 1°);
+//   - peaks: MRtrix's sh2peaks image opens as sticks whose figure is `tensorglyph render`'s
+//     (the same bound); the status counts its 192 peaks;
 //   - BEP016: a map and its JSON sidecar given together open, and a picked glyph's principal
 //     direction is numpy's in the frame the sidecar names (tests/data/bids);
 //   - without a WebGPU adapter the page names browsers that have one.
@@ -387,6 +389,25 @@ try {
       check(deg < 1, `its largest peak is sh2peaks', in world axes: ${deg.toFixed(3)}°`);
     }
     await page.screenshot({ path: path.join(out, 'page_odf.png') });
+    await page.close();
+  }
+
+  // Peaks: MRtrix's sh2peaks image of the same fit opens as sticks whose figure is that of
+  // `tensorglyph render FILE` (the same bound), and the status counts its peaks (three in each
+  // of its 64 voxels).
+  {
+    const file = path.join(repo, 'tests/data/sh/sh2peaks_lmax8.mif');
+    const { page } = await open('?figure=320x240', { width: 900, height: 600 });
+    await page.waitForFunction(() => document.body.dataset.state === 'ready', null, { timeout: LONG });
+    await page.setInputFiles('#file', file);
+    const src = await figureOf(page);
+    fs.writeFileSync(path.join(out, 'web_peaks_320x240.png'), Buffer.from(src.split(',')[1], 'base64'));
+    const cmp = await compare(page, src, nativeFigure('peaks', [file], '320x240'));
+    const frac = cmp.close / cmp.n;
+    check(!cmp.size && (await text(page, 'error')) === '', `the sh2peaks image opens as sticks (${cmp.size || 'no error'})`);
+    check(frac >= 0.99, `its figure matches the native render: ${(100 * frac).toFixed(4)} % of pixels within 3/255`);
+    await statusMatching(page, /^48 of 192 glyphs · /);
+    await page.screenshot({ path: path.join(out, 'page_peaks.png') });
     await page.close();
   }
 

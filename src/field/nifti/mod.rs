@@ -18,7 +18,7 @@
 //! - 4-D `X×Y×Z×6`: `--order`, default `fsl` (`xx xy xz yy yz zz`); MRtrix needs `--order mrtrix`;
 //! - 9 volumes (4-D, or 5-D with a 1 in the fourth place): full matrices, row-major, where the
 //!   intent (GENMATRIX or SYMMATRIX) or `--holds tensors` says so; three fibre peaks
-//!   (`sh2peaks`' layout) otherwise as likely, so nothing else is read ([`peaks`]).
+//!   (`sh2peaks`' layout) otherwise as likely, so nothing else is read (`peaks`).
 //!
 //! Tensors are taken to be in the voxel axes unless `--tensor-frame` says otherwise: FSL, DIPY
 //! and ANTs (whose tensors ITK's direction matrix, the rotation of the qform, takes to world)
