@@ -17,7 +17,7 @@ use glam::DVec3;
 /// A glyph's details, as the hover tooltip shows them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PickInfo {
-    /// Index of the tensor (or the voxel of an ODF) in file order.
+    /// Index of the tensor (or the voxel of an ODF or of peaks) in file order.
     pub index: usize,
     pub position: [f64; 3],
     pub detail: Detail,
@@ -33,6 +33,9 @@ pub enum Detail {
         fa: f64,
         class: shape::ShapeClass,
     },
+    /// A stick of a file of peaks: its voxel's peaks as the file holds them, in world axes
+    /// (direction scaled by amplitude).
+    Peaks { peaks: Vec<[f64; 3]> },
     /// An ODF glyph: its voxel's series and its peaks, as DIPY's `peaks_from_model` finds them
     /// ([`PeakOptions::default`]), directions in world axes.
     Odf {
@@ -57,6 +60,17 @@ impl PickInfo {
         let instance = scene.instances.get((id as usize).checked_sub(1)?)?;
         if let Some(sh) = &data.odf {
             return Self::of_voxel(sh, instance.glyph as usize);
+        }
+        if let Some(p) = &data.peaks {
+            // A peaks scene's instances name their voxel.
+            let v = instance.glyph as usize;
+            return (v < p.voxels()).then(|| Self {
+                index: v,
+                position: p.position(v),
+                detail: Detail::Peaks {
+                    peaks: p.peaks_of(v).map(|x| x.map(f64::from)).collect(),
+                },
+            });
         }
         let g = data
             .set
@@ -128,6 +142,22 @@ impl PickInfo {
                 t[8],
                 class.glyph_name()
             ),
+            Detail::Peaks { peaks } => {
+                let mut s = format!(
+                    "voxel #{}\nposition ({x:.4}, {y:.4}, {z:.4})\npeaks ({})",
+                    self.index,
+                    peaks.len()
+                );
+                for (k, p) in peaks.iter().enumerate() {
+                    let a = DVec3::from(*p).length();
+                    let [dx, dy, dz] = (DVec3::from(*p) / a).to_array();
+                    s += &format!(
+                        "\n  {}: ({dx:+.3}, {dy:+.3}, {dz:+.3})  amplitude {a:.4e}",
+                        k + 1
+                    );
+                }
+                s
+            }
             Detail::Odf {
                 lmax,
                 basis,
@@ -194,6 +224,39 @@ mod tests {
     use crate::field::ReadOptions;
     use crate::staging::{Demo, Source};
     use crate::viewer::loader::load_now;
+
+    /// A stick picked in the viewer shows its voxel's place and peaks as the file holds them
+    /// (the reader's, which tests/readers holds to sh2peaks' own read back).
+    #[test]
+    fn peak_picks_show_the_voxel_and_its_peaks() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/sh/sh2peaks_lmax8.mif");
+        let silent = &crate::progress::Silent;
+        let data = load_now(&Source::File(path), &ReadOptions::default(), &None, silent).unwrap();
+        let peaks = data.peaks.as_ref().unwrap();
+        let recipe = crate::staging::Recipe {
+            style: crate::glyph::GlyphStyle {
+                color: crate::glyph::ColorScheme::Dec,
+                ..Default::default()
+            },
+            ..Default::default()
+        };
+        let built = crate::staging::build_peaks(peaks, "peaks", &recipe).unwrap();
+        for (k, inst) in built.scene.instances.iter().enumerate().step_by(7) {
+            let pick = PickInfo::of(k as u32 + 1, &built.scene, &built.selected, &data, 0.2)
+                .expect("a stick is picked");
+            let v = inst.glyph as usize;
+            assert_eq!((pick.index, pick.position), (v, peaks.position(v)));
+            let want: Vec<[f64; 3]> = peaks.peaks_of(v).map(|x| x.map(f64::from)).collect();
+            assert_eq!(pick.detail, Detail::Peaks { peaks: want });
+            let text = pick.text();
+            assert!(
+                text.starts_with(&format!("voxel #{v}\n")) && text.contains("peaks (3)"),
+                "{text}"
+            );
+        }
+        assert!(PickInfo::of(0, &built.scene, &built.selected, &data, 0.2).is_none());
+    }
 
     #[test]
     fn ids_map_through_the_selection() {
