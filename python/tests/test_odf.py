@@ -77,3 +77,15 @@ def test_the_peaks_of_a_file_of_sh_series_are_the_command_lines(tmp_path):
     image = tg.render(path, size=(160, 120), glyph="peaks")
     assert image.info["glyph"] == "cylinder", image.info
     same_pixels(image, cli_render(path, tmp_path, "--size", "160x120", "--glyph", "peaks"))
+
+
+def test_peaks_over_odfs_are_the_command_lines(tmp_path):
+    path = REPO / "tests" / "data" / "sh" / "mrtrix_lmax8.mif"
+    image = tg.render(path, size=(160, 120), peaks=True)
+    alone = tg.render(path, size=(160, 120), glyph="peaks")
+    assert image.info["glyph"] == "odf", image.info
+    # The 16 ODFs of the middle slice and the sticks `glyph="peaks"` draws alone.
+    assert image.info["glyphs_drawn"] == 16 + alone.info["glyphs_drawn"], image.info
+    same_pixels(image, cli_render(path, tmp_path, "--size", "160x120", "--peaks"))
+    with pytest.raises(ValueError, match="shadows= .*not with peaks= over ODFs"):
+        tg.render(path, peaks=True, shadows=True)

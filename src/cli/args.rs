@@ -214,6 +214,7 @@ impl SceneArgs {
             underlay_side: None,
             odf_normalize: self.odf_normalize,
             peaks: false,
+            peaks_over: false,
         })
     }
 }
@@ -380,6 +381,12 @@ pub struct CameraArgs {
     /// V1 lines, half a voxel step × FA long each side).
     #[arg(long, value_parser = one_of::<GlyphChoice>(GlyphChoice::NAMES))]
     pub glyph: Option<GlyphChoice>,
+    /// Draw the peaks of a file of SH series over its ODF glyphs: white sticks (coloured by
+    /// direction over solid ODFs) through each voxel's centre along its maxima (as --glyph
+    /// peaks finds them), 1.25 times as long as their lobes; depth decides between a stick and
+    /// an ODF. Not with --shadows.
+    #[arg(long)]
+    pub peaks: bool,
     /// Write the proxy's depth instead of the ray-cast depth.
     #[arg(long)]
     pub no_depth_correction: bool,

@@ -343,6 +343,7 @@ where
         middle_slice: defaults.middle_slice && select.no_slice(),
         underlay_side: Some((w.max(h) * ssaa) as usize),
         peaks,
+        peaks_over: cam.peaks,
         ..scene_args.recipe(select.selection()?, glyph, &defaults)?
     };
     let recipe = if peaks && scene_args.color.is_none() {
@@ -354,6 +355,9 @@ where
     } else {
         recipe
     };
+    if recipe.peaks_over && effects.shadows.is_some() {
+        bail!(crate::render::effects::SHADOWS_OF_ONE_KIND);
+    }
     let staged = stage(src, &recipe, progress)?;
     let mut read = staged.read.clone();
     if let Some(mask) = &recipe.selection.mask {

@@ -92,6 +92,9 @@ pub fn run(args: ViewArgs) -> Result<()> {
     if peaks {
         bail!("--glyph peaks: the viewer does not draw sticks yet (render draws them)");
     }
+    if cam.peaks {
+        bail!("--peaks: the viewer does not draw peaks over ODFs yet (render draws them)");
+    }
     if kind == FieldKind::Tensors && !glyph.colours(style.color) {
         bail!("--color {} applies to --glyph odf", style.color);
     }

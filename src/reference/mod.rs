@@ -71,18 +71,21 @@ pub struct ReferenceScene<'a> {
 }
 
 impl<'a> ReferenceScene<'a> {
-    /// The scene's glyphs, drawn as its kind, for one camera.
+    /// The scene's glyphs, each drawn as its kind ([`Scene::kind_of`]), for one camera.
     pub fn new(scene: &'a Scene, camera: &Camera) -> Self {
         let eye = camera.eye - scene.origin;
         let ortho = camera.is_ortho();
-        let kind = scene.kind.shape();
         let (glyphs, boxes): (Vec<Prepared>, Vec<Aabb>) = scene
             .instances
             .par_iter()
-            .map(|g| {
+            .enumerate()
+            .map(|(i, g)| {
                 let geo = GlyphGeometry::of(g);
                 let [r, gg, b, _] = g.color_rgba();
-                let shape = kind.exact_with(&geo, scene.payload.as_ref());
+                let shape = scene
+                    .kind_of(i)
+                    .shape()
+                    .exact_with(&geo, scene.payload.as_ref());
                 let (h, eye_inside) = (shape.half_extents(), shape.contains(eye));
                 let drawable = drawable_radii(g.radii);
                 // An undrawn glyph's box may be NaN: keep the BVH finite.

@@ -47,6 +47,10 @@ pub fn composite_source(kind: GlyphKind) -> String {
     format!("{shape}\n{SHADER}")
 }
 
+/// Why shadows are refused over a scene of two kinds (peaks over ODFs).
+pub const SHADOWS_OF_ONE_KIND: &str =
+    "--shadows are drawn over glyphs of one kind: not with --peaks over ODFs";
+
 /// Each pixel's lit fraction (r) and outline state (g).
 pub const EFFECTS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
@@ -431,6 +435,11 @@ impl EffectsPipeline {
             ));
         };
         let fx: &Effects = &req.effects;
+        // The composite pass re-tests penumbrae against the glyph the shadow map names with its
+        // kind's own intersection, compiled in: one kind a pass.
+        if fx.shadows.is_some() && buffers.kinds.len() > 1 {
+            return Err(RenderError::Unsupported(SHADOWS_OF_ONE_KIND.into()));
+        }
         let light = fx.shadows.as_ref().map(|s| {
             let (centre, half) = buffers.bounds();
             light::shadow_camera(camera, centre, half, s, buffers.ao_volume.unit)
@@ -455,14 +464,8 @@ impl EffectsPipeline {
             buffers.write_light_uniform(&ctx.queue, light, &light_req);
             drawer.record(
                 &FrameRecording {
-                    ctx,
-                    camera: light,
-                    buffers,
-                    req: &light_req,
-                    views: shadow_views,
-                    stats: None,
-                    timestamps: None,
                     light: true,
+                    ..FrameRecording::new(ctx, light, buffers, &light_req, shadow_views)
                 },
                 encoder,
             );

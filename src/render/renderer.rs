@@ -11,7 +11,7 @@ use crate::camera::Camera;
 use crate::error::RenderError;
 use crate::frame::Frame;
 use crate::render::context::GpuContext;
-use crate::render::drawer::{Drawer, FrameRecording};
+use crate::render::drawer::{Drawer, FrameRecording, Layered};
 use crate::render::effects::{EffectsPipeline, EffectsTextures};
 use crate::render::gpu_data::GPU_GLYPH_SIZE;
 use crate::render::gumhold::GumholdRenderer;
@@ -83,6 +83,24 @@ impl GpuRenderer {
         }
         map.insert((method, glyph), drawer.clone());
         Ok(drawer)
+    }
+
+    /// What draws an uploaded scene with `method`: its kind's drawer, or for a scene of two
+    /// kinds (an overlay) each kind's in turn ([`Layered`]).
+    fn scene_drawer(
+        &self,
+        method: Method,
+        buffers: &SceneBuffers,
+    ) -> Result<Arc<dyn Drawer>, RenderError> {
+        if let [kind] = buffers.kinds[..] {
+            return self.drawer(method, kind);
+        }
+        let layers = buffers
+            .kinds
+            .iter()
+            .map(|&k| Ok((k, self.drawer(method, k)?)))
+            .collect::<Result<Vec<_>, RenderError>>()?;
+        Ok(Arc::new(Layered { layers }))
     }
 
     pub fn adapter_name(&self) -> &str {
@@ -208,17 +226,11 @@ impl GpuRenderer {
         timestamps: Option<&wgpu::QuerySet>,
     ) -> Result<(), RenderError> {
         let req = &self.within_limits(&req.for_kind(buffers.kind), camera);
-        let drawer = self.drawer(req.method.method(), buffers.kind)?;
+        let drawer = self.scene_drawer(req.method.method(), buffers)?;
         buffers.write_uniforms(&self.ctx.queue, camera, req);
         let frame = FrameRecording {
-            ctx: &self.ctx,
-            camera,
-            buffers,
-            req,
-            views,
-            stats: None,
             timestamps,
-            light: false,
+            ..FrameRecording::new(&self.ctx, camera, buffers, req, views)
         };
         drawer.record(&frame, encoder);
         self.record_underlay(buffers, req, views, encoder);
@@ -267,7 +279,7 @@ impl GpuRenderer {
         let ctx = &self.ctx;
         let device = &ctx.device;
         let (drawer, errors) = self.scoped(|| {
-            let drawer = self.drawer(req.method.method(), buffers.kind);
+            let drawer = self.scene_drawer(req.method.method(), buffers);
             buffers.write_uniforms(&ctx.queue, camera, req);
             drawer
         });
@@ -297,14 +309,8 @@ impl GpuRenderer {
             let ((recorded, start), errors) = self.scoped(|| {
                 let mut encoder = device.create_command_encoder(&Default::default());
                 let recording = FrameRecording {
-                    ctx,
-                    camera,
-                    buffers,
-                    req,
-                    views: &views,
                     stats: stats.as_ref().filter(|_| f == 0).map(|s| &s.set),
-                    timestamps: None,
-                    light: false,
+                    ..FrameRecording::new(ctx, camera, buffers, req, &views)
                 };
                 drawer.record(&recording, &mut encoder);
                 self.record_underlay(buffers, req, &views, &mut encoder);

@@ -24,6 +24,9 @@ use crate::shape::Payload;
 pub struct SceneBuffers {
     /// The scene's kind: what the drawers draw the instances as.
     pub kind: GlyphKind,
+    /// The kinds its chunks hold, in their order: the scene's own, then an overlay's
+    /// ([`crate::scene::Overlay`]).
+    pub kinds: Vec<GlyphKind>,
     origin: glam::DVec3,
     /// The scene's box (centre, half extents): the key light's shadow map covers it.
     bounds: (glam::DVec3, glam::DVec3),
@@ -65,6 +68,8 @@ pub struct BrickBuffers {
 
 /// One storage buffer of packed instances and its parameters, bound as group 0.
 pub struct ChunkBuffers {
+    /// The kind its glyphs are drawn as.
+    pub(crate) kind: GlyphKind,
     pub(crate) base: u32,
     pub(crate) count: u32,
     /// What its glyphs need of the shaders; the pipelines leave the rest out.
@@ -124,42 +129,56 @@ impl SceneBuffers {
         let camera_buffer = camera_uniform("camera");
         let light_buffer = camera_uniform("light camera");
         // A binding may not be empty: an empty scene gets one chunk with an unused instance.
-        let pieces: Vec<&[GlyphInstance]> = if scene.instances.is_empty() {
-            vec![&[]]
+        // A chunk holds glyphs of one kind (an overlay's start a chunk of their own).
+        let pieces: Vec<(GlyphKind, &[GlyphInstance])> = if scene.instances.is_empty() {
+            vec![(scene.kind, &[])]
         } else {
-            scene.instances.chunks(chunk).collect()
+            scene
+                .parts()
+                .into_iter()
+                .flat_map(|(kind, run)| {
+                    scene.instances[run]
+                        .chunks(chunk)
+                        .map(move |piece| (kind, piece))
+                })
+                .collect()
         };
         let mut chunks = Vec::with_capacity(pieces.len());
         let mut base = 0u32;
-        for piece in pieces {
+        for (kind, piece) in pieces {
+            // Only the scene's own kind reads the payload.
+            let payload = scene.payload.as_deref().filter(|_| kind == scene.kind);
             chunks.push(ChunkBuffers::upload(
                 ctx,
                 layout,
-                scene.kind,
+                kind,
                 piece,
-                scene.payload.as_deref(),
+                payload,
                 base,
                 [&camera_buffer, &light_buffer],
             )?);
             base += piece.len() as u32;
         }
+        let mut kinds: Vec<GlyphKind> = chunks.iter().map(|c| c.kind).collect();
+        kinds.dedup();
         let underlay = match &scene.underlay {
             Some(u) => Some(UnderlayBuffers::upload(ctx, underlay, u)?),
             None => None,
         };
         let ao_volume = AoVolume::upload(ctx, scene);
         // Occlusion culling works within one chunk and only where the prepass draws.
-        let bricks =
-            (chunks.len() == 1 && scene.kind.caps().prepass && Bricks::pays(scene.instances.len()))
-                .then(|| {
-                    let bricks = Bricks::new(&scene.instances);
-                    let glyphs = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                        label: Some("brick glyphs"),
-                        contents: bytemuck::cast_slice(&bricks.glyphs),
-                        usage: wgpu::BufferUsages::STORAGE,
-                    });
-                    BrickBuffers { bricks, glyphs }
-                });
+        let bricks = (chunks.len() == 1
+            && chunks[0].kind.caps().prepass
+            && Bricks::pays(scene.instances.len()))
+        .then(|| {
+            let bricks = Bricks::new(&scene.instances);
+            let glyphs = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("brick glyphs"),
+                contents: bytemuck::cast_slice(&bricks.glyphs),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            BrickBuffers { bricks, glyphs }
+        });
         let what = format!("uploading {} glyph instances", scene.instances.len());
         let oom = ctx.scope_error(oom, &what);
         if let Some(e) = oom.or(ctx.scope_error(scope, &what)) {
@@ -167,6 +186,7 @@ impl SceneBuffers {
         }
         Ok(Self {
             kind: scene.kind,
+            kinds,
             origin: scene.origin,
             bounds: (scene.centre, scene.half),
             box_reach: (3f64.sqrt() - 1.0)
@@ -364,6 +384,7 @@ impl ChunkBuffers {
             })
         };
         Ok(Self {
+            kind,
             base,
             count: piece.len() as u32,
             bind_group: group(camera_buffer),

@@ -112,8 +112,8 @@ fn draw_slice(
 }
 
 /// Draw `scene` (sorted front to back for the splats) as every report tile is drawn: on black,
-/// one frame, its underlay (if any) in `window`; the frame and the glyphs drawn (those in view,
-/// not culled).
+/// one frame, its underlay (if any) in `window`; the frame and the glyphs drawn (those of the
+/// scene's own kind in view, not culled: not the sticks over ODFs).
 pub(super) fn draw_scene(
     scene: &mut crate::scene::Scene,
     camera: &Camera,
@@ -137,9 +137,11 @@ pub(super) fn draw_scene(
         camera,
     );
     let frame = backend.render(scene, camera, &req, &mut Timings::default(), progress)?;
-    let v = scene.visibility(camera, req.cull, req.min_pixel_radius);
-    let glyphs_drawn =
-        scene.instances.len() - v.eye_inside - v.behind_camera - v.degenerate - v.culled;
+    // The scene's own kind's glyphs (not the sticks over ODFs).
+    let own = scene.parts()[0].1.clone();
+    let n = own.len();
+    let v = scene.visibility_of(own, camera, req.cull, req.min_pixel_radius);
+    let glyphs_drawn = n - v.eye_inside - v.behind_camera - v.degenerate - v.culled;
     Ok((frame, glyphs_drawn))
 }
 

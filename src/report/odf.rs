@@ -11,7 +11,8 @@
 //! the middle slice where the fibre density (each ODF's l = 0 coefficient, MRtrix's AFD, the
 //! same in every basis read) sums highest: white matter. Its glyphs are those of the overview's
 //! scene of that slice, so a glyph has the same size in both (with `--odf-normalize none` too),
-//! and the scene is built once.
+//! and the scene is built once; over them, the sticks of their peaks as `render --peaks` draws
+//! them (found for the inset's voxels only; none over minmax-normalised ODFs).
 
 use glam::DVec3;
 use web_time::Instant;
@@ -129,6 +130,7 @@ pub fn render(
         normalize: options.odf_normalize,
         coloring: options.odf_color,
         cut: None,
+        inset_peaks: None,
         backend,
         progress,
     };
@@ -161,8 +163,37 @@ struct OdfRow<'a> {
     coloring: OdfColoring,
     /// The inset's glyphs (cut from its slice's scene) and the way that slice is seen.
     cut: Option<(Scene, (DVec3, DVec3))>,
+    /// The sticks of peaks drawn over the inset's ODFs.
+    inset_peaks: Option<usize>,
     backend: &'a Backend,
     progress: &'a dyn Progress,
+}
+
+impl OdfRow<'_> {
+    /// The sticks of the peaks of `region`'s voxels (on `plane`) to draw over its ODFs, about
+    /// `origin`, as `render --peaks` draws them ([`staging::peaks_over_voxels`]); none over
+    /// minmax-normalised ODFs, whose lobes are not as long as their peaks' values.
+    fn peaks_in(
+        &self,
+        plane: Plane,
+        region: &inset::Region,
+        origin: DVec3,
+    ) -> Result<Option<Scene>, FigureError> {
+        if self.normalize == OdfNormalize::MinMax {
+            return Ok(None);
+        }
+        let dims = self.field.dims;
+        let over = staging::OverOdfs {
+            normalize: self.normalize,
+            solid: self.coloring == OdfColoring::Base,
+            planes: Some(&[plane]),
+        };
+        let shown = |v| region.contains(crate::select::lattice_coords(v, dims));
+        let name = &self.field.format;
+        Ok(Some(staging::peaks_over_voxels(
+            self.field, name, &over, &shown, origin,
+        )?))
+    }
 }
 
 impl row::Row for OdfRow<'_> {
@@ -186,7 +217,12 @@ impl row::Row for OdfRow<'_> {
             .map_or_else(|| preset_view(self.orientation), |f| f.toward);
         let camera: Camera = mosaic::tile_camera(self.lattice, toward, scene.centre, tile);
         if let Some(r) = inset {
-            self.cut = Some((scene_in(&scene, self.field.dims, r), toward));
+            let cut = scene_in(&scene, self.field.dims, r);
+            let cut = match self.peaks_in(plane, r, cut.origin)? {
+                Some(sticks) => cut.with_overlay(sticks),
+                None => cut,
+            };
+            self.cut = Some((cut, toward));
         }
         let (frame, glyphs) =
             mosaic::draw_scene(&mut scene, &camera, None, self.backend, self.progress)?;
@@ -202,10 +238,15 @@ impl row::Row for OdfRow<'_> {
         else {
             return Ok(None);
         };
+        self.inset_peaks = scene.overlay.map(|o| scene.instances.len() - o.first);
         let camera = inset::camera(self.at, self.field.dims, region, toward, side);
         let (frame, glyphs) =
             mosaic::draw_scene(&mut scene, &camera, None, self.backend, self.progress)?;
         Ok(Some((frame, camera, glyphs)))
+    }
+
+    fn inset_peaks(&self) -> Option<usize> {
+        self.inset_peaks
     }
 
     fn legend(
@@ -284,5 +325,14 @@ fn legend(
     }
     if inset {
         mosaic::inset_key(canvas, pen, x, y, lh * 0.7);
+        if normalize != OdfNormalize::MinMax {
+            y += lh;
+            let sticks = if coloring == OdfColoring::Base {
+                "inset: peaks (sticks)"
+            } else {
+                "inset: peaks (white sticks)"
+            };
+            line(canvas, &mut y, sticks);
+        }
     }
 }

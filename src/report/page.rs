@@ -69,9 +69,12 @@ fn inset(i: &InsetInfo, anatomical: bool) -> String {
         Some(what) => format!("where {what} is highest on the middle slice"),
         None => "as asked (zoom region)".into(),
     };
+    let peaks = i
+        .peaks
+        .map_or(String::new(), |n| format!(", {n} peaks (sticks)"));
     format!(
         "; inset (cyan outline): voxels {} ({}{unit}), {why}, {:.1} px per voxel, {} glyphs \
-         drawn",
+         drawn{peaks}",
         i.region.describe(),
         world.join(", "),
         i.px_per_voxel,

@@ -37,6 +37,11 @@ pub(super) trait Row {
     /// `None` where it holds no glyph.
     fn inset(&mut self, region: &Region, side: u32) -> Result<Option<Drawn>, FigureError>;
 
+    /// The sticks of peaks drawn over the inset's glyphs, where the kind draws them (ODFs).
+    fn inset_peaks(&self) -> Option<usize> {
+        None
+    }
+
     /// The legend panel at (`x0`, 0), `height` tall: what the glyphs are and their colour key,
     /// the tiles' pixels per voxel, and the inset's key when there is one.
     fn legend(
@@ -149,7 +154,11 @@ pub(super) fn compose(
         anatomical,
         |r| row.inset(r, inset_side),
     )?
-    .map(|i| InsetInfo { chosen_by, ..i });
+    .map(|i| InsetInfo {
+        chosen_by,
+        peaks: row.inset_peaks(),
+        ..i
+    });
     if let Some(pen) = &pen {
         row.legend(
             &mut canvas,
@@ -228,6 +237,8 @@ pub struct InsetInfo {
     pub world: [[f64; 2]; 3],
     pub px_per_voxel: f64,
     pub glyphs_drawn: usize,
+    /// The sticks of peaks drawn over its glyphs, if its kind draws them.
+    pub peaks: Option<usize>,
     /// Where it lies in the figure: its left edge and its side, in pixels.
     pub x0: u32,
     pub side: u32,
@@ -333,6 +344,7 @@ pub(super) fn place_inset(
         world: inset::world_range(at, dims, &r),
         px_per_voxel,
         glyphs_drawn,
+        peaks: None,
         x0,
         side,
     }))

@@ -239,6 +239,27 @@ impl MethodConfig {
         }
     }
 
+    /// This configuration without Gumhold's compute prepass (and so without splats): each glyph
+    /// drawn directly, as in a frame of two kinds ([`crate::render::drawer::Layered`]).
+    pub fn without_prepass(self) -> Self {
+        let MethodConfig::Gumhold(GumholdConfig { shape, depth }) = self else {
+            return self;
+        };
+        let depth = match depth {
+            GumholdDepth::Proxy { .. } => GumholdDepth::Proxy { prepass: false },
+            GumholdDepth::RayCast {
+                conservative,
+                early_depth,
+                ..
+            } => GumholdDepth::RayCast {
+                conservative,
+                early_depth,
+                path: DrawPath::Direct,
+            },
+        };
+        MethodConfig::Gumhold(GumholdConfig { shape, depth })
+    }
+
     /// This configuration as glyphs of `kind` are drawn with it: the options the kind does not
     /// take (its [`Capabilities`]) left out.
     pub fn for_kind(self, kind: GlyphKind) -> Self {

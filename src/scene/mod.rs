@@ -1,6 +1,6 @@
-//! What the renderers draw: GPU-ready glyph instances of one kind around a scene origin, and
-//! the bounds the camera frames. Built on the CPU, uploaded by the renderer, ray cast by the
-//! reference.
+//! What the renderers draw: GPU-ready glyph instances of one kind around a scene origin (and,
+//! over them, glyphs of a second kind: [`Overlay`]), and the bounds the camera frames. Built on
+//! the CPU, uploaded by the renderer, ray cast by the reference.
 
 use glam::{DQuat, DVec3};
 
@@ -14,7 +14,8 @@ pub use underlay::{Underlay, UnderlaySource};
 /// Glyph instances of one kind relative to `origin`, plus a bounding sphere in world space.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
-    /// The kind the instances were made for: every back end draws them as this kind.
+    /// The kind the instances were made for: every back end draws them as this kind (those
+    /// from [`Overlay::first`] on as the overlay's).
     pub kind: GlyphKind,
     /// World point that instance centres are relative to (keeps f32 precise far from 0).
     pub origin: DVec3,
@@ -28,6 +29,17 @@ pub struct Scene {
     /// Per-glyph values the instances' parameter words index (ODF series), if the kind keeps
     /// any ([`crate::shape::Payload`]).
     pub payload: Option<std::sync::Arc<crate::shape::Payload>>,
+    /// Glyphs of a second kind in the same frame (peaks over ODFs), if any.
+    pub overlay: Option<Overlay>,
+}
+
+/// The instances of a scene from `first` on, drawn as `kind`: glyphs of a second kind in the same
+/// frame, where depth decides between any two glyphs whatever their kinds (`render --peaks`: the
+/// sticks of the peaks over the ODF glyphs). Ids name instances across both.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Overlay {
+    pub kind: GlyphKind,
+    pub first: usize,
 }
 
 /// One glyph given directly by world centre, frame and radii (tests, synthetic scenes).
@@ -114,27 +126,85 @@ impl Scene {
             half,
             underlay: None,
             payload: None,
+            overlay: None,
         }
     }
 
     /// The same glyphs drawn as `kind` ([`crate::shape::Shape::adopt`]: instances made
     /// without a kind's parameters get them), keeping this scene's framing: a synthetic scene
     /// frames what it means to show.
+    /// An overlay's instances keep their kind.
     pub fn drawn_as(&self, kind: GlyphKind) -> Scene {
         let shape = kind.shape();
+        let own = self.parts()[0].1.clone();
+        let mut instances = self.instances.clone();
+        for g in &mut instances[own] {
+            *g = shape.adopt(g).stored();
+        }
         Scene {
             kind,
-            instances: self
-                .instances
-                .iter()
-                .map(|g| shape.adopt(g).stored())
-                .collect(),
+            instances,
             ..self.clone()
         }
     }
 
     pub fn geometry(&self, instance: usize) -> GlyphGeometry {
         GlyphGeometry::of(&self.instances[instance])
+    }
+
+    /// The kind instance `i` is drawn as.
+    pub fn kind_of(&self, i: usize) -> GlyphKind {
+        match self.overlay {
+            Some(o) if i >= o.first => o.kind,
+            _ => self.kind,
+        }
+    }
+
+    /// The scene's runs of instances by kind, in order: its own kind's, then the overlay's (both
+    /// present even when empty).
+    pub fn parts(&self) -> Vec<(GlyphKind, std::ops::Range<usize>)> {
+        let n = self.instances.len();
+        match self.overlay {
+            Some(o) => {
+                let first = o.first.min(n);
+                vec![(self.kind, 0..first), (o.kind, first..n)]
+            }
+            None => vec![(self.kind, 0..n)],
+        }
+    }
+
+    /// This scene with `over`'s glyphs drawn over it as an [`Overlay`] of `over`'s kind: its
+    /// instances moved to this scene's origin, the bounds holding both. `over` brings nothing
+    /// else (no underlay, payload or overlay of its own are kept): its kind must keep no
+    /// per-glyph values.
+    pub fn with_overlay(mut self, over: Scene) -> Scene {
+        debug_assert!(over.payload.is_none() && over.overlay.is_none());
+        let shift = (over.origin - self.origin).as_vec3();
+        let first = self.instances.len();
+        let over_empty = over.instances.is_empty();
+        self.instances
+            .extend(over.instances.into_iter().map(|mut g| {
+                g.centre = (glam::Vec3::from(g.centre) + shift).into();
+                g
+            }));
+        if !over_empty {
+            let (lo, hi) = if first == 0 {
+                (over.centre - over.half, over.centre + over.half)
+            } else {
+                (
+                    (self.centre - self.half).min(over.centre - over.half),
+                    (self.centre + self.half).max(over.centre + over.half),
+                )
+            };
+            self.centre = (lo + hi) / 2.0;
+            self.half = (hi - lo) / 2.0;
+            self.radius = self.half.length();
+        }
+        self.overlay = Some(Overlay {
+            kind: over.kind,
+            first,
+        });
+        self
     }
 }
 
@@ -216,12 +286,29 @@ impl Scene {
         frustum: bool,
         min_pixel_radius: f32,
     ) -> Visibility {
+        self.visibility_of(0..self.instances.len(), camera, frustum, min_pixel_radius)
+    }
+
+    /// [`Self::visibility`] of the instances in `run` (one kind's: [`Self::parts`]).
+    pub fn visibility_of(
+        &self,
+        run: std::ops::Range<usize>,
+        camera: &crate::camera::Camera,
+        frustum: bool,
+        min_pixel_radius: f32,
+    ) -> Visibility {
         let eye = camera.eye - self.origin;
         let f = camera.forward();
         let culling = Culling::new(camera, self.origin, frustum, min_pixel_radius);
-        let shape = self.kind.shape();
         let mut v = Visibility::default();
-        for g in &self.instances {
+        for (i, g) in self
+            .instances
+            .iter()
+            .enumerate()
+            .take(run.end)
+            .skip(run.start)
+        {
+            let shape = self.kind_of(i).shape();
             if !crate::shape::rules::drawable_radii(g.radii) {
                 v.degenerate += 1;
                 continue;
@@ -363,13 +450,15 @@ impl Scene {
             .par_iter()
             .map(depth)
             .reduce(|| f32::INFINITY, f32::min);
-        if thickness > 0.0 && thickness.is_finite() && nearest.is_finite() {
-            // Saturating: a NaN depth goes to the front layer, an overflow to the last.
-            self.instances
-                .par_sort_by_key(|g| ((depth(g) - nearest) / thickness) as u32);
-        } else {
-            self.instances
-                .par_sort_by(|a, b| depth(a).total_cmp(&depth(b)));
+        // Each kind's run is sorted within itself ([`Self::parts`]).
+        for (_, run) in self.parts() {
+            let run = &mut self.instances[run];
+            if thickness > 0.0 && thickness.is_finite() && nearest.is_finite() {
+                // Saturating: a NaN depth goes to the front layer, an overflow to the last.
+                run.par_sort_by_key(|g| ((depth(g) - nearest) / thickness) as u32);
+            } else {
+                run.par_sort_by(|a, b| depth(a).total_cmp(&depth(b)));
+            }
         }
     }
 
@@ -524,5 +613,51 @@ mod tests {
             scene.instances,
             Scene::build(&set, &style, GlyphKind::Ellipsoid).instances
         );
+    }
+
+    /// An overlay keeps both scenes' glyphs where they were (world centres), each drawn as its
+    /// kind, the box holding both; sorting and `drawn_as` keep each kind's instances in its run.
+    #[test]
+    fn an_overlay_keeps_its_glyphs_and_kind() {
+        let spec = |x: f64, r: f64| GlyphSpec {
+            centre: DVec3::new(x, 0.0, 0.0),
+            rotation: DQuat::IDENTITY,
+            radii: DVec3::splat(r),
+            color: [255; 4],
+        };
+        let base = Scene::from_specs(&[spec(0.0, 1.0), spec(20.0, 1.0)]);
+        let over = Scene::from_specs(&[spec(-30.0, 0.5), spec(30.0, 0.5), spec(10.0, 0.5)])
+            .drawn_as(GlyphKind::Cylinder);
+        let world = |s: &Scene| -> Vec<DVec3> {
+            (0..s.instances.len())
+                .map(|i| s.geometry(i).centre + s.origin)
+                .collect()
+        };
+        let want: Vec<DVec3> = world(&base).into_iter().chain(world(&over)).collect();
+        let s = base.clone().with_overlay(over.clone());
+        for (got, want) in world(&s).iter().zip(&want) {
+            assert!(got.distance(*want) < 1e-6, "{got} {want}");
+        }
+        assert_eq!(s.kind_of(1), GlyphKind::Ellipsoid);
+        assert_eq!(s.kind_of(2), GlyphKind::Cylinder);
+        assert_eq!(
+            s.parts(),
+            vec![(GlyphKind::Ellipsoid, 0..2), (GlyphKind::Cylinder, 2..5)]
+        );
+        // The box from x = −30.5 to 30.5 (the overlay's), y and z ±1 (the base's).
+        let (lo, hi) = (s.centre - s.half, s.centre + s.half);
+        assert!(lo.distance(DVec3::new(-30.5, -1.0, -1.0)) < 1e-5, "{lo}");
+        assert!(hi.distance(DVec3::new(30.5, 1.0, 1.0)) < 1e-5, "{hi}");
+        // Sorted front to back from the iso view (+x nearer): each run in itself.
+        let mut sorted = s.clone();
+        let framing = crate::camera::Framing::default();
+        let camera = crate::camera::Camera::frame(&framing, s.centre, s.radius, 64, 48);
+        sorted.sort_front_to_back(&camera);
+        let xs: Vec<f64> = world(&sorted).iter().map(|c| c.x.round()).collect();
+        assert_eq!(xs, [20.0, 0.0, 30.0, 10.0, -30.0]);
+        let shapes = s.drawn_as(GlyphKind::Superquadric);
+        assert_eq!(shapes.kind_of(0), GlyphKind::Superquadric);
+        assert_eq!(shapes.kind_of(4), GlyphKind::Cylinder);
+        assert_eq!(shapes.instances[2..], s.instances[2..]);
     }
 }

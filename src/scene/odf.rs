@@ -118,15 +118,38 @@ struct Made {
 pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
     let frame = series_frame(field);
     let spacing = field.spacing();
+    let series = series_on(field, opts.planes.as_deref());
+    series_scene(series, field.layout.lmax, frame, opts.scale * spacing, opts)
+}
+
+/// The largest value of the ODFs on `planes` (every voxel without), sampled as [`odf_scene`]
+/// samples them: what `--odf-normalize none` scales to a full radius (0 for none).
+pub fn sampled_largest(field: &ShField, planes: Option<&[Plane]>) -> f64 {
+    let lmax = field.layout.lmax;
+    series_on(field, planes)
+        .par_chunks(SAMPLED_BLOCK)
+        .map(|block| {
+            let plains: Vec<&[f64]> = block.iter().map(|s| s.plain.as_slice()).collect();
+            let values = sampled_values_many(&plains, lmax);
+            values.iter().copied().fold(0.0f64, f64::max)
+        })
+        .reduce(|| 0.0, f64::max)
+}
+
+/// Series sampled together: each block's values one matrix product.
+const SAMPLED_BLOCK: usize = 64;
+
+/// The series of the voxels on `planes` (every voxel without) that are not all zero.
+fn series_on(field: &ShField, planes: Option<&[Plane]>) -> Vec<Series> {
     let count = field.layout.count;
     let d = field.dims;
     let keep = |v: usize| {
-        opts.planes.as_ref().is_none_or(|planes| {
+        planes.is_none_or(|planes| {
             let ijk = [v % d[0], v / d[0] % d[1], v / d[0] / d[1]];
             planes.iter().any(|p| ijk[p.axis.min(2)] == p.index)
         })
     };
-    let series: Vec<Series> = (0..field.voxels())
+    (0..field.voxels())
         .into_par_iter()
         .filter(|&v| keep(v))
         .filter_map(|v| {
@@ -141,8 +164,7 @@ pub fn odf_scene(field: &ShField, opts: &OdfOptions) -> Scene {
                 plain: plain_of(&c, field.layout.basis, 1.0).ok()?,
             })
         })
-        .collect();
-    series_scene(series, field.layout.lmax, frame, opts.scale * spacing, opts)
+        .collect()
 }
 
 /// The scene of `series` (each of order `lmax`, in the axes whose world directions are the
@@ -158,10 +180,8 @@ pub fn series_scene(
     let rotation = DQuat::from_mat3(&frame).normalize();
     // Each series' sampled range, and the ellipsoid of the values as they will be drawn up to
     // their scale (r = k f for max and none, k (f − min) for minmax).
-    // In blocks of series, each block's values one matrix product.
-    const BLOCK: usize = 64;
     let sampled: Vec<(f64, f64, Option<Ellipsoid>)> = series
-        .par_chunks(BLOCK)
+        .par_chunks(SAMPLED_BLOCK)
         .flat_map_iter(|block| {
             let plains: Vec<&[f64]> = block.iter().map(|s| s.plain.as_slice()).collect();
             let values = sampled_values_many(&plains, lmax);

@@ -443,15 +443,14 @@ fn voxel_values(field: &TensorField, set: &GlyphSet, measure: Measure) -> Vec<f3
 /// The largest extent along the plane's normal of the glyphs centred within half a lattice step
 /// of it (a hair more, so the image never touches them).
 fn behind(scene: &Scene, geometry: &PlaneGeometry, step: DVec3) -> f64 {
-    let shape = scene.kind.shape();
     let n = geometry.normal;
     let half = 0.5 * step.dot(n).abs();
     let point = geometry.corner + 0.5 * (geometry.u + geometry.v) - scene.origin;
     let extent = (0..scene.instances.len())
         .into_par_iter()
-        .map(|i| scene.geometry(i))
-        .filter(|g: &GlyphGeometry| (g.centre - point).dot(n).abs() <= half)
-        .map(|g| shape.bounds(&g).dot(n.abs()))
+        .map(|i| (scene.kind_of(i), scene.geometry(i)))
+        .filter(|(_, g): &(_, GlyphGeometry)| (g.centre - point).dot(n).abs() <= half)
+        .map(|(kind, g)| kind.shape().bounds(&g).dot(n.abs()))
         .filter(|e| e.is_finite())
         .reduce(|| 0.0, f64::max);
     extent * (1.0 + 1e-3) + 1e-6 * step.length()

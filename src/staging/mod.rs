@@ -31,7 +31,10 @@ mod sh;
 mod source;
 
 pub use kind::Offers;
-pub use peaks::{STICK_RADIUS, build_peaks, series_peaks};
+pub use peaks::{
+    OVER_ODF_REACH, OverOdfs, STICK_RADIUS, build_peaks, peaks_over_odfs, peaks_over_voxels,
+    series_peaks,
+};
 pub use sh::{build_sh, sh_face_on};
 pub use source::{Demo, InMemory, InMemoryFile, Source};
 
@@ -93,6 +96,9 @@ pub struct Recipe {
     /// of SH series its maxima, found in each shown voxel ([`peaks::series_peaks`]); a tensor
     /// field its glyphs' principal directions (`peaks::tensor_sticks`).
     pub peaks: bool,
+    /// A file of SH series drawn as its ODF glyphs with the sticks of their peaks over them
+    /// (`--peaks`: [`peaks::peaks_over_odfs`], a [`crate::scene::Overlay`]).
+    pub peaks_over: bool,
 }
 
 impl Recipe {
@@ -319,6 +325,19 @@ pub fn stage(
 ) -> Result<Staged, StageError> {
     recipe.selection.check()?;
     let kind = source.kind(&recipe.read);
+    if recipe.peaks_over && (kind != FieldKind::Series || recipe.peaks) {
+        let why = if recipe.peaks {
+            "--glyph peaks draws the peaks alone"
+        } else if kind == FieldKind::Peaks {
+            "a file of peaks is drawn as its sticks alone"
+        } else {
+            "tensors have no ODFs (--glyph peaks draws their principal directions)"
+        };
+        return Err(StageError::Selection(SelectionError(format!(
+            "{}: --peaks draws the peaks of SH series over their ODF glyphs; {why}",
+            crate::error::escape_path(Path::new(&source.name()))
+        ))));
+    }
     match source {
         Source::File(path) if kind == FieldKind::Series && recipe.peaks => {
             return peaks::stage_series_peaks(&Inputs::file_system(), path, recipe, progress);

@@ -71,7 +71,19 @@ pub(super) fn stage_series_peaks(
 /// default) each voxel's largest peak 1, `none` the ODF's value. `minmax` is refused: a peak
 /// has no minimum to subtract.
 pub fn series_peaks(sh: &ShField, name: &str, recipe: &Recipe) -> Result<PeakField, StageError> {
-    let per_voxel_max = match recipe.odf_normalize.unwrap_or_default() {
+    let planes = lattice::planes(name, "SH series", sh.dims, recipe)?;
+    let shown = |v| lattice::shown(planes.as_deref(), sh.dims, v);
+    peaks_where(sh, name, recipe.odf_normalize.unwrap_or_default(), &shown)
+}
+
+/// [`series_peaks`] of the voxels `shown` says, normalised as `normalize` says.
+fn peaks_where(
+    sh: &ShField,
+    name: &str,
+    normalize: OdfNormalize,
+    shown: &(dyn Fn(usize) -> bool + Sync),
+) -> Result<PeakField, StageError> {
+    let per_voxel_max = match normalize {
         OdfNormalize::Max => true,
         OdfNormalize::None => false,
         OdfNormalize::MinMax => {
@@ -83,7 +95,6 @@ pub fn series_peaks(sh: &ShField, name: &str, recipe: &Recipe) -> Result<PeakFie
             ));
         }
     };
-    let planes = lattice::planes(name, "SH series", sh.dims, recipe)?;
     let opts = PeakOptions::default();
     let finder = PeakFinder::new(sh.layout.lmax, sh.layout.basis)
         .map_err(|e| lattice::refuse(name, e.to_string()))?;
@@ -95,7 +106,7 @@ pub fn series_peaks(sh: &ShField, name: &str, recipe: &Recipe) -> Result<PeakFie
         .map_init(
             || (finder.clone(), vec![0.0; count]),
             |(finder, c), v| {
-                if !lattice::shown(planes.as_deref(), sh.dims, v) {
+                if !shown(v) {
                     return Vec::new();
                 }
                 sh.coefficients_of(v, c);
@@ -137,39 +148,16 @@ pub fn series_peaks(sh: &ShField, name: &str, recipe: &Recipe) -> Result<PeakFie
 /// name their voxel (`glyph`).
 pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Built, StageError> {
     let planes = lattice::planes(name, "peaks", field.dims, recipe)?;
-    let d = field.dims;
     let mut style = recipe.style.clone();
     let solid = stick_colour(&mut style).map_err(|m| lattice::refuse(name, m))?;
-    let m = field.frame.voxel_to_world.unwrap_or_default();
-    let steps: [DVec3; 3] = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
-    let step = steps
-        .iter()
-        .map(|s| s.length())
-        .filter(|s| s.is_finite() && *s > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let step = if step.is_finite() { step } else { 1.0 };
+    let step = smallest_step(field);
     let per_amplitude = match style.scale {
-        Scale::Auto => {
-            let largest = field.largest();
-            if largest > 0.0 {
-                0.5 * step / largest
-            } else {
-                0.0
-            }
-        }
+        Scale::Auto => auto_half_length(field, step),
         Scale::Factor(f) => f,
     };
     let origin = DVec3::from(field.position(0));
-    let radius = (STICK_RADIUS * step) as f32;
-    let mut instances = Vec::new();
-    for v in (0..field.voxels()).filter(|&v| lattice::shown(planes.as_deref(), d, v)) {
-        let centre = DVec3::from(field.position(v)) - origin;
-        for x in field.peaks_of(v) {
-            let x = glam::Vec3::from(x).as_dvec3();
-            let half = x.length() * per_amplitude;
-            instances.push(stick(centre, x, half, radius, solid, v as u32));
-        }
-    }
+    let size = (per_amplitude, STICK_RADIUS);
+    let instances = sticks(field, planes.as_deref(), origin, size, solid);
     let scene = sticks_scene(origin, instances, recipe.glyph);
     lattice::built(
         name,
@@ -178,6 +166,122 @@ pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Bui
         field.frame.voxel_to_world,
         style,
     )
+}
+
+/// The smallest of the lattice's steps (1 without an affine).
+fn smallest_step(field: &PeakField) -> f64 {
+    let m = field.frame.voxel_to_world.unwrap_or_default();
+    let steps: [DVec3; 3] = std::array::from_fn(|c| DVec3::new(m[0][c], m[1][c], m[2][c]));
+    let step = steps
+        .iter()
+        .map(|s| s.length())
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if step.is_finite() { step } else { 1.0 }
+}
+
+/// `--scale auto`'s half-length per unit of amplitude: the field's largest peak half the step
+/// long (0 for a field without peaks).
+fn auto_half_length(field: &PeakField, step: f64) -> f64 {
+    let largest = field.largest();
+    if largest > 0.0 {
+        0.5 * step / largest
+    } else {
+        0.0
+    }
+}
+
+/// A stick for every peak of the voxels on `planes` (every voxel without), about `origin`,
+/// `per_amplitude` half-length per unit of amplitude, `width` steps in radius, coloured `solid`
+/// or by direction, each naming its voxel.
+fn sticks(
+    field: &PeakField,
+    planes: Option<&[crate::select::Plane]>,
+    origin: DVec3,
+    (per_amplitude, width): (f64, f64),
+    solid: Option<u32>,
+) -> Vec<GlyphInstance> {
+    let radius = (width * smallest_step(field)) as f32;
+    let mut instances = Vec::new();
+    for v in (0..field.voxels()).filter(|&v| lattice::shown(planes, field.dims, v)) {
+        let centre = DVec3::from(field.position(v)) - origin;
+        for x in field.peaks_of(v) {
+            let x = glam::Vec3::from(x).as_dvec3();
+            let half = x.length() * per_amplitude;
+            instances.push(stick(centre, x, half, radius, solid, v as u32));
+        }
+    }
+    instances
+}
+
+/// How far the sticks drawn over ODFs (`--peaks`) reach, in lengths of their lobes: a little
+/// past each lobe's tip, so that a stick shows beyond the surface it runs inside.
+pub const OVER_ODF_REACH: f64 = 1.25;
+
+/// The radius of the sticks drawn over ODFs, in voxel steps: half a lone stick's, as an ODF's
+/// lobe is narrower than a voxel.
+pub const OVER_ODF_WIDTH: f64 = 0.5 * STICK_RADIUS;
+
+/// The sticks of `sh`'s peaks (the voxels `recipe` shows, [`series_peaks`]) to draw over its
+/// ODF glyphs (`--peaks`): each reaching [`OVER_ODF_REACH`] times its lobe (normalised as the
+/// ODFs are) and [`OVER_ODF_WIDTH`] in radius, white over ODFs coloured by direction or
+/// amplitude and coloured by direction over solid ones, as cylinders about `origin` (the ODF
+/// scene's).
+pub fn peaks_over_odfs(
+    sh: &ShField,
+    name: &str,
+    recipe: &Recipe,
+    origin: DVec3,
+) -> Result<Scene, StageError> {
+    let planes = lattice::planes(name, "SH series", sh.dims, recipe)?;
+    let shown = |v| lattice::shown(planes.as_deref(), sh.dims, v);
+    let over = OverOdfs {
+        normalize: recipe.odf_normalize.unwrap_or_default(),
+        solid: recipe.style.color == ColorScheme::Solid,
+        planes: planes.as_deref(),
+    };
+    peaks_over_voxels(sh, name, &over, &shown, origin)
+}
+
+/// The ODFs sticks are drawn over: how they are normalised and whether they are one colour
+/// (`solid`), and the planes they were made on (every voxel without).
+pub struct OverOdfs<'p> {
+    pub normalize: OdfNormalize,
+    pub solid: bool,
+    pub planes: Option<&'p [crate::select::Plane]>,
+}
+
+/// [`peaks_over_odfs`] of the voxels `shown` says (a report's inset: a region of one of the
+/// planes), over the ODFs `over` describes. A stick's lobe is as long as its ODF glyph's: half
+/// the lattice step times the peak's value over the voxel's largest (`max`) or over the
+/// largest of the planes' ODFs, sampled as their glyphs' scale is (`none`).
+pub fn peaks_over_voxels(
+    sh: &ShField,
+    name: &str,
+    over: &OverOdfs<'_>,
+    shown: &(dyn Fn(usize) -> bool + Sync),
+    origin: DVec3,
+) -> Result<Scene, StageError> {
+    let peaks = peaks_where(sh, name, over.normalize, shown)?;
+    let step = smallest_step(&peaks);
+    let full = match over.normalize {
+        OdfNormalize::None => crate::scene::odf::sampled_largest(sh, over.planes),
+        // Each voxel's values over its largest ([`peaks_where`]; minmax is refused there).
+        _ => 1.0,
+    };
+    let per_amplitude = if full > 0.0 {
+        OVER_ODF_REACH * 0.5 * step / full
+    } else {
+        0.0
+    };
+    let colour = (!over.solid).then(|| GlyphInstance::pack_color([255, 255, 255, 255]));
+    let size = (per_amplitude, OVER_ODF_WIDTH);
+    let instances = sticks(&peaks, None, origin, size, colour);
+    Ok(Scene::from_instances_as(
+        origin,
+        instances,
+        GlyphKind::Cylinder,
+    ))
 }
 
 /// How sticks are coloured by `style` (made `dec` where it asks for none): `None`, by their

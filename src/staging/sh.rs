@@ -31,6 +31,7 @@ pub(super) fn stage_sh(
 /// lattice planes the selection asks for (`lattice::planes`: `--slice` only; with none, the
 /// middle axial one where `middle_slice` says so, as for DTI), seen face-on when one plane is
 /// shown. The scene's instances name their voxel (`glyph`), and `selected` lists those voxels.
+/// With `recipe.peaks_over`, the sticks of the voxels' peaks are drawn over the ODFs.
 pub fn build_sh(
     field: &crate::field::ShField,
     name: &str,
@@ -65,9 +66,15 @@ pub fn build_sh(
         color: [r, g, b, 255],
         ..Default::default()
     };
-    let scene = run_stage(progress, "scene", None, || {
+    let mut scene = run_stage(progress, "scene", None, || {
         crate::scene::odf::odf_scene(field, &opts)
     });
+    if recipe.peaks_over {
+        let sticks = run_stage(progress, "peaks", None, || {
+            super::peaks_over_odfs(field, name, recipe, scene.origin)
+        })?;
+        scene = scene.with_overlay(sticks);
+    }
     lattice::built(
         name,
         scene,

@@ -350,6 +350,23 @@ fn sh_basis_names_the_basis_of_the_reports_series() {
     );
 }
 
+/// The sticks of peaks each ODF figure's inset draws over its ODFs, as its caption states.
+fn inset_peaks(html: &str) -> Vec<Option<usize>> {
+    ["axial", "coronal", "sagittal"]
+        .iter()
+        .map(|o| {
+            let caption = html
+                .split(&format!("<figcaption>{o}: ODF glyphs"))
+                .nth(1)
+                .unwrap();
+            let caption = &caption[..caption.find("</figcaption>").unwrap()];
+            let at = caption.find(" peaks (sticks)")?;
+            let n = caption[..at].rsplit(", ").next().unwrap();
+            Some(n.parse().unwrap())
+        })
+        .collect()
+}
+
 /// The inset each ODF figure's caption states: (region, px per voxel, glyphs drawn, why).
 fn odf_insets(html: &str) -> Vec<(String, f64, usize, String)> {
     ["axial", "coronal", "sagittal"]
@@ -405,7 +422,37 @@ fn odf_figures_have_the_zoomed_inset() {
         std::fs::read_to_string(out.join(format!("{stem}.html"))).unwrap()
     };
     let chosen = "where the fibre density (l = 0) is highest on the middle slice";
-    let whole = odf_insets(&report(&full, None));
+    let page = report(&full, None);
+    let whole = odf_insets(&page);
+    // Over the inset's ODFs, the sticks of their peaks: as many as `render --glyph peaks`
+    // draws for the same slice (the axial inset is the whole slice k = 2).
+    let sticks = {
+        let out = dir.path().join("peaks.png");
+        let o = tg(&[
+            "render",
+            full.to_str().unwrap(),
+            "--glyph",
+            "peaks",
+            "--slice",
+            "z=2",
+            "--method",
+            "reference",
+            "--size",
+            "64x48",
+            "--json",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+        crate::cli::json(&o)["glyphs_selected"].as_u64().unwrap() as usize
+    };
+    let peaks = inset_peaks(&page);
+    assert_eq!(peaks[0], Some(sticks), "{peaks:?}");
+    assert!(
+        peaks.iter().all(|p| p.is_some_and(|n| n >= 16)),
+        "{peaks:?}"
+    );
     for (o, (region, px, glyphs, why)) in ["axial", "coronal", "sagittal"].iter().zip(&whole) {
         assert_eq!((*glyphs, why.as_str()), (16, chosen), "{o}: {region}");
         assert!(*px >= 8.0, "{o}: {px} px per voxel");

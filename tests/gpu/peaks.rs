@@ -2,8 +2,10 @@
 //! renders them: sticks, drawn as cylinders (the default) or capsules, by Gumhold's quads and
 //! Sigg's boxes in the default face-on view of the middle slice, a close oblique view of every
 //! slice and an orthographic side view, against the exact f64 reference with
-//! `render --reference-check`: coverage, ids, depth, normals and colours. And what a peaks file
-//! refuses: a glyph its kind does not offer, a tensor's colouring and a report.
+//! `render --reference-check`: coverage, ids, depth, normals and colours. The sticks of SH
+//! series' peaks over their ODFs (`--peaks`: two kinds in one frame, depth deciding), checked
+//! the same way. And what a peaks file refuses: a glyph its kind does not offer, a tensor's
+//! colouring and a report; and what `--peaks` refuses.
 
 use crate::check::{Bounds, reference_check};
 use crate::cli::{stderr, tg};
@@ -88,6 +90,108 @@ fn sticks_of_series_and_tensor_peaks_match_the_reference() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The sticks of the peaks over the ODFs (`--peaks`): one frame of two kinds, exact against the
+/// reference (which draws each instance as its kind) as the ODFs alone are (tests/gpu/odf.rs's
+/// lmax-8 bounds), by both methods, face-on and at an angle through every slice, and with the
+/// outline filter, which runs over both kinds' ids; the sticks are those `--glyph peaks` draws
+/// (as many), over the 16 ODFs of a slice.
+#[test]
+fn peaks_over_odfs_match_the_reference() {
+    let mut failures = Vec::new();
+    for file in [
+        "tests/data/sh/mrtrix_lmax8.mif",
+        "tests/data/sh/dipy_lmax8_descoteaux07_legacy.nii.gz",
+    ] {
+        for (view, odfs) in [
+            (&[][..], 16),
+            (
+                &["--slice", "all", "--azimuth", "35", "--elevation", "25"][..],
+                64,
+            ),
+            (&["--outlines"][..], 16),
+        ] {
+            let mut sticks = vec![file, "--glyph", "peaks"];
+            sticks.extend_from_slice(view);
+            let alone = selected(&sticks);
+            assert!(alone > odfs, "{file} {view:?}: {alone} sticks");
+            for method in ["gumhold", "sigg"] {
+                let mut args = vec![file, "--peaks", "--method", method];
+                args.extend_from_slice(view);
+                let name = format!("{file} --peaks {method} {view:?}");
+                let (j, ok) = reference_check(&name, &args, &TENSOR_KIND);
+                assert_eq!(j["glyph"], "odf", "{name}: {j}");
+                assert_eq!(j["glyphs_selected"], odfs + alone, "{name}: {j}");
+                if view.contains(&"--outlines") {
+                    assert_eq!(j["outline_mismatch"], 0.0, "{name}: {j}");
+                }
+                if !ok {
+                    failures.push(format!("{name}: {j}"));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// How many glyphs `render` with `args` draws (the reference at a small size: no GPU).
+fn selected(args: &[&str]) -> u64 {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let mut all = vec!["render"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--method", "reference", "--size", "64x48", "--json", "-q"]);
+    all.extend_from_slice(&["-o", out.to_str().unwrap()]);
+    let r = tg(&all);
+    assert!(r.status.success(), "{all:?}: {}", stderr(&r));
+    crate::cli::json(&r)["glyphs_selected"].as_u64().unwrap()
+}
+
+/// `--peaks` draws the peaks of SH series over their ODFs, and refuses in one line what it cannot:
+/// shadows (the composite pass knows one kind), tensors, a peaks file and `--glyph peaks`.
+#[test]
+fn peaks_over_odfs_refuse_in_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let sh = "tests/data/sh/mrtrix_lmax8.mif";
+    for (file, extra, says) in [
+        (
+            sh,
+            &["--shadows"][..],
+            "--shadows are drawn over glyphs of one kind",
+        ),
+        (
+            "tests/data/dti/dipy_small101/tensors.nii.gz",
+            &[][..],
+            "tensors.nii.gz: --peaks draws the peaks of SH series over their ODF glyphs; tensors \
+             have no ODFs",
+        ),
+        (
+            PEAKS,
+            &[][..],
+            "a file of peaks is drawn as its sticks alone",
+        ),
+        (
+            sh,
+            &["--glyph", "peaks"][..],
+            "--glyph peaks draws the peaks alone",
+        ),
+        (
+            sh,
+            &["--odf-normalize", "minmax"][..],
+            "peaks are normalised by max",
+        ),
+    ] {
+        let mut args = vec!["render", file, "--peaks", "-o", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let r = tg(&args);
+        let e = stderr(&r);
+        assert_eq!(r.status.code(), Some(2), "{args:?}: {e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+        assert!(e.contains(says), "{args:?}: {e}");
+        assert!(!out.exists());
+    }
 }
 
 #[test]

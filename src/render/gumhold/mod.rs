@@ -155,7 +155,7 @@ impl Drawer for GumholdRenderer {
             views.begin_pass(
                 encoder,
                 req.background,
-                true,
+                frame.first,
                 frame.pass_timestamps(true, true),
             );
             return;
@@ -171,15 +171,14 @@ impl Drawer for GumholdRenderer {
                 let pass = self.occlusion.as_ref().expect("made with the prepass");
                 prepass.record_culling(encoder, pass, chunk, &views.depth, slice, views.size);
             }
-            let compute_stamp =
-                frame
-                    .timestamps
-                    .filter(|_| j == 0)
-                    .map(|set| wgpu::ComputePassTimestampWrites {
-                        query_set: set,
-                        beginning_of_pass_write_index: Some(0),
-                        end_of_pass_write_index: None,
-                    });
+            let compute_stamp = frame
+                .timestamps
+                .filter(|_| j == 0 && frame.first)
+                .map(|set| wgpu::ComputePassTimestampWrites {
+                    query_set: set,
+                    beginning_of_pass_write_index: Some(0),
+                    end_of_pass_write_index: None,
+                });
             prepass.record_compute(
                 encoder,
                 &pipelines,
@@ -192,11 +191,11 @@ impl Drawer for GumholdRenderer {
             let mut pass = views.begin_pass(
                 encoder,
                 req.background,
-                j == 0,
+                j == 0 && frame.first,
                 frame.pass_timestamps(false, j == last),
             );
             if let Some(set) = frame.stats {
-                pass.begin_pipeline_statistics_query(set, j as u32);
+                pass.begin_pipeline_statistics_query(set, frame.query + j as u32);
             }
             pass.set_bind_group(0, chunk, &[]);
             prepass.draw(&mut pass, &pipelines, splats);

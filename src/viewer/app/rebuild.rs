@@ -33,6 +33,7 @@ impl ViewerApp {
             underlay_side: None,
             odf_normalize: None,
             peaks: false,
+            peaks_over: false,
         };
         let volume = data.underlay.as_deref();
         // Series and peaks are selected by their planes only.
