@@ -1,7 +1,8 @@
 //! `tensorglyph report`: the arguments of the two forms and the output lines; the reports are
 //! [`crate::report`]'s.
 //!
-//! - `report FILE... -o OUT_DIR`: one report per file (of tensors, or of SH series: ODFs).
+//! - `report FILE... -o OUT_DIR`: one report per file (of tensors, of SH series: ODFs, or of
+//!   peaks: sticks).
 //! - `report BIDS_DIR OUT_DIR participant [--participant-label L …]`: one per participant of a
 //!   BIDS derivatives folder of BEP016 tensor maps and ODF maps, as a BIDS App is called.
 //! - `report BIDS_DIR OUT_DIR group [--participant-label L …]`: the group page over what the
@@ -23,7 +24,7 @@ use crate::shape::odf::OdfColoring;
 
 #[derive(Args, Debug)]
 pub struct ReportArgs {
-    /// Tensor files or files of SH series (with -o), or BIDS_DIR OUT_DIR LEVEL: a BIDS
+    /// Tensor files, files of SH series or of peaks (with -o), or BIDS_DIR OUT_DIR LEVEL: a BIDS
     /// derivatives folder holding BEP016 tensor maps and ODF maps (_param-fod_, _param-sh_) in
     /// sub-LABEL/[ses-LABEL/]dwi/, where the reports go, and the analysis level (participant:
     /// one page per participant; group: one page over the participants' reports, outliers

@@ -112,6 +112,17 @@ pub(crate) fn summary(name: &str, maps: &[Section]) -> ParticipantSummary {
                 crossing_share: o.peaks.map(|p| p.crossing_share()),
                 thumbnail: thumbnail(&o.figures),
             },
+            Section::Peaks(p) => MapSummary {
+                name: p.name.clone(),
+                session: p.session.clone(),
+                kind: "peaks".into(),
+                dims: p.dims,
+                valid: p.counts.held,
+                fa_median: None,
+                md_median: None,
+                crossing_share: Some(p.counts.crossing_share()),
+                thumbnail: thumbnail(&p.figures),
+            },
         })
         .collect();
     ParticipantSummary {

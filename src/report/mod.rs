@@ -16,6 +16,7 @@ pub mod mosaic;
 pub mod odf;
 mod odf_map;
 pub mod page;
+pub mod peaks;
 mod row;
 pub mod stats;
 
@@ -121,9 +122,8 @@ pub enum UnitError {
     NotSh { path: PathBuf, count: usize },
     #[error("{}: no ODF to draw: every voxel's SH series is all zero", escape_path(.0))]
     NoOdf(PathBuf),
-    /// A kind of field the report has no section for yet.
-    #[error("{}: holds {}; a report shows tensor and ODF maps", escape_path(.0), .1.holds())]
-    NoSection(PathBuf, FieldKind),
+    #[error("{}: no peak to draw: every voxel's peaks are NaN or zero", escape_path(.0))]
+    NoPeaks(PathBuf),
     #[error(transparent)]
     Load(#[from] LoadError),
     #[error(transparent)]
@@ -193,6 +193,7 @@ pub struct FigureReport {
 pub enum Section {
     Tensor(MapReport),
     Odf(OdfReport),
+    Peaks(peaks::PeaksReport),
 }
 
 impl Section {
@@ -200,6 +201,7 @@ impl Section {
         match self {
             Section::Tensor(m) => &m.figures,
             Section::Odf(m) => &m.figures,
+            Section::Peaks(m) => &m.figures,
         }
     }
 }
@@ -451,7 +453,9 @@ fn report(
             FieldKind::Series => Section::Odf(odf_map::map(
                 path, session, options, backend, progress, &mut read,
             )?),
-            FieldKind::Peaks => return Err(UnitError::NoSection(path.clone(), *kind)),
+            FieldKind::Peaks => Section::Peaks(peaks::map(
+                path, session, options, backend, progress, &mut read,
+            )?),
         });
     }
     let run = RunInfo {

@@ -52,7 +52,7 @@ pub fn held(field: &ShField) -> Vec<bool> {
 }
 
 /// The orientation's view direction and up for a field whose affine gives no face-on view.
-fn preset_view(orientation: Orientation) -> (DVec3, DVec3) {
+pub(super) fn preset_view(orientation: Orientation) -> (DVec3, DVec3) {
     match orientation.world_axis {
         0 => ViewPreset::Sagittal,
         1 => ViewPreset::Coronal,
@@ -80,7 +80,7 @@ fn density<'a>(
 }
 
 /// The glyphs of `scene` (one slice's) whose voxels lie in `region`, sized as in `scene`.
-fn scene_in(scene: &Scene, dims: [usize; 3], region: &inset::Region) -> Scene {
+pub(super) fn scene_in(scene: &Scene, dims: [usize; 3], region: &inset::Region) -> Scene {
     let kept = scene
         .instances
         .iter()

@@ -283,6 +283,80 @@ fn odf_section(page: &mut String, map: &OdfReport, timings: bool) {
     }
 }
 
+fn peaks_section(page: &mut String, map: &super::peaks::PeaksReport, timings: bool) {
+    let _ = writeln!(page, "<h2>{}</h2>\n<table>", esc(&map.name));
+    let mut row = |k: &str, v: String| {
+        let _ = writeln!(page, "<tr><th>{k}</th><td>{v}</td></tr>");
+    };
+    row("input", esc(&map.path));
+    if let Some(s) = &map.session {
+        row("session", esc(s));
+    }
+    row("format", esc(&map.format));
+    row(
+        "content",
+        format!(
+            "peaks map: fibre directions, up to {} a voxel",
+            map.per_voxel
+        ),
+    );
+    row("frame", esc(&map.frame));
+    let [nx, ny, nz] = map.dims;
+    let c = &map.counts;
+    row(
+        "voxels",
+        format!(
+            "{} ({nx}×{ny}×{nz}): {} with a peak, drawn",
+            nx * ny * nz,
+            c.held
+        ),
+    );
+    let pct = |x: f64| format!("{:.1} %", 100.0 * x);
+    row(
+        "peaks",
+        format!(
+            "{:.2} per voxel; one {}, two {}, three or more {}; crossing (two or more) {} — in \
+             all {} voxels with a peak, as the file holds them",
+            c.mean,
+            pct(c.shares[0]),
+            pct(c.shares[1]),
+            pct(c.shares[2]),
+            pct(c.crossing_share()),
+            c.held
+        ),
+    );
+    if timings {
+        let figures: Vec<String> = map
+            .figures
+            .iter()
+            .map(|f| format!("{} {:.0} ms", f.orientation, f.ms))
+            .collect();
+        row(
+            "timings",
+            format!(
+                "read {:.0} ms; figures: {}",
+                map.read_ms,
+                figures.join(", ")
+            ),
+        );
+    }
+    let _ = writeln!(page, "</table>");
+    for f in &map.figures {
+        let axis = ["i", "j", "k"][f.lattice_axis];
+        let slices: Vec<String> = f.slices.iter().map(|s| s.to_string()).collect();
+        let caption = format!(
+            "peaks (sticks), slices {axis} = {}; {} sticks drawn; no underlay; {}{}",
+            slices.join(", "),
+            f.glyphs_drawn,
+            overview_scale(f.overview_px_per_voxel),
+            f.inset
+                .as_ref()
+                .map_or(String::new(), |i| inset(i, map.anatomical)),
+        );
+        embed(page, f, &caption);
+    }
+}
+
 /// The page of `label` (a participant's `sub-<label>`, or a file's name) and its maps.
 pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
     let mut body = String::new();
@@ -290,6 +364,7 @@ pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
         match m {
             Section::Tensor(m) => section(&mut body, m, run.timings),
             Section::Odf(m) => odf_section(&mut body, m, run.timings),
+            Section::Peaks(m) => peaks_section(&mut body, m, run.timings),
         }
     }
     let mut glyphs = String::new();
@@ -313,6 +388,11 @@ pub fn html(title: &str, maps: &[Section], run: &RunInfo) -> String {
              direction, negative values not drawn), sized to the voxel and {colour}, on black. "
         ));
         break;
+    }
+    if maps.iter().any(|m| matches!(m, Section::Peaks(_))) {
+        glyphs.push_str(
+            "A peaks map's glyphs are sticks, one a peak, through their voxel's centre along              the peak, as long as its amplitude (the map's largest one voxel step), coloured by              direction (red R–L, green A–P, blue S–I), on black. ",
+        );
     }
     let peak = run
         .peak_rss_bytes

@@ -73,8 +73,23 @@ pub(super) fn stage_series_peaks(
 pub fn series_peaks(sh: &ShField, name: &str, recipe: &Recipe) -> Result<PeakField, StageError> {
     let planes = lattice::planes(name, "SH series", sh.dims, recipe)?;
     let shown = |v| lattice::shown(planes.as_deref(), sh.dims, v);
-    peaks_where(sh, name, recipe.odf_normalize.unwrap_or_default(), &shown)
+    let found = peaks_where(sh, name, recipe.odf_normalize.unwrap_or_default(), &shown)?;
+    let per_voxel = PeakOptions::default().max_peaks;
+    let mut vectors = vec![[f32::NAN; 3]; sh.voxels() * per_voxel];
+    for (v, peaks) in found {
+        vectors[v * per_voxel..][..peaks.len()].copy_from_slice(&peaks);
+    }
+    Ok(PeakField {
+        format: sh.format.clone(),
+        dims: sh.dims,
+        per_voxel,
+        vectors,
+        frame: sh.frame.clone(),
+    })
 }
+
+/// A voxel and its peaks (direction × amplitude, world axes), largest first.
+type VoxelPeaks = (usize, Vec<[f32; 3]>);
 
 /// [`series_peaks`] of the voxels `shown` says, normalised as `normalize` says.
 fn peaks_where(
@@ -82,7 +97,7 @@ fn peaks_where(
     name: &str,
     normalize: OdfNormalize,
     shown: &(dyn Fn(usize) -> bool + Sync),
-) -> Result<PeakField, StageError> {
+) -> Result<Vec<VoxelPeaks>, StageError> {
     let per_voxel_max = match normalize {
         OdfNormalize::Max => true,
         OdfNormalize::None => false,
@@ -99,21 +114,21 @@ fn peaks_where(
     let finder = PeakFinder::new(sh.layout.lmax, sh.layout.basis)
         .map_err(|e| lattice::refuse(name, e.to_string()))?;
     let frame = series_frame(sh);
-    let per_voxel = opts.max_peaks;
     let count = sh.layout.count;
-    let found: Vec<Vec<[f32; 3]>> = (0..sh.voxels())
+    // Only the voxels shown, each with its peaks (a lattice-sized list of empty ones would cost
+    // a whole brain 30 MB for an inset of 256 voxels).
+    let voxels: Vec<usize> = (0..sh.voxels()).filter(|&v| shown(v)).collect();
+    Ok(voxels
         .into_par_iter()
         .map_init(
             || (finder.clone(), vec![0.0; count]),
             |(finder, c), v| {
-                if !shown(v) {
-                    return Vec::new();
-                }
                 sh.coefficients_of(v, c);
                 let peaks = finder.peaks(c, &opts);
                 let top = peaks.first().map_or(1.0, |p| p.value);
-                peaks
+                let vectors = peaks
                     .iter()
+                    .take(opts.max_peaks)
                     .map(|p| {
                         let a = if per_voxel_max {
                             p.value / top
@@ -122,23 +137,11 @@ fn peaks_where(
                         };
                         (frame * DVec3::from(p.direction) * a).as_vec3().to_array()
                     })
-                    .collect()
+                    .collect();
+                (v, vectors)
             },
         )
-        .collect();
-    let mut vectors = vec![[f32::NAN; 3]; sh.voxels() * per_voxel];
-    for (v, peaks) in found.iter().enumerate() {
-        for (p, x) in peaks.iter().take(per_voxel).enumerate() {
-            vectors[v * per_voxel + p] = *x;
-        }
-    }
-    Ok(PeakField {
-        format: sh.format.clone(),
-        dims: sh.dims,
-        per_voxel,
-        vectors,
-        frame: sh.frame.clone(),
-    })
+        .collect())
 }
 
 /// The scene of sticks (one a peak: the module's doc) of `field` (called `name` in errors),
@@ -156,8 +159,15 @@ pub fn build_peaks(field: &PeakField, name: &str, recipe: &Recipe) -> Result<Bui
         Scale::Factor(f) => f,
     };
     let origin = DVec3::from(field.position(0));
-    let size = (per_amplitude, STICK_RADIUS);
-    let instances = sticks(field, planes.as_deref(), origin, size, solid);
+    let size = (per_amplitude, STICK_RADIUS * step);
+    let shown = (0..field.voxels()).filter(|&v| lattice::shown(planes.as_deref(), field.dims, v));
+    let instances = sticks(
+        shown.map(|v| (v, field.peaks_of(v))),
+        |v| field.position(v),
+        origin,
+        size,
+        solid,
+    );
     let scene = sticks_scene(origin, instances, recipe.glyph);
     lattice::built(
         name,
@@ -191,24 +201,23 @@ fn auto_half_length(field: &PeakField, step: f64) -> f64 {
     }
 }
 
-/// A stick for every peak of the voxels on `planes` (every voxel without), about `origin`,
-/// `per_amplitude` half-length per unit of amplitude, `width` steps in radius, coloured `solid`
+/// A stick for every peak of `voxels` (each a voxel and its peaks, at `position`), about
+/// `origin`, `per_amplitude` half-length per unit of amplitude, `radius` wide, coloured `solid`
 /// or by direction, each naming its voxel.
-fn sticks(
-    field: &PeakField,
-    planes: Option<&[crate::select::Plane]>,
+fn sticks<P: IntoIterator<Item = [f32; 3]>>(
+    voxels: impl Iterator<Item = (usize, P)>,
+    position: impl Fn(usize) -> [f64; 3],
     origin: DVec3,
-    (per_amplitude, width): (f64, f64),
+    (per_amplitude, radius): (f64, f64),
     solid: Option<u32>,
 ) -> Vec<GlyphInstance> {
-    let radius = (width * smallest_step(field)) as f32;
     let mut instances = Vec::new();
-    for v in (0..field.voxels()).filter(|&v| lattice::shown(planes, field.dims, v)) {
-        let centre = DVec3::from(field.position(v)) - origin;
-        for x in field.peaks_of(v) {
+    for (v, peaks) in voxels {
+        let centre = DVec3::from(position(v)) - origin;
+        for x in peaks {
             let x = glam::Vec3::from(x).as_dvec3();
             let half = x.length() * per_amplitude;
-            instances.push(stick(centre, x, half, radius, solid, v as u32));
+            instances.push(stick(centre, x, half, radius as f32, solid, v as u32));
         }
     }
     instances
@@ -262,8 +271,8 @@ pub fn peaks_over_voxels(
     shown: &(dyn Fn(usize) -> bool + Sync),
     origin: DVec3,
 ) -> Result<Scene, StageError> {
-    let peaks = peaks_where(sh, name, over.normalize, shown)?;
-    let step = smallest_step(&peaks);
+    let found = peaks_where(sh, name, over.normalize, shown)?;
+    let step = sh.spacing();
     let full = match over.normalize {
         OdfNormalize::None => crate::scene::odf::sampled_largest(sh, over.planes),
         // Each voxel's values over its largest ([`peaks_where`]; minmax is refused there).
@@ -275,8 +284,13 @@ pub fn peaks_over_voxels(
         0.0
     };
     let colour = (!over.solid).then(|| GlyphInstance::pack_color([255, 255, 255, 255]));
-    let size = (per_amplitude, OVER_ODF_WIDTH);
-    let instances = sticks(&peaks, None, origin, size, colour);
+    let instances = sticks(
+        found.iter().map(|(v, peaks)| (*v, peaks.iter().copied())),
+        |v| sh.position(v),
+        origin,
+        (per_amplitude, OVER_ODF_WIDTH * step),
+        colour,
+    );
     Ok(Scene::from_instances_as(
         origin,
         instances,

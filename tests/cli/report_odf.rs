@@ -598,3 +598,62 @@ fn color_amplitude_recolours_the_odf_figures_only() {
         "{err}"
     );
 }
+
+/// A peaks map's report (DIPY's `peak_dirs` as `peaks_from_model` holds them, X×Y×Z×N×3): its
+/// page counts the peaks of every voxel as DIPY found them (`tests/data/sh/dipy_peaks.json`,
+/// read back by nibabel), and each figure draws every peak as a stick (the lattice being 4
+/// voxels across, every slice), with the zoomed inset.
+#[test]
+fn a_peaks_map_reports_its_sticks_and_counts() {
+    let text = std::fs::read_to_string(crate::data::path("sh/dipy_peaks.json")).unwrap();
+    let truth: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let counts: Vec<usize> = truth["voxels"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|v| v["voxel_axes"].as_array().unwrap().len())
+        .filter(|&n| n > 0)
+        .collect();
+    let n = counts.len() as f64;
+    let share = |k: usize| counts.iter().filter(|&&c| c.min(3) == k).count() as f64 / n;
+    let pct = |x: f64| format!("{:.1} %", 100.0 * x);
+    let total: usize = counts.iter().sum();
+    let want = format!(
+        "{:.2} per voxel; one {}, two {}, three or more {}; crossing (two or more) {} — in all {} \
+         voxels with a peak",
+        total as f64 / n,
+        pct(share(1)),
+        pct(share(2)),
+        pct(share(3)),
+        pct(share(2) + share(3)),
+        counts.len()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let file = crate::data::path("sh/dipy5d_peak_dirs.nii.gz");
+    let o = tg(&[
+        "report",
+        file.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let html = std::fs::read_to_string(out.join("dipy5d_peak_dirs.html")).unwrap();
+    assert!(html.contains(&want), "want {want} in:\n{html}");
+    for o in ["axial", "coronal", "sagittal"] {
+        let caption = html
+            .split(&format!("<figcaption>{o}: peaks (sticks)"))
+            .nth(1)
+            .unwrap_or_else(|| panic!("no peaks figure {o}"));
+        assert!(
+            caption.contains(&format!("; {total} sticks drawn;")),
+            "{o}: {total} sticks in {caption}"
+        );
+        assert!(caption.contains("inset (cyan outline)"), "{caption}");
+        let png = out
+            .join("dipy5d_peak_dirs")
+            .join("figures")
+            .join(format!("dipy5d_peak_dirs_{o}.png"));
+        assert!(std::fs::metadata(png).unwrap().len() > 1000);
+    }
+}

@@ -4,8 +4,8 @@
 //! slice and an orthographic side view, against the exact f64 reference with
 //! `render --reference-check`: coverage, ids, depth, normals and colours. The sticks of SH
 //! series' peaks over their ODFs (`--peaks`: two kinds in one frame, depth deciding), checked
-//! the same way. And what a peaks file refuses: a glyph its kind does not offer, a tensor's
-//! colouring and a report; and what `--peaks` refuses.
+//! the same way. And what a peaks file refuses: a glyph its kind does not offer and a tensor's
+//! colouring; and what `--peaks` refuses.
 
 use crate::check::{Bounds, reference_check};
 use crate::cli::{stderr, tg};
@@ -218,13 +218,4 @@ fn a_peaks_file_refuses_what_its_kind_does_not_offer() {
         assert!(e.contains(says), "{args:?}: {e}");
         assert!(!out.exists());
     }
-    // A report has no peaks section yet: it says so.
-    let report = dir.path().join("report");
-    let r = tg(&["report", PEAKS, "-o", report.to_str().unwrap()]);
-    let e = stderr(&r);
-    assert_eq!(r.status.code(), Some(1), "{e}");
-    assert!(
-        e.contains("holds fibre peaks; a report shows tensor and ODF maps"),
-        "{e}"
-    );
 }

@@ -96,8 +96,7 @@ pub fn read(input: &Input, opts: &ReadOptions) -> Res<TensorField> {
 pub fn read_scalar(input: &Input) -> Res<ScalarVolume> {
     let head = read_head(input, Values::Scalar, |_| Ok(()))?;
     let (a, source) = head.affine()?;
-    let mut values = Vec::new();
-    head.each_value(input, |_, _, x| values.push(x as f32))?;
+    let values = head.values(input, |x| x as f32)?;
     scalar::checked(head.dims(), values, rows4(&a), source)
 }
 
@@ -263,16 +262,11 @@ pub(crate) fn read_sh(input: &Input, opts: &ReadOptions) -> Res<ShField> {
     let writer = sh_writer(&head.h);
     let layout = sh_field::layout(head.shape.components, writer, opts.sh_basis)?;
     let (a, source) = head.affine()?;
-    // Volume after volume, as the file stores them and as the field keeps them: the values
-    // grow with the bytes read.
+    // Volume after volume, as the file stores them and as the field keeps them.
     let coefficients = if head.shape.ty.fits_f32() {
-        let mut v = Vec::new();
-        head.each_value(input, |_, _, x| v.push(x as f32))?;
-        Coefficients::F32(v)
+        Coefficients::F32(head.values(input, |x| x as f32)?)
     } else {
-        let mut v = Vec::new();
-        head.each_value(input, |_, _, x| v.push(x))?;
-        Coefficients::F64(v)
+        Coefficients::F64(head.values(input, |x| x)?)
     };
     sh_field::check_finite(&coefficients, head.dims())?;
     Ok(ShField {

@@ -54,10 +54,9 @@ pub(crate) fn read_peaks(input: &Input, opts: &ReadOptions) -> Res<PeakField> {
              directions to world",
         ));
     }
-    // Volume after volume as the file stores them, growing with the bytes read (a header's
-    // dimensions alone allocate nothing), then gathered peak by peak.
-    let mut raw = Vec::new();
-    head.each_value(input, |_, _, x| raw.push(x as f32))?;
+    // Volume after volume as the file stores them (allocated once the data is known to hold
+    // them: a header's dimensions alone allocate nothing), then gathered peak by peak.
+    let raw = head.values(input, |x| x as f32)?;
     let peak_axis = shape.peak_axis;
     let volume = |p: usize, k: usize| {
         if peak_axis {
@@ -116,8 +115,7 @@ pub(crate) fn scale_by(peaks: &mut PeakField, values: &Input) -> Res<()> {
             ),
         ));
     }
-    let mut amplitudes = Vec::new();
-    head.each_value(values, |_, _, x| amplitudes.push(x as f32))?;
+    let amplitudes = head.values(values, |x| x as f32)?;
     let voxels = peaks.voxels();
     for (i, d) in peaks.vectors.iter_mut().enumerate() {
         let a = amplitudes[(i % per_voxel) * voxels + i / per_voxel];

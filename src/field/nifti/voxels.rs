@@ -18,9 +18,34 @@ impl Header {
     /// The data must hold what the header's dimensions and `vox_offset` say, checked before
     /// anything is allocated; no more of the file is read (a gzip stream is inflated to its
     /// end, within its budget, to check it).
-    pub(crate) fn each_value(
+    pub(crate) fn each_value(&self, input: &Input, put: impl FnMut(usize, usize, f64)) -> Res<()> {
+        self.each_value_sized(input, |_| {}, put)
+    }
+
+    /// Every value of the file `input`, in [`Self::each_value`]'s order, as `convert` makes it:
+    /// the vector sized once the data is known to hold them (a vector grown value by value would
+    /// double its allocation, and hold both, near its end).
+    pub(crate) fn values<T>(&self, input: &Input, convert: impl Fn(f64) -> T) -> Res<Vec<T>> {
+        let (mut out, count) = (Vec::new(), std::cell::Cell::new(0));
+        self.each_value_sized(
+            input,
+            |n| count.set(n),
+            |_, _, x| {
+                if out.capacity() == 0 {
+                    out.reserve_exact(count.get());
+                }
+                out.push(convert(x))
+            },
+        )?;
+        Ok(out)
+    }
+
+    /// [`Self::each_value`], telling `sized` how many values will come once the data is
+    /// known to hold them (before the first).
+    fn each_value_sized(
         &self,
         input: &Input,
+        sized: impl FnOnce(usize),
         mut put: impl FnMut(usize, usize, f64),
     ) -> Res<()> {
         let (h, shape) = (&self.h, &self.shape);
@@ -68,6 +93,7 @@ impl Header {
             if g.skip(offset)? < offset {
                 return Err(short(g.inflated()));
             }
+            sized(shape.voxels * shape.components);
             while left > 0 {
                 let want = left.min(buf.len() as u64) as usize;
                 let got = g.fill(&mut buf[..want])?;
@@ -82,6 +108,7 @@ impl Header {
             if input.len() < needed {
                 return Err(short(input.len()));
             }
+            sized(shape.voxels * shape.components);
             let mut r = input.reader_at(offset)?;
             while left > 0 {
                 let want = left.min(buf.len() as u64) as usize;
