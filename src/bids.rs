@@ -12,10 +12,14 @@
 //!   because pipelines differ in which they write. The name only proposes: the report confirms
 //!   each by its header ([`crate::field::FieldKind::of_file`]) and fails on one that holds no SH series,
 //!   naming it, rather than passing it over in silence.
+//! - **peaks maps** (fibre directions, 3 values a peak), named with the entity `param-peaks` (of
+//!   any model) as ODF maps are (`sub-01_model-CSD_param-peaks_dwimap.nii.gz`, `…_param-peaks.mif`):
+//!   the spelling pipelines write beside their `param-fod` maps. Here the name says what a NIfTI
+//!   header cannot (9 volumes are three peaks or a 3×3 tensor): the map is read as peaks.
 //!
-//! No file is both (an ODF name has a `param-` that is not `tensor`). Nothing is read but folder
-//! listings; the order is the labels' (sorted), then per folder its tensor maps and then its ODF
-//! maps, each by name, so that a run is the same on every machine.
+//! No file is two of these (each has its own `param-`). Nothing is read but folder listings;
+//! the order is the labels' (sorted), then per folder its tensor maps, its ODF maps and its
+//! peaks maps, each by name, so that a run is the same on every machine.
 
 use std::path::{Path, PathBuf};
 
@@ -124,15 +128,24 @@ fn is_tensor_map(name: &str) -> bool {
 
 /// Whether a name is an ODF map's ([module doc](self)).
 pub fn is_odf_map(name: &str) -> bool {
-    let base = [".nii.gz", ".nii"]
+    map_entities(name).is_some_and(|b| b.split('_').any(|e| e == "param-fod" || e == "param-sh"))
+}
+
+/// Whether a name is a peaks map's ([module doc](self)).
+pub fn is_peaks_map(name: &str) -> bool {
+    map_entities(name).is_some_and(|b| b.split('_').any(|e| e == "param-peaks"))
+}
+
+/// A map's name without its `_dwimap.nii[.gz]` or `.mif[.gz]` ending; `None` for another.
+fn map_entities(name: &str) -> Option<&str> {
+    [".nii.gz", ".nii"]
         .iter()
         .find_map(|e| name.strip_suffix(e)?.strip_suffix("_dwimap"))
         .or_else(|| {
             [".mif.gz", ".mif"]
                 .iter()
                 .find_map(|e| name.strip_suffix(e))
-        });
-    base.is_some_and(|b| b.split('_').any(|e| e == "param-fod" || e == "param-sh"))
+        })
 }
 
 /// The maps in the folder `dwi` (none if it is not there): its tensor maps, then its ODF maps,
@@ -141,28 +154,35 @@ fn maps_in(dwi: &Path, session: Option<String>) -> Result<Vec<Map>, FindError> {
     if !dwi.is_dir() {
         return Ok(Vec::new());
     }
-    let mut names: Vec<(bool, String)> = entries(dwi)?
+    // Sorted by kind (tensors, ODFs, peaks), then by name.
+    let order = |k: FieldKind| match k {
+        FieldKind::Tensors => 0,
+        FieldKind::Series => 1,
+        FieldKind::Peaks => 2,
+    };
+    let mut names: Vec<(u8, FieldKind, String)> = entries(dwi)?
         .into_iter()
         .filter(|(_, dir)| !dir)
         .filter_map(|(n, _)| {
-            if is_bep016_name(Path::new(&n)) && is_tensor_map(&n) {
-                Some((false, n))
+            let kind = if is_bep016_name(Path::new(&n)) && is_tensor_map(&n) {
+                FieldKind::Tensors
+            } else if is_odf_map(&n) {
+                FieldKind::Series
+            } else if is_peaks_map(&n) {
+                FieldKind::Peaks
             } else {
-                is_odf_map(&n).then_some((true, n))
-            }
+                return None;
+            };
+            Some((order(kind), kind, n))
         })
         .collect();
-    names.sort();
+    names.sort_by(|a, b| (a.0, &a.2).cmp(&(b.0, &b.2)));
     Ok(names
         .into_iter()
-        .map(|(odf, n)| Map {
+        .map(|(_, kind, n)| Map {
             session: session.clone(),
             path: dwi.join(n),
-            kind: if odf {
-                FieldKind::Series
-            } else {
-                FieldKind::Tensors
-            },
+            kind,
         })
         .collect())
 }
@@ -260,7 +280,7 @@ mod tests {
     }
 
     #[test]
-    fn odf_maps_by_name_after_the_tensor_maps() {
+    fn odf_and_peaks_maps_by_name_after_the_tensor_maps() {
         let dir = tempfile::tempdir().unwrap();
         let dwi = dir.path().join("sub-a").join("dwi");
         std::fs::create_dir_all(&dwi).unwrap();
@@ -270,8 +290,10 @@ mod tests {
             "sub-a_model-msmt_param-sh_dwimap.nii",
             "sub-a_model-CSD_param-fod.mif",
             "sub-a_model-CSD_param-fod.mif.gz",
-            // Not ODF maps: no SH parameter, no map suffix, a sidecar.
             "sub-a_model-CSD_param-peaks_dwimap.nii.gz",
+            "sub-a_model-CSD_param-peaks.mif",
+            // Not maps: no parameter of one, no map suffix, a sidecar.
+            "sub-a_model-CSD_param-peaksx_dwimap.nii.gz",
             "sub-a_model-CSD_param-fod_dwi.nii.gz",
             "sub-a_model-CSD_param-fod_dwimap.json",
             "sub-a_model-CSD_dwimap.mif",
@@ -288,10 +310,13 @@ mod tests {
                 "sub-a_model-CSD_param-fod.mif.gz",
                 "sub-a_model-CSD_param-fod_dwimap.nii.gz",
                 "sub-a_model-msmt_param-sh_dwimap.nii",
+                "sub-a_model-CSD_param-peaks.mif",
+                "sub-a_model-CSD_param-peaks_dwimap.nii.gz",
             ]
         );
         let kinds: Vec<FieldKind> = p[0].maps.iter().map(|m| m.kind).collect();
         assert_eq!(kinds[0], FieldKind::Tensors);
-        assert!(kinds[1..].iter().all(|k| *k == FieldKind::Series));
+        assert!(kinds[1..5].iter().all(|k| *k == FieldKind::Series));
+        assert!(kinds[5..].iter().all(|k| *k == FieldKind::Peaks));
     }
 }

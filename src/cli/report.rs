@@ -4,7 +4,8 @@
 //! - `report FILE... -o OUT_DIR`: one report per file (of tensors, of SH series: ODFs, or of
 //!   peaks: sticks).
 //! - `report BIDS_DIR OUT_DIR participant [--participant-label L …]`: one per participant of a
-//!   BIDS derivatives folder of BEP016 tensor maps and ODF maps, as a BIDS App is called.
+//!   BIDS derivatives folder of BEP016 tensor maps, ODF maps and peaks maps, as a BIDS App is
+//!   called.
 //! - `report BIDS_DIR OUT_DIR group [--participant-label L …]`: the group page over what the
 //!   participant level wrote ([`crate::report::group`]).
 
@@ -25,10 +26,10 @@ use crate::shape::odf::OdfColoring;
 #[derive(Args, Debug)]
 pub struct ReportArgs {
     /// Tensor files, files of SH series or of peaks (with -o), or BIDS_DIR OUT_DIR LEVEL: a BIDS
-    /// derivatives folder holding BEP016 tensor maps and ODF maps (_param-fod_, _param-sh_) in
-    /// sub-LABEL/[ses-LABEL/]dwi/, where the reports go, and the analysis level (participant:
-    /// one page per participant; group: one page over the participants' reports, outliers
-    /// flagged).
+    /// derivatives folder holding BEP016 tensor maps, ODF maps (_param-fod_, _param-sh_) and
+    /// peaks maps (_param-peaks_) in sub-LABEL/[ses-LABEL/]dwi/, where the reports go, and the
+    /// analysis level (participant: one page per participant; group: one page over the
+    /// participants' reports, outliers flagged).
     #[arg(
         required = true,
         value_name = "FILE... | BIDS_DIR OUT_DIR participant|group"

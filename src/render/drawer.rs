@@ -28,7 +28,7 @@ pub struct FrameRecording<'a> {
     /// Drawn from the key light (the shadow map): the chunks' light groups, and whatever a
     /// method keeps per scene kept apart from the eye's.
     pub light: bool,
-    /// The kind drawn: the chunks of this kind ([`ChunkBuffers::kind`]).
+    /// The kind drawn: the chunks of this kind.
     pub kind: GlyphKind,
     /// The first drawing into the targets: it clears them and writes the begin timestamp.
     pub first: bool,

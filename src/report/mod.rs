@@ -110,8 +110,9 @@ pub enum ReportError {
 #[derive(Debug, thiserror::Error)]
 pub enum UnitError {
     #[error(
-        "no BEP016 tensor map (sub-{0}/[ses-*/]dwi/*_model-DTI[_param-tensor]_dwimap.nii[.gz]) \
-         and no ODF map (*_param-fod_dwimap.nii[.gz], *_param-sh_*, *_param-fod*.mif[.gz] …)"
+        "no BEP016 tensor map (sub-{0}/[ses-*/]dwi/*_model-DTI[_param-tensor]_dwimap.nii[.gz]), \
+         no ODF map (*_param-fod_dwimap.nii[.gz], *_param-sh_*, *_param-fod*.mif[.gz] …) and no \
+         peaks map (*_param-peaks_dwimap.nii[.gz], *_param-peaks*.mif[.gz])"
     )]
     NoMap(String),
     #[error(

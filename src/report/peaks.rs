@@ -2,7 +2,7 @@
 //! the map read once, how many peaks its voxels hold (every voxel: counting is cheap), and three
 //! figures of sticks as `render` draws a peaks file ([`staging::build_peaks`]: one stick a peak
 //! through its voxel's centre, the map's largest peak one voxel step long, coloured by
-//! direction), laid out as the other rows are ([`super::row`]): up to [`mosaic::SLICES`] slices
+//! direction), laid out as the other rows are (`row`): up to [`mosaic::SLICES`] slices
 //! through the voxels that hold a peak, face-on, and the zoomed inset of the square of the middle
 //! slice where the peaks' amplitudes sum highest (or `--zoom-region`'s), its sticks cut from its
 //! slice's scene.
@@ -88,7 +88,13 @@ pub(super) fn map(
 ) -> Result<PeaksReport, UnitError> {
     let inputs = Inputs::file_system();
     let t = Instant::now();
-    let field = crate::field::read_peak_field_from(&inputs, path, &ReadOptions::default())?;
+    // A peaks map's name (BIDS: `param-peaks`) or header said it holds peaks: a NIfTI file of 9
+    // volumes is read as three peaks, as `--holds peaks` reads it.
+    let opts = ReadOptions {
+        holds: Some(crate::field::FieldKind::Peaks),
+        ..ReadOptions::default()
+    };
+    let field = crate::field::read_peak_field_from(&inputs, path, &opts)?;
     let read_ms = staging::ms(t);
     read.extend(inputs.paths_read());
     let counts = PeakCounts::of(&field);

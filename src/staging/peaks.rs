@@ -233,7 +233,7 @@ pub const OVER_ODF_WIDTH: f64 = 0.5 * STICK_RADIUS;
 
 /// The sticks of `sh`'s peaks (the voxels `recipe` shows, [`series_peaks`]) to draw over its
 /// ODF glyphs (`--peaks`): each reaching [`OVER_ODF_REACH`] times its lobe (normalised as the
-/// ODFs are) and [`OVER_ODF_WIDTH`] in radius, white over ODFs coloured by direction or
+/// ODFs are) and `OVER_ODF_WIDTH` in radius, white over ODFs coloured by direction or
 /// amplitude and coloured by direction over solid ones, as cylinders about `origin` (the ODF
 /// scene's).
 pub fn peaks_over_odfs(

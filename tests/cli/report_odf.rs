@@ -84,6 +84,16 @@ fn folder(root: &Path) {
     .unwrap();
 }
 
+/// `report INPUT OUT participant`: every participant of the BIDS folder `input`.
+fn participants(input: &Path, out: &Path) -> std::process::Output {
+    tg(&[
+        "report",
+        input.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "participant",
+    ])
+}
+
 /// Pixels of the figure's tiles (the legend panel, 200 px at the right, left out) that glyphs
 /// cover: brighter than the black background and not the labels' white or yellow.
 fn glyph_pixels(img: &image::RgbaImage) -> Vec<(u32, u32)> {
@@ -104,12 +114,7 @@ fn odf_maps_are_drawn_beside_tensor_maps_and_a_bad_one_is_named() {
     let input = tempfile::tempdir().unwrap();
     folder(input.path());
     let out = tempfile::tempdir().unwrap();
-    let o = tg(&[
-        "report",
-        input.path().to_str().unwrap(),
-        out.path().to_str().unwrap(),
-        "participant",
-    ]);
+    let o = participants(input.path(), out.path());
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(1), "{err}");
     let errors: Vec<&str> = err.lines().filter(|l| l.starts_with("error:")).collect();
@@ -599,35 +604,48 @@ fn color_amplitude_recolours_the_odf_figures_only() {
     );
 }
 
+/// How many peaks each voxel of the test data's JSON `file` holds (the object at `pointer`, a
+/// voxel's peaks the array `key` of its entry), voxels with none left out.
+fn peak_counts(file: &str, pointer: &str, key: &str) -> Vec<usize> {
+    let text = std::fs::read_to_string(crate::data::path(file)).unwrap();
+    let truth: serde_json::Value = serde_json::from_str(&text).unwrap();
+    truth
+        .pointer(pointer)
+        .and_then(|v| v.as_object())
+        .unwrap()
+        .values()
+        .map(|v| v[key].as_array().unwrap().len())
+        .filter(|&n| n > 0)
+        .collect()
+}
+
+/// The page's peaks row for voxels holding `counts` peaks each (those with none left out), as
+/// the counts make it: the mean, the shares with one, two and three or more, the crossing share.
+fn peaks_row(counts: &[usize]) -> String {
+    let n = counts.len() as f64;
+    let share = |k: usize| counts.iter().filter(|&&c| c.min(3) == k).count() as f64 / n;
+    let pct = |x: f64| format!("{:.1} %", 100.0 * x);
+    format!(
+        "{:.2} per voxel; one {}, two {}, three or more {}; crossing (two or more) {} — in all {} \
+         voxels with a peak",
+        counts.iter().sum::<usize>() as f64 / n,
+        pct(share(1)),
+        pct(share(2)),
+        pct(share(3)),
+        pct(share(2) + share(3)),
+        counts.len()
+    )
+}
+
 /// A peaks map's report (DIPY's `peak_dirs` as `peaks_from_model` holds them, X×Y×Z×N×3): its
 /// page counts the peaks of every voxel as DIPY found them (`tests/data/sh/dipy_peaks.json`,
 /// read back by nibabel), and each figure draws every peak as a stick (the lattice being 4
 /// voxels across, every slice), with the zoomed inset.
 #[test]
 fn a_peaks_map_reports_its_sticks_and_counts() {
-    let text = std::fs::read_to_string(crate::data::path("sh/dipy_peaks.json")).unwrap();
-    let truth: serde_json::Value = serde_json::from_str(&text).unwrap();
-    let counts: Vec<usize> = truth["voxels"]
-        .as_object()
-        .unwrap()
-        .values()
-        .map(|v| v["voxel_axes"].as_array().unwrap().len())
-        .filter(|&n| n > 0)
-        .collect();
-    let n = counts.len() as f64;
-    let share = |k: usize| counts.iter().filter(|&&c| c.min(3) == k).count() as f64 / n;
-    let pct = |x: f64| format!("{:.1} %", 100.0 * x);
+    let counts = peak_counts("sh/dipy_peaks.json", "/voxels", "voxel_axes");
     let total: usize = counts.iter().sum();
-    let want = format!(
-        "{:.2} per voxel; one {}, two {}, three or more {}; crossing (two or more) {} — in all {} \
-         voxels with a peak",
-        total as f64 / n,
-        pct(share(1)),
-        pct(share(2)),
-        pct(share(3)),
-        pct(share(2) + share(3)),
-        counts.len()
-    );
+    let want = peaks_row(&counts);
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let file = crate::data::path("sh/dipy5d_peak_dirs.nii.gz");
@@ -656,4 +674,42 @@ fn a_peaks_map_reports_its_sticks_and_counts() {
             .join(format!("dipy5d_peak_dirs_{o}.png"));
         assert!(std::fs::metadata(png).unwrap().len() > 1000);
     }
+}
+
+/// A BIDS participant's peaks map (`param-peaks`): MRtrix's `sh2peaks` image converted to a
+/// NIfTI file of 9 volumes, which its header cannot tell from a 3×3 tensor: the name says peaks,
+/// and the page counts the peaks `make_sh.py` read back from the same `sh2peaks` output through
+/// nibabel (`expected.json`), beside the participant's ODF map.
+#[test]
+fn a_bids_peaks_map_is_read_as_its_name_says() {
+    let counts = peak_counts(
+        "sh/expected.json",
+        "/files/mrtrix_lmax8.mif/peaks",
+        "directions",
+    );
+    let input = tempfile::tempdir().unwrap();
+    let d = dwi(input.path(), "sub-p");
+    std::fs::copy(
+        crate::data::path("sh/sh2peaks_lmax8.nii.gz"),
+        d.join("sub-p_model-CSD_param-peaks_dwimap.nii.gz"),
+    )
+    .unwrap();
+    std::fs::copy(
+        crate::data::path("sh/mrtrix_lmax8.nii.gz"),
+        d.join("sub-p_model-CSD_param-fod_dwimap.nii.gz"),
+    )
+    .unwrap();
+    let out = tempfile::tempdir().unwrap();
+    let o = participants(input.path(), out.path());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let html = std::fs::read_to_string(out.path().join("sub-p.html")).unwrap();
+    let odf = html.find("<h2>sub-p_model-CSD_param-fod_dwimap.nii.gz</h2>");
+    let peaks = html.find("<h2>sub-p_model-CSD_param-peaks_dwimap.nii.gz</h2>");
+    assert!(
+        odf.is_some() && peaks > odf,
+        "the ODF map, then the peaks map:\n{html}"
+    );
+    let want = peaks_row(&counts);
+    assert!(html.contains(&want), "want {want} in:\n{html}");
+    assert!(html.contains("<figcaption>axial: peaks (sticks)"), "{html}");
 }
