@@ -126,6 +126,16 @@ const SUBSTITUTIONS: &[Substitution] = &[
                  line is about",
     },
     Substitution {
+        subcommand: "bench",
+        when: When::Lacks("--scene"),
+        set: &[("--scene", Some("grid:16"))],
+        reason: "the default scene, grid40 (64,000 glyphs): the six bench lines without --scene \
+                 took 16, 38, 59, 16.5, 15 and 39 s (184 s of this test's 469 s) even at 64x48 \
+                 with the frame and budget cuts above, and take 3.8, 15.8, 8.9, 8.1, 3.3 and 21 s \
+                 on grid:16 (4,096 glyphs), which runs the same methods, glyphs, views, tables \
+                 and brain report (the test: 329 s)",
+    },
+    Substitution {
         subcommand: "stability",
         when: When::Lacks("--glyph"),
         set: &[("--quick", None), ("--case", Some("1-distance"))],
@@ -664,6 +674,15 @@ fn extraction_rules() {
     substitute(&mut args, &mut used);
     assert_eq!(
         args,
-        w(&["bench", "--frames", "1", "--budget=0.25", "--size", "64x48"])
+        w(&[
+            "bench",
+            "--frames",
+            "1",
+            "--budget=0.25",
+            "--size",
+            "64x48",
+            "--scene",
+            "grid:16"
+        ])
     );
 }
