@@ -242,12 +242,18 @@ impl Superquadric {
             return None;
         }
         let (mut s_in, mut s_out) = (-t0, f64::INFINITY);
+        // The box faces the ray enters and leaves by (none where the ray starts inside).
+        let (mut k_in, mut k_out) = (None, None);
         for k in 0..3 {
             if v[k] != 0.0 {
                 let s1 = (-1.0 - q0[k]) / v[k];
                 let s2 = (1.0 - q0[k]) / v[k];
-                s_in = s_in.max(s1.min(s2));
-                s_out = s_out.min(s1.max(s2));
+                if s1.min(s2) > s_in {
+                    (s_in, k_in) = (s1.min(s2), Some(k));
+                }
+                if s1.max(s2) < s_out {
+                    (s_out, k_out) = (s1.max(s2), Some(k));
+                }
             } else if q0[k].abs() > 1.0 {
                 return None;
             }
@@ -283,7 +289,23 @@ impl Superquadric {
                 n
             }
         } else {
-            self.local_gradient(q)
+            // A hit on the box face it entered or leaves by is a flat cap's (sharp exponents keep
+            // the profiles at 1 up to the face, the gauge jumps from below 1 to ∞ across it): the
+            // face is the surface there, whatever the gauge's gradient just inside says.
+            let tol = 8.0 * f64::EPSILON * s_in.abs().max(s_out.abs()).max(s_out - s_in);
+            let face = |k: Option<usize>, at: f64| k.filter(|_| (s - at).abs() <= tol);
+            let axis = |k: usize, sign: f64| {
+                let mut n = DVec3::ZERO;
+                n[k] = sign;
+                n
+            };
+            if let Some(k) = face(k_in, s_in) {
+                axis(k, -v[k].signum())
+            } else if let Some(k) = face(k_out, s_out) {
+                axis(k, v[k].signum())
+            } else {
+                self.local_gradient(q)
+            }
         };
         let normal = (self.frame * (local / self.radii)).normalize();
         Some(RayHit { t: t0 + s, normal })
