@@ -451,28 +451,37 @@ mod tests {
             let f = |u: DVec3| p.value_gradient(u);
             plane_crossing(&f, p.degree(), o, d, 0.0, 1e-12)
         };
+        use rayon::prelude::*;
+        let mut seed = 3;
+        let profiles = test_profiles(&mut seed);
         for method in [marcher, plane] {
-            let mut seed = 3;
-            let profiles = test_profiles(&mut seed);
-            let (mut hits, mut misses) = (0, 0);
-            for p in &profiles {
-                for _ in 0..150 {
-                    let o = random_dir(&mut seed) * 3.0;
-                    let target = random_dir(&mut seed) * 0.6 * lcg(&mut seed).abs();
-                    let d = (target - o).normalize();
-                    let got = method(p, o, d);
-                    let want = brute(p, o, d);
-                    match (got, want) {
-                        (Some((s, n)), Some(w)) => {
-                            hits += 1;
-                            assert!((s - w).abs() < 1e-9, "{s} {w}");
-                            assert_normal(p, o + s * d, n);
+            // Each profile's rays from a seed of its own, the profiles in parallel (the brute
+            // march is this test's time).
+            let (hits, misses) = profiles
+                .par_iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let mut seed = 3 + 1000 * k as u64;
+                    let (mut hits, mut misses) = (0, 0);
+                    for _ in 0..150 {
+                        let o = random_dir(&mut seed) * 3.0;
+                        let target = random_dir(&mut seed) * 0.6 * lcg(&mut seed).abs();
+                        let d = (target - o).normalize();
+                        let got = method(p, o, d);
+                        let want = brute(p, o, d);
+                        match (got, want) {
+                            (Some((s, n)), Some(w)) => {
+                                hits += 1;
+                                assert!((s - w).abs() < 1e-9, "{s} {w}");
+                                assert_normal(p, o + s * d, n);
+                            }
+                            (None, None) => misses += 1,
+                            (got, want) => panic!("{got:?} against {want:?}"),
                         }
-                        (None, None) => misses += 1,
-                        (got, want) => panic!("{got:?} against {want:?}"),
                     }
-                }
-            }
+                    (hits, misses)
+                })
+                .reduce(|| (0, 0), |a, b| (a.0 + b.0, a.1 + b.1));
             assert!(hits > 100 && misses > 20, "{hits} {misses}");
         }
     }
@@ -521,45 +530,64 @@ mod tests {
     /// at the same point, with the same normal; its steps stay few however thin the lobes.
     #[test]
     fn plane_crossing_is_the_fine_marchers_on_sharp_lobes() {
-        let mut seed = 23;
+        use rayon::prelude::*;
         let third = glam::DQuat::from_axis_angle(DVec3::Z, 120f64.to_radians());
         let (x, y) = (DVec3::X, DVec3::Y);
-        let mut hits = 0;
-        for lmax in [4, 8, 12] {
-            for fibre in [
-                vec![(DVec3::new(0.2, 0.3, 1.0), 1.0)],
-                vec![(x, 1.0), (y, 1.0)],
-                vec![(x, 1.0), (third * x, 1.0), (third * third * x, 1.0)],
-                vec![(x, 1.0), (DVec3::new(0.34, 0.94, 0.0), 1e-3)],
-            ] {
-                let p = fibres(lmax, &fibre);
+        let fibres_of = [
+            vec![(DVec3::new(0.2, 0.3, 1.0), 1.0)],
+            vec![(x, 1.0), (y, 1.0)],
+            vec![(x, 1.0), (third * x, 1.0), (third * third * x, 1.0)],
+            vec![(x, 1.0), (DVec3::new(0.34, 0.94, 0.0), 1e-3)],
+        ];
+        // Every ray of every case in parallel (the fine march, steps of 1e-9 near the sharpest
+        // lobes, is this test's time; one ray at lmax 12 can take a second), each case's rays
+        // drawn from a seed of its own. 300 rays a case, 150 at lmax 12, whose march costs 30
+        // to 100 times lmax 8's.
+        let rays: Vec<(u32, usize, DVec3, DVec3, f64)> = [4, 8, 12]
+            .into_iter()
+            .flat_map(|lmax| (0..fibres_of.len()).map(move |f| (lmax, f)))
+            .enumerate()
+            .flat_map(|(c, (lmax, f))| {
+                let mut seed = 23 + 1000 * c as u64;
+                let n = if lmax == 12 { 150 } else { 300 };
+                (0..n)
+                    .map(|k| {
+                        let o = random_dir(&mut seed) * 3.0;
+                        // Aimed near the centre, where lobes are thinnest and the ringing is.
+                        let target = random_dir(&mut seed) * 0.05 * lcg(&mut seed).abs();
+                        let s_min = if k % 3 == 0 {
+                            3.0 - 0.2 * lcg(&mut seed).abs()
+                        } else {
+                            0.0
+                        };
+                        (lmax, f, o, (target - o).normalize(), s_min)
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let profiles: Vec<Vec<Profile>> = [4, 8, 12]
+            .iter()
+            .map(|&lmax| fibres_of.iter().map(|f| fibres(lmax, f)).collect())
+            .collect();
+        let hits: usize = rays
+            .par_iter()
+            .map(|&(lmax, fibre, o, d, s_min)| {
+                let p = &profiles[(lmax / 4 - 1) as usize][fibre];
                 let f = |u: DVec3| p.value_gradient(u);
-                let g = gradient_bound(&p);
-                for k in 0..300 {
-                    let o = random_dir(&mut seed) * 3.0;
-                    // Rays aimed near the centre, where lobes are thinnest and the ringing is.
-                    let target = random_dir(&mut seed) * 0.05 * lcg(&mut seed).abs();
-                    let d = (target - o).normalize();
-                    let s_min = if k % 3 == 0 {
-                        3.0 - 0.2 * lcg(&mut seed).abs()
-                    } else {
-                        0.0
-                    };
-                    let want = first_crossing(&f, o, d, g, s_min, 1e-9, usize::MAX);
-                    let got = plane_crossing(&f, p.degree(), o, d, s_min, 1e-12);
-                    match (got, want) {
-                        (Some((s, n)), Some((w, nw))) => {
-                            hits += 1;
-                            assert!((s - w).abs() < 1e-8, "lmax {lmax}: {s} {w}");
-                            let angle = n.normalize().dot(nw.normalize()).clamp(-1.0, 1.0);
-                            assert!(angle.acos().to_degrees() < 1e-4, "lmax {lmax}");
-                        }
-                        (None, None) => {}
-                        (got, want) => panic!("lmax {lmax}: {got:?} against {want:?}"),
+                let want = first_crossing(&f, o, d, gradient_bound(p), s_min, 1e-9, usize::MAX);
+                let got = plane_crossing(&f, p.degree(), o, d, s_min, 1e-12);
+                match (got, want) {
+                    (Some((s, n)), Some((w, nw))) => {
+                        assert!((s - w).abs() < 1e-8, "lmax {lmax}: {s} {w}");
+                        let angle = n.normalize().dot(nw.normalize()).clamp(-1.0, 1.0);
+                        assert!(angle.acos().to_degrees() < 1e-4, "lmax {lmax}");
+                        1
                     }
+                    (None, None) => 0,
+                    (got, want) => panic!("lmax {lmax}: {got:?} against {want:?}"),
                 }
-            }
-        }
+            })
+            .sum();
         assert!(hits > 1000, "{hits}");
     }
 
