@@ -1,4 +1,6 @@
-//! A bounding-volume hierarchy over glyph boxes: median split on the longest axis.
+//! A bounding-volume hierarchy over glyph boxes: median split on the longest axis. A leaf tests
+//! each primitive's own box before the caller's exact test: thin glyphs at an angle (needles)
+//! have boxes far larger than themselves, and a leaf's box is the union of four of them.
 
 use glam::DVec3;
 
@@ -46,6 +48,9 @@ struct Node {
 pub struct Bvh {
     nodes: Vec<Node>,
     order: Vec<u32>,
+    /// `boxes[order[k]]` at k, grown by a billionth of its size so that rounding in the slab
+    /// test cannot drop a ray that touches a glyph where the glyph touches its box.
+    leaf_boxes: Vec<Aabb>,
 }
 
 const LEAF_SIZE: usize = 4;
@@ -55,6 +60,7 @@ impl Bvh {
         let mut bvh = Bvh {
             nodes: Vec::with_capacity(boxes.len() * 2 / LEAF_SIZE + 1),
             order: (0..boxes.len() as u32).collect(),
+            leaf_boxes: Vec::new(),
         };
         if boxes.is_empty() {
             return bvh;
@@ -100,6 +106,18 @@ impl Bvh {
             stack.push((left, start, mid));
             stack.push((left + 1, mid, end));
         }
+        bvh.leaf_boxes = bvh
+            .order
+            .iter()
+            .map(|&i| {
+                let b = boxes[i as usize];
+                let pad = (b.hi - b.lo).abs().max_element() * 1e-9 + f64::MIN_POSITIVE;
+                Aabb {
+                    lo: b.lo - pad,
+                    hi: b.hi + pad,
+                }
+            })
+            .collect();
         bvh
     }
 
@@ -119,7 +137,14 @@ impl Bvh {
                 continue;
             }
             if node.count > 0 {
-                for &i in &self.order[node.start as usize..(node.start + node.count) as usize] {
+                let range = node.start as usize..(node.start + node.count) as usize;
+                for (&i, b) in self.order[range.clone()]
+                    .iter()
+                    .zip(&self.leaf_boxes[range])
+                {
+                    if b.hit(origin, inv, best).is_none() {
+                        continue;
+                    }
                     if let Some(t) = test(i) {
                         best = best.min(t);
                     }
