@@ -51,7 +51,7 @@ fn odf_tail(shape: vec4<f32>, k: u32) -> f32 {
 
 // The rotation taking the glyph's axes to its series' (identity for a tensor's profile).
 fn odf_rotation(shape: vec4<f32>) -> mat3x3<f32> {
-    if shape.x < 3.5 {
+    if ODF_GENERAL && shape.x < 3.5 {
         return mat3x3<f32>(vec3<f32>(1.0, 0.0, 0.0), vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(0.0, 0.0, 1.0));
     }
     return quat_to_mat3(vec4<f32>(odf_tail(shape, 1u), odf_tail(shape, 2u), odf_tail(shape, 3u), odf_tail(shape, 4u)));
@@ -60,7 +60,7 @@ fn odf_rotation(shape: vec4<f32>) -> mat3x3<f32> {
 // f~(u) (x) and the gradient of its polynomial extension (yzw), u unit in the glyph's axes
 // (Profile::value_gradient in src/shape/odf/mod.rs).
 fn odf_eval(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
-    if shape.x < 3.5 {
+    if ODF_GENERAL && shape.x < 3.5 {
         let a = shape.yzw;
         return vec4<f32>(dot(a * u, u), 2.0 * a * u);
     }
@@ -73,10 +73,17 @@ fn odf_eval(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
 // src/shape/odf/monomial.rs); above it, plain coefficients.
 const ODF_MONOMIAL_LMAX: u32 = 12u;
 
+// Whether the pipeline draws glyphs past the monomial series: tensors' profiles and series of
+// lmax > 12 (Shape::general_override; a chunk of monomial series only sets it false). lavapipe
+// runs every branch of a shader, the lanes' results masked, so the paths no glyph of a chunk
+// takes cost each fragment the same as the one it takes: without them, the slab of 10,000 lmax-8
+// ODFs draws about 15 % faster.
+override ODF_GENERAL: bool = true;
+
 // The series at unit u in its own axes and its gradient there, in the form its payload holds.
 fn odf_series(u: vec3<f32>, shape: vec4<f32>, want_grad: bool) -> vec4<f32> {
     let lmax = u32(shape.w);
-    if lmax <= ODF_MONOMIAL_LMAX {
+    if !ODF_GENERAL || lmax <= ODF_MONOMIAL_LMAX {
         if want_grad {
             return odf_monomial_gradient(u, u32(shape.y), lmax);
         }
@@ -104,69 +111,75 @@ fn odf_monomial(u: vec3<f32>, start: u32, lmax: u32) -> f32 {
     return f;
 }
 
-// odf_monomial at the n ≤ 16 points cos ψᵢ d + sin ψᵢ e, ψᵢ = iπ/n, of a great circle, four to
-// a vector: Horner's rule run on all of them at once, so that each coefficient is read once
-// (reading them dominated the crossing's set-up: L + 1 passes cost 10x the rest of the frame).
-fn odf_circle_monomials(d: vec3<f32>, e: vec3<f32>, start: u32, lmax: u32, n: u32) -> array<vec4<f32>, 4> {
+// The points cos ψ d + sin ψ e of four angles (their cosines c and sines s), as their x, y
+// and z components.
+fn odf_circle_points(c: vec4<f32>, s: vec4<f32>, d: vec3<f32>, e: vec3<f32>) -> mat3x4<f32> {
+    return mat3x4<f32>(c * d.x + s * e.x, c * d.y + s * e.y, c * d.z + s * e.z);
+}
+
+// odf_monomial at the n ≤ 13 points cos ψᵢ d + sin ψᵢ e, ψᵢ = iπ/n, of a great circle, as
+// odf_dft4's four vectors: Horner's rule run on all of them at once, so that each coefficient is
+// read once (reading them dominated the crossing's set-up: L + 1 passes cost 10x the rest of the
+// frame). Points 0–7 go two vectors, point 8 alone and, where `wide` (n > 9), points 9–12 a third
+// vector: every lane evaluated is a point used at lmax 8 and 12. `wide` is a constant at each
+// call, so the driver folds the other case away: lavapipe runs both sides of a branch, and
+// a fourth vector at lmax 8 cost 7 of the 16 points evaluated.
+fn odf_circle_monomials(d: vec3<f32>, e: vec3<f32>, start: u32, lmax: u32, n: u32, wide: bool) -> array<vec4<f32>, 4> {
     // cos ψᵢ and sin ψᵢ by powers of e^(iπ/n), four to a vector.
     let w = odf_powers16(vec2<f32>(cos(ODF_PI / f32(n)), sin(ODF_PI / f32(n))));
-    let c0 = w[0];
-    let s0 = w[1];
-    let c1 = w[2];
-    let s1 = w[3];
-    let c2 = w[4];
-    let s2 = w[5];
-    let c3 = w[6];
-    let s3 = w[7];
-    let x0 = c0 * d.x + s0 * e.x;
-    let y0 = c0 * d.y + s0 * e.y;
-    let z0 = c0 * d.z + s0 * e.z;
-    let x1 = c1 * d.x + s1 * e.x;
-    let y1 = c1 * d.y + s1 * e.y;
-    let z1 = c1 * d.z + s1 * e.z;
-    let x2 = c2 * d.x + s2 * e.x;
-    let y2 = c2 * d.y + s2 * e.y;
-    let z2 = c2 * d.z + s2 * e.z;
-    let x3 = c3 * d.x + s3 * e.x;
-    let y3 = c3 * d.y + s3 * e.y;
-    let z3 = c3 * d.z + s3 * e.z;
-    // The fourth vector only where n > 12 (lmax 12).
-    let four = n > 12u;
+    let p0 = odf_circle_points(w[0], w[1], d, e);
+    let p1 = odf_circle_points(w[2], w[3], d, e);
+    let p8 = odf_circle_points(w[4], w[5], d, e);
+    let pw = odf_circle_points(vec4<f32>(w[4].yzw, w[6].x), vec4<f32>(w[5].yzw, w[7].x), d, e);
+    let x0 = p0[0];
+    let y0 = p0[1];
+    let z0 = p0[2];
+    let x1 = p1[0];
+    let y1 = p1[1];
+    let z1 = p1[2];
+    let x8 = p8[0].x;
+    let y8 = p8[1].x;
+    let z8 = p8[2].x;
+    let xw = pw[0];
+    let yw = pw[1];
+    let zw = pw[2];
     var f0 = vec4<f32>(0.0);
     var f1 = vec4<f32>(0.0);
-    var f2 = vec4<f32>(0.0);
-    var f3 = vec4<f32>(0.0);
+    var f8 = 0.0;
+    var fw = vec4<f32>(0.0);
     for (var i = 0u; i <= lmax; i++) {
         let a = lmax - i;
         let row = 1u + a * (2u * lmax + 3u - a) / 2u;
         let top = odf_word(start, row + i);
         var h0 = vec4<f32>(top);
         var h1 = h0;
-        var h2 = h0;
-        var h3 = h0;
+        var h8 = top;
+        var hw = h0;
         var p0 = vec4<f32>(1.0);
         var p1 = p0;
-        var p2 = p0;
-        var p3 = p0;
+        var p8 = 1.0;
+        var pw = p0;
         for (var b = i; b > 0u; b--) {
             let w = odf_word(start, row + b - 1u);
             p0 *= z0;
             p1 *= z1;
-            p2 *= z2;
+            p8 *= z8;
             h0 = h0 * y0 + w * p0;
             h1 = h1 * y1 + w * p1;
-            h2 = h2 * y2 + w * p2;
-            if four {
-                p3 *= z3;
-                h3 = h3 * y3 + w * p3;
+            h8 = h8 * y8 + w * p8;
+            if wide {
+                pw *= zw;
+                hw = hw * yw + w * pw;
             }
         }
         f0 = f0 * x0 + h0;
         f1 = f1 * x1 + h1;
-        f2 = f2 * x2 + h2;
-        f3 = f3 * x3 + h3;
+        f8 = f8 * x8 + h8;
+        if wide {
+            fw = fw * xw + hw;
+        }
     }
-    return array<vec4<f32>, 4>(f0, f1, f2, f3);
+    return array<vec4<f32>, 4>(f0, f1, vec4<f32>(f8, fw.xyz), vec4<f32>(fw.w, 0.0, 0.0, 0.0));
 }
 
 // The great circle's series g(φ) = Σⱼ aⱼ cos 2jφ + bⱼ sin 2jφ, j < 16, four terms to a vector
@@ -378,7 +391,7 @@ struct OdfHit {
 
 // The series' degree L: 2 for a tensor's profile.
 fn odf_degree(shape: vec4<f32>) -> u32 {
-    if shape.x < 3.5 {
+    if ODF_GENERAL && shape.x < 3.5 {
         return 2u;
     }
     return u32(shape.w);
@@ -386,7 +399,8 @@ fn odf_degree(shape: vec4<f32>) -> u32 {
 
 // g(φ) and g′(φ) of the great circle's series (CircleSeries::value_slope in
 // src/shape/odf/crossing.rs), from cos φ and sin φ; terms past `terms` are zero.
-fn odf_circle(c: ptr<function, OdfCircle>, terms: u32, cs: vec2<f32>) -> vec2<f32> {
+// `wide` (terms past 8, lmax ≥ 16) is a constant at each call, as in odf_circle_monomials.
+fn odf_circle(c: ptr<function, OdfCircle>, terms: u32, wide: bool, cs: vec2<f32>) -> vec2<f32> {
     let p = odf_powers(vec2<f32>(cs.x * cs.x - cs.y * cs.y, 2.0 * cs.x * cs.y));
     let z4 = p[2].xy;
     var pc = p[0];
@@ -403,7 +417,7 @@ fn odf_circle(c: ptr<function, OdfCircle>, terms: u32, cs: vec2<f32>) -> vec2<f3
         g += dot((*c).a1, pc) + dot((*c).b1, ps);
         gp += dot((*c).b1 * j2, pc) - dot((*c).a1 * j2, ps);
     }
-    if terms > 8u {
+    if wide && terms > 8u {
         var t = pc * z4.x - ps * z4.y;
         ps = ps * z4.x + pc * z4.y;
         pc = t;
@@ -422,10 +436,101 @@ fn odf_circle(c: ptr<function, OdfCircle>, terms: u32, cs: vec2<f32>) -> vec2<f3
 
 // H = g(mθ) sin θ − b and its slope in θ, at the angle θ from the ray's axis on the side m
 // (plane_crossing's halves in src/shape/odf/crossing.rs).
-fn odf_big_h(c: ptr<function, OdfCircle>, terms: u32, m: f32, th: f32, b: f32) -> vec2<f32> {
+fn odf_big_h(c: ptr<function, OdfCircle>, terms: u32, wide: bool, m: f32, th: f32, b: f32) -> vec2<f32> {
     let cs = vec2<f32>(cos(th), sin(th));
-    let g = odf_circle(c, terms, vec2<f32>(cs.x, m * cs.y));
+    let g = odf_circle(c, terms, wide, vec2<f32>(cs.x, m * cs.y));
     return vec2<f32>(g.x * cs.y - b, m * g.y * cs.y + g.x * cs.x);
+}
+
+// The march of odf_first along its ray's two halves over (first, last): the crossing's angle θ
+// and side m (0: none; 2: the ray enters the glyph where it enters its proxy); k2 bounds H's
+// second derivative (odf_first). `wide` is a constant at each call (odf_circle).
+fn odf_march(c: ptr<function, OdfCircle>, terms: u32, wide: bool, k2: f32, b: f32, first: f32, last: f32, on_proxy: bool) -> vec2<f32> {
+    // The ray in two halves, each by the angle θ ∈ (0, π/2] of its points from the ray's axis
+    // on that half's side (m = −1 before the point nearest the centre, θ rising; m = 1 after
+    // it, θ falling), so that sin θ keeps its relative precision near the axis.
+    var inside = false;
+    var started = false;
+    var th_hit = 0.0;
+    var m_hit = 0.0;
+    for (var half_i = 0u; half_i < 2u; half_i++) {
+        let m = select(1.0, -1.0, half_i == 0u);
+        var th0 = 0.0;
+        var to = 0.0;
+        if half_i == 0u {
+            if first >= 0.0 {
+                continue;
+            }
+            th0 = atan2(b, -first);
+            to = select(ODF_PI * 0.5, atan2(b, -last), last < 0.0);
+        } else {
+            if last <= 0.0 {
+                continue;
+            }
+            th0 = select(ODF_PI * 0.5, atan2(b, first), first > 0.0);
+            to = atan2(b, last);
+        }
+        let sigma = -m;
+        var th = th0;
+        var h = odf_big_h(c, terms, wide, m, th, b);
+        if !started {
+            started = true;
+            if on_proxy && h.x >= 0.0 {
+                return vec2<f32>(0.0, 2.0);
+            }
+            inside = !on_proxy && h.x > 0.0;
+        }
+        for (var i = 0u; i < ODF_STEPS; i++) {
+            // |H| = a, falling at rate p along the ray.
+            let a = abs(h.x);
+            let p = select(sigma * h.y, -sigma * h.y, inside);
+            let root = sqrt(p * p + 2.0 * k2 * a);
+            var step = 0.0;
+            if p + root > 0.0 {
+                step = 2.0 * a / (p + root);
+            }
+            var next = th + sigma * max(step, ODF_STEP);
+            next = select(max(next, to), min(next, to), sigma > 0.0);
+            let hn = odf_big_h(c, terms, wide, m, next, b);
+            if (hn.x > 0.0) != inside {
+                // Newton's method in the bracket, else bisection; the end on the flipped side.
+                var kept = th;
+                var flipped = next;
+                var x = next;
+                for (var k = 0u; k < 24u; k++) {
+                    let hx = odf_big_h(c, terms, wide, m, x, b);
+                    if (hx.x > 0.0) == inside {
+                        kept = x;
+                    } else {
+                        flipped = x;
+                    }
+                    let lo = min(kept, flipped);
+                    let hi = max(kept, flipped);
+                    let newton = x - hx.x / hx.y;
+                    var nx = 0.5 * (lo + hi);
+                    if newton > lo && newton < hi {
+                        nx = newton;
+                    }
+                    if nx == x || hi - lo <= 2.4e-7 * hi {
+                        break;
+                    }
+                    x = nx;
+                }
+                th_hit = flipped;
+                m_hit = m;
+                break;
+            }
+            if next == to {
+                break;
+            }
+            th = next;
+            h = hn;
+        }
+        if m_hit != 0.0 {
+            break;
+        }
+    }
+    return vec2<f32>(th_hit, m_hit);
 }
 
 // The crossing of o + t v nearest its start at t > t_min, in the ray's plane (plane_crossing in
@@ -466,7 +571,7 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
     }
     var first = start;
     var last = half;
-    if shape.x > 3.5 {
+    if !ODF_GENERAL || shape.x > 3.5 {
         // Only where the ray crosses the glyph's bounding ellipsoid (a cheap miss for the rest of
         // its quad or box): the ray scaled by the semi-axes against the unit ball.
         let inv = 1.0 / vec3<f32>(odf_tail(shape, 5u), odf_tail(shape, 6u), odf_tail(shape, 7u));
@@ -494,15 +599,21 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
     let rot = odf_rotation(shape);
     let ds = rot * d;
     let e2s = rot * e2;
-    if shape.x > 3.5 && u32(shape.w) <= ODF_MONOMIAL_LMAX {
+    if !ODF_GENERAL || (shape.x > 3.5 && u32(shape.w) <= ODF_MONOMIAL_LMAX) {
         // Monomials: every value in one pass over the coefficients, each read once.
-        c = odf_dft4(odf_circle_monomials(ds, e2s, u32(shape.y), u32(shape.w), n), n, terms);
+        var v: array<vec4<f32>, 4>;
+        if n > 9u {
+            v = odf_circle_monomials(ds, e2s, u32(shape.y), u32(shape.w), n, true);
+        } else {
+            v = odf_circle_monomials(ds, e2s, u32(shape.y), u32(shape.w), n, false);
+        }
+        c = odf_dft4(v, n, terms);
     } else {
         for (var i = 0u; i < n; i++) {
             let psi = ODF_PI * f32(i) / f32(n);
             let us = cos(psi) * ds + sin(psi) * e2s;
             var g = 0.0;
-            if shape.x < 3.5 {
+            if ODF_GENERAL && shape.x < 3.5 {
                 g = odf_eval(us, shape, false).x;
             } else {
                 g = odf_series(us, shape, false).x;
@@ -531,93 +642,20 @@ fn odf_first(o: vec3<f32>, v: vec3<f32>, shape: vec4<f32>, t_min: f32) -> OdfHit
     }
     // Entering the ball or the ellipsoid, which hold the glyph.
     let on_proxy = first > start || on_ball;
-    // The ray in two halves, each by the angle θ ∈ (0, π/2] of its points from the ray's axis
-    // on that half's side (m = −1 before the point nearest the centre, θ rising; m = 1 after
-    // it, θ falling), so that sin θ keeps its relative precision near the axis.
-    var inside = false;
-    var started = false;
-    var th_hit = 0.0;
-    var m_hit = 0.0;
-    for (var half_i = 0u; half_i < 2u; half_i++) {
-        let m = select(1.0, -1.0, half_i == 0u);
-        var th0 = 0.0;
-        var to = 0.0;
-        if half_i == 0u {
-            if first >= 0.0 {
-                continue;
-            }
-            th0 = atan2(b, -first);
-            to = select(ODF_PI * 0.5, atan2(b, -last), last < 0.0);
-        } else {
-            if last <= 0.0 {
-                continue;
-            }
-            th0 = select(ODF_PI * 0.5, atan2(b, first), first > 0.0);
-            to = atan2(b, last);
-        }
-        let sigma = -m;
-        var th = th0;
-        var h = odf_big_h(&c, terms, m, th, b);
-        if !started {
-            started = true;
-            if on_proxy && h.x >= 0.0 {
-                res.hit = true;
-                res.t = (first + sc) / vl;
-                res.n = odf_normal(near + first * d, shape);
-                return res;
-            }
-            inside = !on_proxy && h.x > 0.0;
-        }
-        for (var i = 0u; i < ODF_STEPS; i++) {
-            // |H| = a, falling at rate p along the ray.
-            let a = abs(h.x);
-            let p = select(sigma * h.y, -sigma * h.y, inside);
-            let root = sqrt(p * p + 2.0 * k2 * a);
-            var step = 0.0;
-            if p + root > 0.0 {
-                step = 2.0 * a / (p + root);
-            }
-            var next = th + sigma * max(step, ODF_STEP);
-            next = select(max(next, to), min(next, to), sigma > 0.0);
-            let hn = odf_big_h(&c, terms, m, next, b);
-            if (hn.x > 0.0) != inside {
-                // Newton's method in the bracket, else bisection; the end on the flipped side.
-                var kept = th;
-                var flipped = next;
-                var x = next;
-                for (var k = 0u; k < 24u; k++) {
-                    let hx = odf_big_h(&c, terms, m, x, b);
-                    if (hx.x > 0.0) == inside {
-                        kept = x;
-                    } else {
-                        flipped = x;
-                    }
-                    let lo = min(kept, flipped);
-                    let hi = max(kept, flipped);
-                    let newton = x - hx.x / hx.y;
-                    var nx = 0.5 * (lo + hi);
-                    if newton > lo && newton < hi {
-                        nx = newton;
-                    }
-                    if nx == x || hi - lo <= 2.4e-7 * hi {
-                        break;
-                    }
-                    x = nx;
-                }
-                th_hit = flipped;
-                m_hit = m;
-                break;
-            }
-            if next == to {
-                break;
-            }
-            th = next;
-            h = hn;
-        }
-        if m_hit != 0.0 {
-            break;
-        }
+    var hit: vec2<f32>;
+    if ODF_GENERAL && terms > 8u {
+        hit = odf_march(&c, terms, true, k2, b, first, last, on_proxy);
+    } else {
+        hit = odf_march(&c, terms, false, k2, b, first, last, on_proxy);
     }
+    if hit.y == 2.0 {
+        res.hit = true;
+        res.t = (first + sc) / vl;
+        res.n = odf_normal(near + first * d, shape);
+        return res;
+    }
+    let th_hit = hit.x;
+    let m_hit = hit.y;
     if m_hit == 0.0 {
         return res;
     }
@@ -674,7 +712,7 @@ fn shape_box_half(g: Glyph, solid: Solid) -> vec3<f32> {
 
 // The amplitude colouring's scale: 1 for a profile, the series' word past its coefficients.
 fn odf_amplitude_scale(shape: vec4<f32>) -> f32 {
-    if shape.x < 3.5 {
+    if ODF_GENERAL && shape.x < 3.5 {
         return 1.0;
     }
     return odf_tail(shape, 0u);

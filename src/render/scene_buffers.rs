@@ -390,7 +390,11 @@ impl ChunkBuffers {
             bind_group: group(camera_buffer),
             light_bind_group: group(light_buffer),
             needs: Needs {
-                general: piece.iter().any(|g| kind.shape().is_general(g)),
+                // A series index past the payload is drawn as a profile (payload_words).
+                general: piece.iter().any(|g| {
+                    kind.shape().is_general(g)
+                        || payload.is_some_and(|p| g.shape[0] as usize > p.len())
+                }),
                 thin: piece.iter().any(GlyphInstance::is_thin),
             },
             _glyphs: glyphs,

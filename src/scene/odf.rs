@@ -476,4 +476,39 @@ mod tests {
             }
         }
     }
+
+    /// The glyphs of fits up to lmax 12 draw with odf.wgsl's monomial-only pipeline
+    /// (`ODF_GENERAL` false); lmax 14 and 16, held as plain series, and a tensor's profile need
+    /// the general one.
+    #[test]
+    fn only_monomial_series_leave_the_general_paths_out() {
+        use crate::shape::Shape;
+        let identity = [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ];
+        for lmax in [2u32, 8, 12, 14, 16] {
+            let count = crate::sh::count_of_lmax(lmax).unwrap();
+            let mut c = vec![0.0; count];
+            c[0] = 1.0;
+            c[3] = 0.4;
+            let f = field([1, 1, 1], &[c], TensorFrame::Voxel, identity);
+            let scene = odf_scene(&f, &OdfOptions::default());
+            assert_eq!(scene.instances.len(), 1);
+            let general = crate::shape::odf::Kind.is_general(&scene.instances[0]);
+            assert_eq!(general, lmax > 12, "lmax {lmax}");
+        }
+        // A tensor's profile: no series named.
+        let profile = GlyphInstance {
+            centre: [0.0; 3],
+            color: 0,
+            rotation: [0.0, 0.0, 0.0, 1.0],
+            radii: [1.0, 0.5, 0.25],
+            glyph: 0,
+            shape: [0, 0],
+        };
+        assert!(crate::shape::odf::Kind.is_general(&profile));
+    }
 }

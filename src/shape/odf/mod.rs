@@ -39,7 +39,7 @@ use glam::{DMat3, DQuat, DVec3};
 
 use super::ellipsoid::icosphere;
 use super::mesh::Mesh;
-use super::{Capabilities, Exact, GlyphGeometry, GlyphKind, Part, RayHit, Shape};
+use super::{Capabilities, Exact, GlyphGeometry, GlyphInstance, GlyphKind, Part, RayHit, Shape};
 use crate::glyph::{ColorScheme, Glyph, ResolvedStyle};
 use crate::sh::ShError;
 
@@ -268,6 +268,18 @@ impl Shape for Kind {
         static PARTS: std::sync::LazyLock<[&'static str; 2]> =
             std::sync::LazyLock::new(|| [crate::glyph::colormap::viridis_wgsl(), WGSL]);
         &*PARTS
+    }
+
+    /// `ODF_GENERAL` keeps the paths of tensors' profiles and of plain series (lmax above
+    /// [`monomial::MAX_MONOMIAL_LMAX`]) in odf.wgsl: a chunk of monomial series draws without.
+    fn general_override(&self) -> Option<&'static str> {
+        Some("ODF_GENERAL")
+    }
+
+    /// A profile (word 0 names no series) or a series past the monomials (lmax in word 1's
+    /// second byte, as odf.wgsl reads it).
+    fn is_general(&self, g: &GlyphInstance) -> bool {
+        g.shape[0] == 0 || (g.shape[1] >> 8) & 0xff > monomial::MAX_MONOMIAL_LMAX
     }
 }
 
