@@ -93,8 +93,16 @@ pub fn bounding_ellipsoid(values: &[f64], lmax: u32) -> Option<Ellipsoid> {
     }
     let e = e.max(DVec3::splat(1e-6 * largest));
     let inv = (1.0 / e).to_array();
+    // A direction whose |f| is below the smallest semi-axis cannot raise κ: there
+    // f²|A⁻¹u|² ≤ f²/min eᵢ² < 1, while the direction that set e₁ (never left out) gives 1. So
+    // κ is the largest over the rest, the same number (a margin of 1e-12 keeps rounding on the
+    // safe side); of thin lobes, most directions are left out.
+    let floor = e.min_element() * e.min_element() * (1.0 - 1e-12);
     let mut kappa2 = 0.0f64;
     for (k, v) in values.iter().enumerate() {
+        if v * v < floor {
+            continue;
+        }
         let (x, y, z) = (
             along(0, k) * inv[0],
             along(1, k) * inv[1],
